@@ -1,0 +1,60 @@
+#!/usr/bin/env bash
+# Installs what conde_sim needs on Debian 12 (bookworm), and only what is missing.
+# Shared by the README, CI (.ci/run) and docker/Dockerfile, so there is one package list.
+#
+# usage: scripts/install_dependencies.sh [build|run]
+#   build (default): everything to build, test and run the workspace
+#   run:             only what the installed workspace needs at run time (Docker run stage)
+set -euo pipefail
+
+profile="${1:-build}"
+
+run_packages=(
+  ros-base python3-rospy python3-rostest python3-roslaunch rosbash python3-rosbag
+  python3-tf2-ros ros-robot-state-publisher python3-cv-bridge python3-opencv python3-numpy
+  python3-yaml python3-rospkg python3-matplotlib
+  liburdfdom-tools libbullet3.24 libode8 libyaml-cpp0.7
+  rviz xvfb
+)
+build_packages=(
+  build-essential cmake pkg-config git
+  ros-base-dev libroscpp-dev catkin catkin-tools catkin-lint
+  colcon python3-colcon-ros
+  libtf2-ros-dev libtf2-dev libtf2-msgs-dev libgeometry-msgs-dev libsensor-msgs-dev libnav-msgs-dev
+  libros-rosgraph-msgs-dev libstd-srvs-dev libstd-msgs-dev
+  ros-message-generation ros-message-runtime
+  liburdfdom-dev liburdf-dev libbullet-dev libode-dev libyaml-cpp-dev libopencv-dev
+  libimage-transport-dev libcv-bridge-dev
+  googletest libgtest-dev python3-pytest python3-pip
+)
+
+case "$profile" in
+  build) wanted=("${run_packages[@]}" "${build_packages[@]}") ;;
+  run) wanted=("${run_packages[@]}") ;;
+  *) echo "install_dependencies.sh: unknown profile '$profile' (expected build or run)" >&2; exit 2 ;;
+esac
+
+missing=()
+for pkg in "${wanted[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$pkg" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$pkg")
+  fi
+done
+
+sudo_cmd=()
+if [ "$(id -u)" -ne 0 ]; then sudo_cmd=(sudo); fi
+
+if [ "${#missing[@]}" -gt 0 ]; then
+  echo "install_dependencies.sh: installing ${#missing[@]} missing Debian packages: ${missing[*]}"
+  export DEBIAN_FRONTEND=noninteractive
+  "${sudo_cmd[@]}" apt-get update -qq
+  "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}"
+else
+  echo "install_dependencies.sh: all ${#wanted[@]} Debian packages present"
+fi
+
+# xacro is not packaged in Debian 12; the 1.13 line is ROS 1's (it resolves $(find) through rospkg).
+if ! /usr/bin/python3 -c 'import xacro' 2>/dev/null; then
+  echo "install_dependencies.sh: installing xacro==1.13.3 for /usr/bin/python3"
+  "${sudo_cmd[@]}" /usr/bin/python3 -m pip install --quiet --break-system-packages xacro==1.13.3
+fi

@@ -1,0 +1,80 @@
+// The one interface the simulator uses for physics. Backends: ODE and Bullet.
+//
+// Usage:
+//   auto engine = conde_physics::createPhysicsEngine("ode", settings);   // or "bullet"
+//   engine->addGroundPlane(ground_surface);
+//   ModelId robot = engine->addModel(model, spawn_pose);
+//   engine->setJointVelocityMotor(robot, left_wheel, 10.0, 7.5);
+//   for (...) engine->step();        // fixed step settings.step_s
+//   Pose base = engine->linkPose(robot, 0);
+//
+// Contract every backend meets (checked by test/engine_conformance_test.cpp on both engines):
+// same calls in the same order give bit-identical results; bodies of one model do not collide
+// with each other; joint positions are 0 in the pose the model was added in.
+#pragma once
+
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "conde_physics/math.h"
+#include "conde_physics/model.h"
+
+namespace conde_physics {
+
+using ModelId = int;
+
+struct RayHit {
+  bool hit = false;
+  double distance_m = 0.0;  // from the ray origin; max range when no hit
+};
+
+class PhysicsEngine {
+ public:
+  virtual ~PhysicsEngine() = default;
+  virtual std::string name() const = 0;
+  const PhysicsSettings& settings() const { return settings_; }
+
+  // Static world. The ground is the infinite plane z = 0 with +z up.
+  virtual void addGroundPlane(const SurfaceParams& surface) = 0;
+  virtual void addStaticShape(const Shape& shape, const Pose& world_pose, const SurfaceParams& surface) = 0;
+
+  // Adds a model with its root body's link frame at `root_pose` and all joints at zero.
+  // Bodies with zero mass in a non-fixed model get a tiny mass (the builder warns earlier).
+  virtual ModelId addModel(const ArticulatedModel& model, const Pose& root_pose) = 0;
+
+  // Advances the world by settings().step_s.
+  virtual void step() = 0;
+
+  // Link frame of body `body` of a model, in world coordinates.
+  virtual Pose bodyPose(ModelId model, int body) const = 0;
+  // Velocity of the body's link-frame origin and its angular velocity, world coordinates.
+  virtual Twist bodyTwist(ModelId model, int body) const = 0;
+
+  virtual double jointPosition(ModelId model, int joint) const = 0;   // [rad] or [m]
+  virtual double jointVelocity(ModelId model, int joint) const = 0;   // [rad/s] or [m/s]
+  // A velocity motor that holds `velocity` with at most `max_effort` [N m or N] until changed.
+  // max_effort = 0 switches the motor off.
+  virtual void setJointVelocityMotor(ModelId model, int joint, double velocity, double max_effort) = 0;
+  // Effort [N m or N] applied during the next step only (effort control, PID plugins).
+  virtual void addJointEffort(ModelId model, int joint, double effort) = 0;
+
+  // Casts rays against every shape (static and dynamic). `origins` and `directions` (unit) in
+  // world coordinates; results have max_range_m where nothing is hit within it.
+  // Shapes of `ignore_model` (e.g. the robot carrying the sensor) are skipped; -1 skips none.
+  virtual void castRays(const std::vector<Vec3>& origins, const std::vector<Vec3>& directions,
+                        double max_range_m, ModelId ignore_model, std::vector<RayHit>& hits) const = 0;
+
+ protected:
+  explicit PhysicsEngine(const PhysicsSettings& settings) : settings_(settings) {}
+  PhysicsSettings settings_;
+};
+
+// Names accepted by createPhysicsEngine, in the order they are documented.
+std::vector<std::string> availablePhysicsEngines();
+
+// Throws std::invalid_argument("unknown physics engine 'x' (expected one of: ode, bullet)").
+std::unique_ptr<PhysicsEngine> createPhysicsEngine(const std::string& name, const PhysicsSettings& settings);
+
+}  // namespace conde_physics
