@@ -1,8 +1,746 @@
-// Placeholder until the backend lands: it compiles, and every use fails loudly.
+// Bullet backend (libbullet 3.24, double precision) of PhysicsEngine.
+//
+// Mapping:
+// - Every body is one btRigidBody placed at its centre of mass with principal axes; its shapes
+//   sit in a btCompoundShape at inverse(inertial_frame) * pose_in_link. The root of a model
+//   fixed to the world is a static body (mass 0), so it cannot move at all.
+// - Revolute and continuous joints are btHingeConstraint with the child as body A: the hinge
+//   angle, limits and motor then all read "child relative to parent" about +axis. Prismatic
+//   joints are btGeneric6DofSpring2Constraint with everything but the x translation locked.
+// - Joint positions are measured by us after every step (unwrapped for any number of turns).
+// - Friction and contact stiffness are combined per contact point in gContactAddedCallback,
+//   from a SurfaceParams hung on every collision shape: min(mu) as in ODE/Gazebo, kp in
+//   series, kd in parallel.
+// - Bodies of one model never collide: a broadphase pair filter on the model id kept in each
+//   collision object's user index (-1 = static world).
+// - One step() is exactly one Bullet step: stepSimulation(step_s, 0) runs a single internal
+//   step of step_s (no substeps, no interpolation), then clears the applied forces.
+//
+// Documented simplifications: meshes of moving bodies collide as their convex hull (inflated by
+// the 1 mm margin); a manifold holds at most 4 points per pair of shapes, so
+// max_contacts is not used; max_contact_correcting_vel_mps has no Bullet counterpart.
 #include "bullet/bullet_engine.h"
 
+#include <btBulletDynamicsCommon.h>
+#include <BulletCollision/NarrowPhaseCollision/btRaycastCallback.h>
+#include <BulletDynamics/ConstraintSolver/btGeneric6DofSpring2Constraint.h>
+
+#include <algorithm>
+#include <cmath>
+#include <deque>
+#include <string>
+#include <vector>
+
 namespace conde_physics {
-std::unique_ptr<PhysicsEngine> createBulletEngine(const PhysicsSettings&) {
-  throw std::runtime_error("the bullet backend is not implemented yet");
+namespace {
+
+// Bullet's default 0.04 m margin rounds off anything small (our wheels have 0.032 m radius).
+// Boxes and cylinders keep their exact size (the margin is taken from inside); convex hulls
+// grow by it.
+constexpr double kShapeMargin_m = 0.001;
+// Stand-ins for massless bodies of moving models [kg, kg m^2].
+constexpr double kTinyMass_kg = 1e-3;
+constexpr double kTinyInertia_kgm2 = 1e-6;
+// User index of tyre shapes (btCollisionShape's default is -1).
+constexpr int kTyreShape = 1;
+// Softness of tyre friction: the solver lets each friction impulse leak by this fraction per
+// iteration, i.e. a tyre creeps at cfm * impulse / effective mass. Without it, two wheels on
+// one chassis with high friction form a closed loop whose internal (squeeze) impulse is
+// undetermined; joint drift feeds it and it grows until the wheels are bent off their axles.
+// 1e-2 removes that at 50 iterations; 1e-3 does not.
+constexpr double kTyreFrictionCfm = 1e-2;
+// Half width [rad] of the sliding limit window for revolute ranges Bullet cannot hold (>= pi).
+constexpr double kLimitWindow_rad = 1.5;
+
+btVector3 toBt(const Vec3& v) { return btVector3(v.x, v.y, v.z); }
+Vec3 fromBt(const btVector3& v) { return Vec3(v.x(), v.y(), v.z()); }
+btTransform toBt(const Pose& p) {
+  const Quat& q = p.orientation;
+  return btTransform(btQuaternion(q.x, q.y, q.z, q.w), toBt(p.position));
 }
+Pose fromBt(const btTransform& t) {
+  btQuaternion q = t.getRotation();
+  if (q.w() < 0.0) q = -q;  // one sign for the same rotation
+  return Pose(fromBt(t.getOrigin()), Quat(q.w(), q.x(), q.y(), q.z()));
+}
+
+// Rotation whose column `column` (0 = x, 2 = z) is the unit `axis`, completed right-handed.
+btMatrix3x3 basisWithAxis(const btVector3& axis, int column) {
+  btVector3 p, q;
+  btPlaneSpace1(axis, p, q);  // q = axis x p, so (p, q, axis) and (axis, p, q) are right-handed
+  const btVector3& c0 = column == 2 ? p : axis;
+  const btVector3& c1 = column == 2 ? q : p;
+  const btVector3& c2 = column == 2 ? axis : q;
+  return btMatrix3x3(c0.x(), c1.x(), c2.x(), c0.y(), c1.y(), c2.y(), c0.z(), c1.z(), c2.z());
+}
+
+// ---- contact material ----------------------------------------------------------------------
+
+// The surface of the shape in contact: children of compounds and standalone shapes carry their
+// own; triangles of a static mesh fall back to the object's.
+const SurfaceParams* surfaceOf(const btCollisionObjectWrapper* wrap) {
+  if (const void* s = wrap->getCollisionShape()->getUserPointer()) return static_cast<const SurfaceParams*>(s);
+  return static_cast<const SurfaceParams*>(wrap->getCollisionObject()->getUserPointer());
+}
+
+bool combineSurfaces(btManifoldPoint& cp, const btCollisionObjectWrapper* wrap0, int, int,
+                     const btCollisionObjectWrapper* wrap1, int, int) {
+  const SurfaceParams* a = surfaceOf(wrap0);
+  const SurfaceParams* b = surfaceOf(wrap1);
+  if (a == nullptr || b == nullptr) return false;
+  // Isotropic Coulomb friction with the smaller coefficient of the two surfaces.
+  cp.m_combinedFriction = std::min(std::min(a->mu, a->mu2), std::min(b->mu, b->mu2));
+  cp.m_combinedRestitution = 0.0;
+  cp.m_combinedRollingFriction = 0.0;
+  cp.m_combinedSpinningFriction = 0.0;
+  // Friction rows in fixed directions, with compliance for tyres (see kTyreFrictionCfm).
+  btPlaneSpace1(cp.m_normalWorldOnB, cp.m_lateralFrictionDir1, cp.m_lateralFrictionDir2);
+  cp.m_contactMotion1 = cp.m_contactMotion2 = 0.0;
+  const bool tyre = wrap0->getCollisionShape()->getUserIndex() == kTyreShape ||
+                    wrap1->getCollisionShape()->getUserIndex() == kTyreShape;
+  static const double frcfm = getenv("BT_FRCFM") ? atof(getenv("BT_FRCFM")) : kTyreFrictionCfm;  // DEBUG-REMOVE
+  cp.m_frictionCFM = tyre ? frcfm : 0.0;
+  cp.m_contactPointFlags |= BT_CONTACT_FLAG_LATERAL_FRICTION_INITIALIZED;
+  const double ka_npm = a->stiffness_npm, kb_npm = b->stiffness_npm;
+  if (ka_npm > 0.0 || kb_npm > 0.0) {
+    // Springs in series (a rigid side adds no compliance), dampers in parallel, as Gazebo does.
+    cp.m_combinedContactStiffness1 =
+        ka_npm > 0.0 && kb_npm > 0.0 ? 1.0 / (1.0 / ka_npm + 1.0 / kb_npm) : std::max(ka_npm, kb_npm);
+    cp.m_combinedContactDamping1 = a->damping_nspm + b->damping_nspm;
+    cp.m_contactPointFlags |= BT_CONTACT_FLAG_CONTACT_STIFFNESS_DAMPING;
+  } else {
+    cp.m_contactPointFlags &= ~BT_CONTACT_FLAG_CONTACT_STIFFNESS_DAMPING;
+  }
+  return true;
+}
+
+// ---- solver rows ---------------------------------------------------------------------------
+
+// One projected Gauss-Seidel update of a constraint row, the same arithmetic as Bullet's scalar
+// reference row solver, but compiled here: the library's version goes through an extra call
+// layer and a division per row, and these rows are where most of a step's time goes.
+// The return value only serves Bullet's early exit (max squared residual <= threshold, 0 by
+// default), for which the impulse change is as good as Bullet's velocity change.
+inline void applyRowImpulse(btSolverBody& body, const btVector3& linear, const btVector3& angular, btScalar impulse) {
+  if (body.m_originalBody == nullptr) return;  // static or kinematic: never moves
+  const btVector3& inv_mass = body.internalGetInvMass();
+  btVector3& dv = body.internalGetDeltaLinearVelocity();
+  btVector3& dw = body.internalGetDeltaAngularVelocity();
+  const btScalar ix = impulse * body.m_linearFactor.x(), iy = impulse * body.m_linearFactor.y(),
+                 iz = impulse * body.m_linearFactor.z();
+  dv.setValue(dv.x() + linear.x() * inv_mass.x() * ix, dv.y() + linear.y() * inv_mass.y() * iy,
+              dv.z() + linear.z() * inv_mass.z() * iz);
+  dw.setValue(dw.x() + angular.x() * impulse * body.m_angularFactor.x(),
+              dw.y() + angular.y() * impulse * body.m_angularFactor.y(),
+              dw.z() + angular.z() * impulse * body.m_angularFactor.z());
+}
+
+inline btScalar rowImpulseChange(btSolverBody& a, btSolverBody& b, const btSolverConstraint& c) {
+  const btVector3& va = a.internalGetDeltaLinearVelocity();
+  const btVector3& wa = a.internalGetDeltaAngularVelocity();
+  const btVector3& vb = b.internalGetDeltaLinearVelocity();
+  const btVector3& wb = b.internalGetDeltaAngularVelocity();
+  const btScalar rel_vel = c.m_contactNormal1.x() * va.x() + c.m_contactNormal1.y() * va.y() +
+                           c.m_contactNormal1.z() * va.z() + c.m_relpos1CrossNormal.x() * wa.x() +
+                           c.m_relpos1CrossNormal.y() * wa.y() + c.m_relpos1CrossNormal.z() * wa.z() +
+                           c.m_contactNormal2.x() * vb.x() + c.m_contactNormal2.y() * vb.y() +
+                           c.m_contactNormal2.z() * vb.z() + c.m_relpos2CrossNormal.x() * wb.x() +
+                           c.m_relpos2CrossNormal.y() * wb.y() + c.m_relpos2CrossNormal.z() * wb.z();
+  return c.m_rhs - c.m_appliedImpulse * c.m_cfm - rel_vel * c.m_jacDiagABInv;
+}
+
+btScalar solveRowGeneric(btSolverBody& a, btSolverBody& b, const btSolverConstraint& c) {
+  btScalar delta = rowImpulseChange(a, b, c);
+  const btScalar sum = c.m_appliedImpulse + delta;
+  if (sum < c.m_lowerLimit) {
+    delta = c.m_lowerLimit - c.m_appliedImpulse;
+    c.m_appliedImpulse = c.m_lowerLimit;
+  } else if (sum > c.m_upperLimit) {
+    delta = c.m_upperLimit - c.m_appliedImpulse;
+    c.m_appliedImpulse = c.m_upperLimit;
+  } else {
+    c.m_appliedImpulse = sum;
+  }
+  applyRowImpulse(a, c.m_contactNormal1, c.m_angularComponentA, delta);
+  applyRowImpulse(b, c.m_contactNormal2, c.m_angularComponentB, delta);
+  return delta;
+}
+
+btScalar solveRowLowerLimit(btSolverBody& a, btSolverBody& b, const btSolverConstraint& c) {
+  btScalar delta = rowImpulseChange(a, b, c);
+  const btScalar sum = c.m_appliedImpulse + delta;
+  if (sum < c.m_lowerLimit) {
+    delta = c.m_lowerLimit - c.m_appliedImpulse;
+    c.m_appliedImpulse = c.m_lowerLimit;
+  } else {
+    c.m_appliedImpulse = sum;
+  }
+  applyRowImpulse(a, c.m_contactNormal1, c.m_angularComponentA, delta);
+  applyRowImpulse(b, c.m_contactNormal2, c.m_angularComponentB, delta);
+  return delta;
+}
+
+// Broadphase filter: the usual group/mask test, and no pairs within one model.
+struct ModelPairFilter : public btOverlapFilterCallback {
+  bool needBroadphaseCollision(btBroadphaseProxy* p0, btBroadphaseProxy* p1) const override {
+    if ((p0->m_collisionFilterGroup & p1->m_collisionFilterMask) == 0 ||
+        (p1->m_collisionFilterGroup & p0->m_collisionFilterMask) == 0)
+      return false;
+    const int model0 = static_cast<const btCollisionObject*>(p0->m_clientObject)->getUserIndex();
+    const int model1 = static_cast<const btCollisionObject*>(p1->m_clientObject)->getUserIndex();
+    return model0 < 0 || model0 != model1;
+  }
+};
+
+// Closest hit, skipping the objects of one model.
+struct ClosestRayIgnoringModel : public btCollisionWorld::ClosestRayResultCallback {
+  ClosestRayIgnoringModel(const btVector3& from, const btVector3& to, int ignore_model)
+      : ClosestRayResultCallback(from, to), ignore_model_(ignore_model) {}
+  bool needsCollision(btBroadphaseProxy* proxy) const override {
+    if (!ClosestRayResultCallback::needsCollision(proxy)) return false;
+    return ignore_model_ < 0 || static_cast<const btCollisionObject*>(proxy->m_clientObject)->getUserIndex() != ignore_model_;
+  }
+  int ignore_model_;
+};
+
+// ---- engine ----------------------------------------------------------------------------------
+
+struct Body {
+  btRigidBody* rb = nullptr;
+  btTransform link_in_com;  // link frame in the body's COM frame: inverse(inertial_frame)
+};
+
+struct Joint {
+  JointType type = JointType::kRevolute;
+  btRigidBody* parent = nullptr;
+  btRigidBody* child = nullptr;
+  // Joint frame in each body's COM frame; the joint axis is its z (hinge) or x (prismatic).
+  btTransform frame_in_parent, frame_in_child;
+  btHingeConstraint* hinge = nullptr;
+  btGeneric6DofSpring2Constraint* slider = nullptr;
+  double position = 0.0;       // [rad] unwrapped, or [m]
+  double last_angle_rad = 0.0; // wrapped angle at the last update, for unwrapping
+  double damping = 0.0, friction = 0.0, effort_limit = 0.0, velocity_limit = 0.0;
+  bool has_limits = false;
+  double lower = 0.0, upper = 0.0;
+  bool limit_window = false;   // range too wide for btAngularLimit: slide a window along
+  double window_center_rad = 0.0;
+  bool motor_on = false;
+  double motor_velocity = 0.0, motor_max_effort = 0.0;
+  double pending_effort = 0.0; // [N m] or [N], for the next step only
+};
+
+struct Model {
+  std::vector<Body> bodies;
+  std::vector<Joint> joints;
+};
+
+class BulletEngine : public PhysicsEngine {
+ public:
+  explicit BulletEngine(const PhysicsSettings& settings) : PhysicsEngine(settings) {
+    gContactAddedCallback = &combineSurfaces;  // stateless; every object opts in by flag
+    config_ = std::make_unique<btDefaultCollisionConfiguration>();
+    dispatcher_ = std::make_unique<btCollisionDispatcher>(config_.get());
+    broadphase_ = std::make_unique<btDbvtBroadphase>();
+    broadphase_->getOverlappingPairCache()->setOverlapFilterCallback(&pair_filter_);
+    solver_ = std::make_unique<btSequentialImpulseConstraintSolver>();
+    if (!getenv("BT_REFROW")) {  // DEBUG-REMOVE
+    solver_->setConstraintRowSolverGeneric(&solveRowGeneric);
+    solver_->setConstraintRowSolverLowerLimit(&solveRowLowerLimit);
+    }  // DEBUG-REMOVE
+    world_ = std::make_unique<btDiscreteDynamicsWorld>(dispatcher_.get(), broadphase_.get(), solver_.get(),
+                                                       config_.get());
+    world_->setGravity(toBt(settings.gravity_mps2));
+    world_->setForceUpdateAllAabbs(false);  // static objects never move
+    btContactSolverInfo& info = world_->getSolverInfo();
+    info.m_numIterations = std::max(1, settings.solver_iterations);
+    // Bullet uses m_erp for contacts shallower than the split-impulse threshold and for joints,
+    // m_erp2 for the split (position-only) correction of deep contacts.
+    info.m_erp = settings.contact_erp;
+    info.m_erp2 = settings.contact_erp;
+    info.m_globalCfm = settings.contact_cfm;
+    info.m_linearSlop = settings.contact_surface_layer_m;  // allowed penetration, like ODE's layer
+    // One friction direction per point (the default) lets wheels slide sideways.
+    info.m_solverMode |= SOLVER_USE_2_FRICTION_DIRECTIONS | SOLVER_ENABLE_FRICTION_DIRECTION_CACHING;
+    if (getenv("BT_MODE_OR")) info.m_solverMode |= atoi(getenv("BT_MODE_OR"));  // DEBUG-REMOVE
+    if (getenv("BT_MODE_ANDNOT")) info.m_solverMode &= ~atoi(getenv("BT_MODE_ANDNOT"));  // DEBUG-REMOVE
+    if (getenv("BT_FCFM")) info.m_frictionCFM = atof(getenv("BT_FCFM"));  // DEBUG-REMOVE
+    if (getenv("BT_ITER")) info.m_numIterations = atoi(getenv("BT_ITER"));  // DEBUG-REMOVE
+    if (getenv("BT_ERP")) info.m_erp = atof(getenv("BT_ERP"));  // DEBUG-REMOVE
+    if (getenv("BT_INNER")) info.m_numNonContactInnerIterations = atoi(getenv("BT_INNER"));  // DEBUG-REMOVE
+    if (getenv("BT_RES")) info.m_leastSquaresResidualThreshold = atof(getenv("BT_RES"));  // DEBUG-REMOVE
+    if (getenv("BT_WS")) info.m_warmstartingFactor = atof(getenv("BT_WS"));  // DEBUG-REMOVE
+    if (getenv("BT_SPLIT")) info.m_splitImpulse = atoi(getenv("BT_SPLIT"));  // DEBUG-REMOVE
+    if (getenv("BT_MP")) config_->setPlaneConvexMultipointIterations(atoi(getenv("BT_MP")), atoi(getenv("BT_MP")));  // DEBUG-REMOVE
+  }
+
+  ~BulletEngine() override {
+    // The world must forget everything before the objects go away.
+    for (int i = world_->getNumConstraints() - 1; i >= 0; --i) world_->removeConstraint(world_->getConstraint(i));
+    for (int i = world_->getNumCollisionObjects() - 1; i >= 0; --i)
+      world_->removeCollisionObject(world_->getCollisionObjectArray()[i]);
+  }
+
+  std::string name() const override { return "bullet"; }
+
+  void addGroundPlane(const SurfaceParams& surface) override {
+    const SurfaceParams* s = keepSurface(surface);
+    btCollisionShape* shape = keepShape(std::make_unique<btStaticPlaneShape>(btVector3(0, 0, 1), 0.0));
+    shape->setUserPointer(const_cast<SurfaceParams*>(s));
+    addRigidBody(0.0, btVector3(0, 0, 0), shape, btTransform::getIdentity(), -1, s, true);
+  }
+
+  void addStaticShape(const Shape& shape, const Pose& world_pose, const SurfaceParams& surface) override {
+    const SurfaceParams* s = keepSurface(surface);
+    btCollisionShape* bt_shape = makeShape(shape, /*dynamic=*/false);
+    if (bt_shape == nullptr) return;
+    bt_shape->setUserPointer(const_cast<SurfaceParams*>(s));
+    addRigidBody(0.0, btVector3(0, 0, 0), bt_shape, toBt(world_pose), -1, s, true);
+  }
+
+  ModelId addModel(const ArticulatedModel& model, const Pose& root_pose) override {
+    const ModelId id = static_cast<ModelId>(models_.size());
+    auto m = std::make_unique<Model>();
+    m->bodies.resize(model.bodies.size());
+    for (size_t i = 0; i < model.bodies.size(); ++i) {
+      const BodySpec& spec = model.bodies[i];
+      const bool is_static = model.fixed_to_world && i == 0;
+      double mass_kg = spec.mass_kg;
+      btVector3 inertia_kgm2 = toBt(spec.principal_inertia_kgm2);
+      if (is_static) {
+        mass_kg = 0.0;
+        inertia_kgm2.setZero();
+      } else if (mass_kg <= 0.0) {
+        mass_kg = kTinyMass_kg;
+        inertia_kgm2.setValue(kTinyInertia_kgm2, kTinyInertia_kgm2, kTinyInertia_kgm2);
+      }
+      Body& body = m->bodies[i];
+      body.link_in_com = toBt(spec.inertial_frame.inverse());
+
+      btCollisionShape* shape = nullptr;
+      const SurfaceParams* fallback = nullptr;
+      if (!spec.collisions.empty()) {
+        auto compound = std::make_unique<btCompoundShape>(/*enableDynamicAabbTree=*/false,
+                                                          static_cast<int>(spec.collisions.size()));
+        for (const CollisionSpec& c : spec.collisions) {
+          const bool tyre = !is_static && isWheel(model, static_cast<int>(i), root_pose, c);
+          btCollisionShape* child = makeShape(c.shape, !is_static, tyre);
+          if (child == nullptr) continue;
+          const SurfaceParams* s = keepSurface(c.surface);
+          if (fallback == nullptr) fallback = s;
+          child->setUserPointer(const_cast<SurfaceParams*>(s));
+          if (tyre) child->setUserIndex(kTyreShape);
+          compound->addChildShape(body.link_in_com * toBt(c.pose_in_link), child);
+        }
+        if (compound->getNumChildShapes() > 0) shape = keepShape(std::move(compound));
+      }
+      const bool collides = shape != nullptr;
+      if (!collides) shape = keepShape(std::make_unique<btEmptyShape>());
+      const btTransform com_world = toBt(root_pose * spec.initial_pose_in_model * spec.inertial_frame);
+      body.rb = addRigidBody(mass_kg, inertia_kgm2, shape, com_world, id, fallback, collides);
+    }
+
+    m->joints.resize(model.joints.size());
+    for (size_t j = 0; j < model.joints.size(); ++j) {
+      const JointSpec& spec = model.joints[j];
+      if (spec.parent_body < 0 || spec.child_body < 0 || spec.parent_body >= static_cast<int>(model.bodies.size()) ||
+          spec.child_body >= static_cast<int>(model.bodies.size()))
+        throw std::invalid_argument("joint '" + spec.name + "' refers to a missing body");
+      Joint& joint = m->joints[j];
+      joint.type = spec.type;
+      joint.parent = m->bodies[spec.parent_body].rb;
+      joint.child = m->bodies[spec.child_body].rb;
+      joint.damping = spec.damping;
+      joint.friction = spec.friction;
+      joint.effort_limit = spec.effort_limit;
+      joint.velocity_limit = spec.velocity_limit;
+      joint.has_limits = spec.has_position_limits && spec.lower <= spec.upper;
+      joint.lower = spec.lower;
+      joint.upper = spec.upper;
+
+      btVector3 axis = toBt(spec.axis);
+      axis = axis.length2() > 0.0 ? axis.normalized() : btVector3(1, 0, 0);
+      const bool prismatic = spec.type == JointType::kPrismatic;
+      const btTransform joint_world =
+          toBt(root_pose * model.bodies[spec.parent_body].initial_pose_in_model * spec.pose_in_parent) *
+          btTransform(basisWithAxis(axis, prismatic ? 0 : 2), btVector3(0, 0, 0));
+      joint.frame_in_parent = joint.parent->getCenterOfMassTransform().inverse() * joint_world;
+      joint.frame_in_child = joint.child->getCenterOfMassTransform().inverse() * joint_world;
+
+      btTypedConstraint* constraint = nullptr;
+      if (prismatic) {
+        auto slider = std::make_unique<btGeneric6DofSpring2Constraint>(*joint.parent, *joint.child, joint.frame_in_parent,
+                                                                      joint.frame_in_child, RO_XYZ);
+        // Lower > upper leaves an axis free; equal values lock it.
+        slider->setLinearLowerLimit(btVector3(joint.has_limits ? joint.lower : 1.0, 0, 0));
+        slider->setLinearUpperLimit(btVector3(joint.has_limits ? joint.upper : -1.0, 0, 0));
+        slider->setAngularLowerLimit(btVector3(0, 0, 0));
+        slider->setAngularUpperLimit(btVector3(0, 0, 0));
+        joint.slider = slider.get();
+        constraint = keepConstraint(std::move(slider));
+      } else {
+        auto hinge = std::make_unique<btHingeConstraint>(*joint.child, *joint.parent, joint.frame_in_child,
+                                                         joint.frame_in_parent, /*useReferenceFrameA=*/false);
+        joint.hinge = hinge.get();
+        constraint = keepConstraint(std::move(hinge));
+        if (spec.type == JointType::kContinuous) joint.has_limits = false;
+        joint.limit_window = joint.has_limits && joint.upper - joint.lower >= M_PI - 0.1;
+        updateHingeLimit(joint, /*force=*/true);
+      }
+      world_->addConstraint(constraint, /*disableCollisionsBetweenLinkedBodies=*/false);  // the pair filter does it
+      updateMotor(joint);
+    }
+    models_.push_back(std::move(m));
+    return id;
+  }
+
+  void step() override {
+    const double dt_s = settings_.step_s;
+    for (auto& m : models_)
+      for (Joint& joint : m->joints) applyJointEffort(joint, dt_s);
+    world_->stepSimulation(dt_s, 0, dt_s);  // exactly one internal step; clears applied forces
+    for (auto& m : models_)
+      for (Joint& joint : m->joints) updatePosition(joint);
+    static const bool dbg = getenv("BT_DEBUG") != nullptr;  // DEBUG-REMOVE
+    if (dbg) debugDump();  // DEBUG-REMOVE
+  }
+  void debugDump() {  // DEBUG-REMOVE
+    static int n = 0; ++n;  // DEBUG-REMOVE
+    if (n % 100 != 0 && !(n > 1000 && n < 1010)) return;  // DEBUG-REMOVE
+    for (auto& m : models_) for (Joint& j : m->joints) {  // DEBUG-REMOVE
+      btTransform pf, cf; jointFrames(j, pf, cf);  // DEBUG-REMOVE
+      btVector3 dp = cf.getOrigin() - pf.getOrigin(); btVector3 ax = pf.getBasis().getColumn(2).cross(cf.getBasis().getColumn(2));  // DEBUG-REMOVE
+      printf("  step %d joint pivot err (%.2e %.2e %.2e) axis err (%.2e %.2e %.2e)\n", n, dp.x(), dp.y(), dp.z(), ax.x(), ax.y(), ax.z());  // DEBUG-REMOVE
+    }  // DEBUG-REMOVE
+    for (int i = 0; i < dispatcher_->getNumManifolds(); ++i) {  // DEBUG-REMOVE
+      btPersistentManifold* m = dispatcher_->getManifoldByIndexInternal(i);  // DEBUG-REMOVE
+      for (int k = 0; k < m->getNumContacts(); ++k) {  // DEBUG-REMOVE
+        const btManifoldPoint& p = m->getContactPoint(k);  // DEBUG-REMOVE
+        printf("  step %d man %d (%d,%d) pt %d B=(%.4f %.4f %.5f) d=%.5f mu=%.2f imp=%.4f f1=%.4f f2=%.4f life=%d\n", n, i, m->getBody0()->getUserIndex(), m->getBody1()->getUserIndex(), k, p.getPositionWorldOnB().x(), p.getPositionWorldOnB().y(), p.getPositionWorldOnB().z(), p.getDistance(), p.m_combinedFriction, p.m_appliedImpulse, p.m_appliedImpulseLateral1, p.m_appliedImpulseLateral2, p.getLifeTime());  // DEBUG-REMOVE
+      }  // DEBUG-REMOVE
+    }  // DEBUG-REMOVE
+  }
+
+  Pose bodyPose(ModelId model, int body) const override {
+    const Body& b = bodyAt(model, body);
+    return fromBt(b.rb->getCenterOfMassTransform() * b.link_in_com);
+  }
+
+  Twist bodyTwist(ModelId model, int body) const override {
+    const Body& b = bodyAt(model, body);
+    const btTransform& com = b.rb->getCenterOfMassTransform();
+    const btVector3 link_origin_from_com = com.getBasis() * b.link_in_com.getOrigin();
+    Twist t;
+    t.linear_mps = fromBt(b.rb->getVelocityInLocalPoint(link_origin_from_com));
+    t.angular_radps = fromBt(b.rb->getAngularVelocity());
+    return t;
+  }
+
+  double jointPosition(ModelId model, int joint) const override { return jointAt(model, joint).position; }
+
+  double jointVelocity(ModelId model, int joint) const override { return velocityOf(jointAt(model, joint)); }
+
+  void setJointVelocityMotor(ModelId model, int joint, double velocity, double max_effort) override {
+    Joint& j = jointAt(model, joint);
+    if (j.velocity_limit > 0.0) velocity = std::clamp(velocity, -j.velocity_limit, j.velocity_limit);
+    if (j.effort_limit > 0.0) max_effort = std::min(max_effort, j.effort_limit);
+    j.motor_on = max_effort > 0.0;
+    j.motor_velocity = velocity;
+    j.motor_max_effort = std::max(0.0, max_effort);
+    updateMotor(j);
+  }
+
+  void addJointEffort(ModelId model, int joint, double effort) override { jointAt(model, joint).pending_effort += effort; }
+
+  void castRays(const std::vector<Vec3>& origins, const std::vector<Vec3>& directions, double max_range_m,
+                ModelId ignore_model, std::vector<RayHit>& hits) const override {
+    hits.resize(origins.size());
+    for (size_t i = 0; i < origins.size(); ++i) {
+      RayHit& hit = hits[i];
+      hit.hit = false;
+      hit.distance_m = max_range_m;
+      if (i >= directions.size()) continue;
+      const btVector3 from = toBt(origins[i]);
+      const btVector3 to = from + toBt(directions[i]) * max_range_m;
+      ClosestRayIgnoringModel callback(from, to, ignore_model);
+      // GJK cast: the default subsimplex cast stops about a centimetre early on boxes.
+      callback.m_flags |= btTriangleRaycastCallback::kF_UseGjkConvexCastRaytest;
+      world_->rayTest(from, to, callback);
+      if (callback.hasHit()) {
+        hit.hit = true;
+        hit.distance_m = callback.m_closestHitFraction * max_range_m;
+      }
+    }
+  }
+
+ private:
+  // ---- construction helpers ----
+
+  const SurfaceParams* keepSurface(const SurfaceParams& s) {
+    surfaces_.push_back(s);
+    return &surfaces_.back();
+  }
+  template <class T>
+  T* keepShape(std::unique_ptr<T> shape) {
+    T* raw = shape.get();
+    shapes_.push_back(std::move(shape));
+    return raw;
+  }
+  template <class T>
+  T* keepConstraint(std::unique_ptr<T> c) {
+    T* raw = c.get();
+    constraints_.push_back(std::move(c));
+    return raw;
+  }
+
+  // A cylinder spinning about its own axis on a revolute or continuous joint is a wheel.
+  static bool isWheel(const ArticulatedModel& model, int body, const Pose& root_pose, const CollisionSpec& c) {
+    if (c.shape.type != ShapeType::kCylinder) return false;
+    const Pose body_link_world = root_pose * model.bodies[body].initial_pose_in_model;
+    const Pose cylinder_world = body_link_world * c.pose_in_link;
+    const Vec3 cylinder_axis = cylinder_world.orientation.rotate(Vec3(0, 0, 1));
+    for (const JointSpec& j : model.joints) {
+      if (j.child_body != body || j.type == JointType::kPrismatic || j.parent_body < 0) continue;
+      const Pose joint_world = root_pose * model.bodies[j.parent_body].initial_pose_in_model * j.pose_in_parent;
+      const Vec3 joint_axis = joint_world.orientation.rotate(j.axis.normalized());
+      const double off_axis_m = (cylinder_world.position - joint_world.position).cross(joint_axis).norm();
+      if (std::abs(cylinder_axis.dot(joint_axis)) > 1.0 - 1e-6 && off_axis_m < 0.01 * c.shape.radius_m) return true;
+    }
+    return false;
+  }
+
+  // Shape of one collision; nullptr for an empty mesh. A tyre is a cylinder whose edges are
+  // rounded with half its width: a flat tread touches flat ground at one of its edges, which
+  // moves the wheel's contact sideways (by half the width, changing the track of a
+  // differential drive); the rounded tread touches in its mid-plane at the full radius.
+  btCollisionShape* makeShape(const Shape& shape, bool dynamic, bool tyre = false) {
+    switch (shape.type) {
+      case ShapeType::kBox: {
+        const btVector3 half_m = toBt(shape.box_size_m) * 0.5;
+        auto box = std::make_unique<btBoxShape>(half_m);
+        box->setMargin(std::min(kShapeMargin_m, 0.5 * half_m[half_m.minAxis()]));
+        return keepShape(std::move(box));
+      }
+      case ShapeType::kCylinder: {
+        const double half_length_m = 0.5 * shape.length_m;
+        auto cylinder = std::make_unique<btCylinderShapeZ>(btVector3(shape.radius_m, shape.radius_m, half_length_m));
+        if (tyre && half_length_m < shape.radius_m) {
+          cylinder->setMargin(half_length_m);  // core: a flat disk of radius r - width/2
+        } else {
+          cylinder->setMargin(std::min(kShapeMargin_m, 0.5 * std::min(shape.radius_m, half_length_m)));
+        }
+        return keepShape(std::move(cylinder));
+      }
+      case ShapeType::kSphere:
+        return keepShape(std::make_unique<btSphereShape>(shape.radius_m));  // margin = radius
+      case ShapeType::kMesh: {
+        if (shape.mesh_vertices_m.empty()) return nullptr;
+        if (dynamic) {
+          auto hull = std::make_unique<btConvexHullShape>();
+          for (const Vec3& v : shape.mesh_vertices_m) hull->addPoint(toBt(v), false);
+          hull->setMargin(kShapeMargin_m);
+          hull->recalcLocalAabb();
+          return keepShape(std::move(hull));
+        }
+        auto mesh = std::make_unique<btTriangleMesh>(/*use32bitIndices=*/true, /*use4componentVertices=*/false);
+        const int n = static_cast<int>(shape.mesh_vertices_m.size());
+        for (size_t t = 0; t + 2 < shape.mesh_triangles.size(); t += 3) {
+          const int a = shape.mesh_triangles[t], b = shape.mesh_triangles[t + 1], c = shape.mesh_triangles[t + 2];
+          if (a < 0 || b < 0 || c < 0 || a >= n || b >= n || c >= n) continue;
+          mesh->addTriangle(toBt(shape.mesh_vertices_m[a]), toBt(shape.mesh_vertices_m[b]),
+                            toBt(shape.mesh_vertices_m[c]));
+        }
+        if (mesh->getNumTriangles() == 0) return nullptr;
+        auto bvh = std::make_unique<btBvhTriangleMeshShape>(mesh.get(), /*useQuantizedAabbCompression=*/true);
+        bvh->setMargin(kShapeMargin_m);
+        meshes_.push_back(std::move(mesh));
+        return keepShape(std::move(bvh));
+      }
+    }
+    return nullptr;
+  }
+
+  btRigidBody* addRigidBody(double mass_kg, const btVector3& inertia_kgm2, btCollisionShape* shape,
+                            const btTransform& com_world, int model_id, const SurfaceParams* fallback, bool collides) {
+    btRigidBody::btRigidBodyConstructionInfo info(mass_kg, nullptr, shape, inertia_kgm2);
+    info.m_startWorldTransform = com_world;
+    info.m_restitution = 0.0;
+    info.m_rollingFriction = 0.0;
+    info.m_spinningFriction = 0.0;
+    auto rb = std::make_unique<btRigidBody>(info);
+    rb->setCollisionFlags(rb->getCollisionFlags() | btCollisionObject::CF_CUSTOM_MATERIAL_CALLBACK);
+    if (mass_kg > 0.0) rb->setActivationState(DISABLE_DEACTIVATION);  // sleeping would change results
+    rb->setUserIndex(model_id);
+    if (getenv("BT_GYRO")) rb->setFlags(atoi(getenv("BT_GYRO")));  // DEBUG-REMOVE
+    rb->setUserPointer(const_cast<SurfaceParams*>(fallback));
+    btRigidBody* raw = rb.get();
+    bodies_.push_back(std::move(rb));
+    if (collides) {
+      world_->addRigidBody(raw);
+    } else {
+      world_->addRigidBody(raw, btBroadphaseProxy::DefaultFilter, 0);  // mask 0: no pairs, no rays
+    }
+    return raw;
+  }
+
+  // ---- joint helpers ----
+
+  // Joint frames in the world: parent side and child side.
+  void jointFrames(const Joint& j, btTransform& parent_frame, btTransform& child_frame) const {
+    parent_frame = j.parent->getCenterOfMassTransform() * j.frame_in_parent;
+    child_frame = j.child->getCenterOfMassTransform() * j.frame_in_child;
+  }
+
+  btVector3 axisWorld(const Joint& j) const {
+    return j.parent->getCenterOfMassTransform().getBasis() * j.frame_in_parent.getBasis().getColumn(j.hinge ? 2 : 0);
+  }
+
+  double velocityOf(const Joint& j) const {
+    if (j.hinge) return axisWorld(j).dot(j.child->getAngularVelocity() - j.parent->getAngularVelocity());
+    btTransform pf, cf;
+    jointFrames(j, pf, cf);
+    const btVector3& point = cf.getOrigin();
+    const btVector3 v_child = j.child->getVelocityInLocalPoint(point - j.child->getCenterOfMassPosition());
+    const btVector3 v_parent = j.parent->getVelocityInLocalPoint(point - j.parent->getCenterOfMassPosition());
+    return pf.getBasis().getColumn(0).dot(v_child - v_parent);
+  }
+
+  void updatePosition(Joint& j) {
+    btTransform pf, cf;
+    jointFrames(j, pf, cf);
+    if (j.slider) {
+      j.position = pf.getBasis().getColumn(0).dot(cf.getOrigin() - pf.getOrigin());
+      return;
+    }
+    // Rotation of the child's joint frame about the parent's z: angle of the child's x axis.
+    const btVector3 child_x = cf.getBasis().getColumn(0);
+    const double angle_rad =
+        std::atan2(child_x.dot(pf.getBasis().getColumn(1)), child_x.dot(pf.getBasis().getColumn(0)));
+    j.position += wrapAngle(angle_rad - j.last_angle_rad);
+    j.last_angle_rad = angle_rad;
+    if (j.limit_window) updateHingeLimit(j, false);
+  }
+
+  // btAngularLimit keeps ranges below pi only; wider ranges get a window of the range around
+  // the current position (moved before the joint could reach a false edge).
+  void updateHingeLimit(Joint& j, bool force) {
+    // Relaxation 0: no bounce off the stop; bias 1: full ERP on the limit error.
+    if (!j.has_limits) {
+      if (force) j.hinge->setLimit(1.0, -1.0);  // lower > upper: free
+      return;
+    }
+    if (!j.limit_window) {
+      j.hinge->setLimit(j.lower, j.upper, 0.9, 1.0, 0.0);
+      return;
+    }
+    if (!force && std::abs(j.position - j.window_center_rad) < 0.25 * kLimitWindow_rad) return;
+    j.window_center_rad = j.position;
+    const double lo = std::max(j.lower, j.position - kLimitWindow_rad);
+    const double hi = std::min(j.upper, j.position + kLimitWindow_rad);
+    j.hinge->setLimit(lo, hi, 0.9, 1.0, 0.0);  // Bullet reads both modulo 2 pi, as its angle is
+  }
+
+  // The velocity motor, or when none is set a zero-velocity motor holding the Coulomb friction.
+  void updateMotor(Joint& j) {
+    const double dt_s = settings_.step_s;
+    bool on = j.motor_on;
+    double velocity = j.motor_velocity, max_effort = j.motor_max_effort;
+    if (!on && j.friction > 0.0) {
+      on = true;
+      velocity = 0.0;
+      max_effort = j.friction;
+    }
+    if (j.hinge) {
+      j.hinge->enableAngularMotor(on, velocity, max_effort * dt_s);
+    } else {
+      j.slider->enableMotor(0, on);
+      j.slider->setTargetVelocity(0, velocity);
+      j.slider->setMaxMotorForce(0, max_effort);
+    }
+  }
+
+  // Commanded effort plus viscous damping, applied as equal and opposite torques (forces).
+  void applyJointEffort(Joint& j, double dt_s) {
+    double effort = j.pending_effort;
+    j.pending_effort = 0.0;
+    if (j.effort_limit > 0.0) effort = std::clamp(effort, -j.effort_limit, j.effort_limit);
+    if (j.damping > 0.0) {
+      const double v = velocityOf(j);
+      // Explicit damping, capped so it can at most stop the joint in one step (stable for any
+      // damping on light wheels).
+      const btVector3 axis = axisWorld(j);
+      double inv_inertia = 0.0;
+      if (j.hinge) {
+        inv_inertia = j.child->computeAngularImpulseDenominator(axis) + j.parent->computeAngularImpulseDenominator(axis);
+      } else {
+        inv_inertia = j.child->getInvMass() + j.parent->getInvMass();
+      }
+      double damping_effort = -j.damping * v;
+      if (inv_inertia > 0.0) {
+        const double max_effort = std::abs(v) / (inv_inertia * dt_s);
+        damping_effort = std::clamp(damping_effort, -max_effort, max_effort);
+      }
+      effort += damping_effort;
+    }
+    if (effort == 0.0) return;
+    const btVector3 axis = axisWorld(j);
+    if (j.hinge) {
+      const btVector3 torque = axis * effort;
+      j.child->applyTorque(torque);
+      if (!j.parent->isStaticObject()) j.parent->applyTorque(-torque);
+    } else {
+      btTransform pf, cf;
+      jointFrames(j, pf, cf);
+      const btVector3 force = axis * effort;
+      const btVector3& point = cf.getOrigin();
+      j.child->applyForce(force, point - j.child->getCenterOfMassPosition());
+      if (!j.parent->isStaticObject()) j.parent->applyForce(-force, point - j.parent->getCenterOfMassPosition());
+    }
+  }
+
+  // ---- lookup ----
+
+  const Model& modelAt(ModelId model) const {
+    if (model < 0 || model >= static_cast<ModelId>(models_.size()))
+      throw std::out_of_range("bullet: no model " + std::to_string(model));
+    return *models_[model];
+  }
+  const Body& bodyAt(ModelId model, int body) const {
+    const Model& m = modelAt(model);
+    if (body < 0 || body >= static_cast<int>(m.bodies.size()))
+      throw std::out_of_range("bullet: model " + std::to_string(model) + " has no body " + std::to_string(body));
+    return m.bodies[body];
+  }
+  const Joint& jointAt(ModelId model, int joint) const {
+    const Model& m = modelAt(model);
+    if (joint < 0 || joint >= static_cast<int>(m.joints.size()))
+      throw std::out_of_range("bullet: model " + std::to_string(model) + " has no joint " + std::to_string(joint));
+    return m.joints[joint];
+  }
+  Joint& jointAt(ModelId model, int joint) {
+    return const_cast<Joint&>(static_cast<const BulletEngine*>(this)->jointAt(model, joint));
+  }
+
+  // Declaration order is destruction order reversed: the world goes before what it uses, and
+  // the objects (removed from the world in the destructor) after it.
+  ModelPairFilter pair_filter_;
+  std::deque<SurfaceParams> surfaces_;  // stable addresses, pointed to by shapes and objects
+  std::vector<std::unique_ptr<btTriangleMesh>> meshes_;
+  std::vector<std::unique_ptr<btCollisionShape>> shapes_;
+  std::vector<std::unique_ptr<btRigidBody>> bodies_;
+  std::vector<std::unique_ptr<btTypedConstraint>> constraints_;
+  std::unique_ptr<btDefaultCollisionConfiguration> config_;
+  std::unique_ptr<btCollisionDispatcher> dispatcher_;
+  std::unique_ptr<btDbvtBroadphase> broadphase_;
+  std::unique_ptr<btSequentialImpulseConstraintSolver> solver_;
+  std::unique_ptr<btDiscreteDynamicsWorld> world_;
+  std::vector<std::unique_ptr<Model>> models_;
+};
+
+}  // namespace
+
+std::unique_ptr<PhysicsEngine> createBulletEngine(const PhysicsSettings& settings) {
+  return std::make_unique<BulletEngine>(settings);
+}
+
 }  // namespace conde_physics

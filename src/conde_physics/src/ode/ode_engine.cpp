@@ -1,8 +1,543 @@
-// Placeholder until the backend lands: it compiles, and every use fails loudly.
+// ODE backend (libode 0.16, double precision) of PhysicsEngine.
+//
+// Each body is an ODE body at its centre of mass with principal axes; geoms hang off it with
+// offsets. A model welded to the world gets a kinematic root body, so it is exactly still but
+// still carries joints and geoms. Contacts come from the engine's own spaces (dynamic geoms, and
+// static ones apart); joints are hinges (revolute, continuous) and sliders (prismatic) attached
+// as (child, parent), so ODE's angle, rate, motor and torque signs match the URDF convention
+// "child relative to parent about the axis".
 #include "ode/ode_engine.h"
 
+#include <ode/ode.h>
+
+#include <algorithm>
+#include <cmath>
+#include <deque>
+#include <memory>
+#include <mutex>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
 namespace conde_physics {
-std::unique_ptr<PhysicsEngine> createOdeEngine(const PhysicsSettings&) {
-  throw std::runtime_error("the ode backend is not implemented yet");
+namespace {
+
+// Stand-in for massless bodies (the builder warns about them earlier) [kg, kg m^2].
+constexpr double kTinyMassKg = 1e-3;
+constexpr double kTinyInertiaKgm2 = 1e-6;
+// Floor for principal moments: ODE rejects a mass whose inertia is not positive definite.
+constexpr double kMinInertiaKgm2 = 1e-12;
+
+constexpr double kTwoPi = 2.0 * M_PI;
+
+// Library init once per process, ODE's per-thread data once per calling thread.
+void ensureOdeThreadData() {
+  static const bool initialized = [] { return dInitODE2(0) != 0; }();
+  if (!initialized) throw std::runtime_error("ode: dInitODE2 failed");
+  thread_local bool allocated = false;
+  if (!allocated) {
+    dAllocateODEDataForThread(dAllocateMaskAll);
+    allocated = true;
+  }
 }
+
+// This libode is built without thread-local storage: the random seed QuickStep uses to shuffle
+// constraint rows and OPCODE's trimesh collider cache are process-wide. Every engine saves and
+// restores its own seed (determinism), and holds this lock while it creates or destroys geoms,
+// steps or casts rays, so engines in different threads stay correct and deterministic (they
+// are serialised; an uncontended lock costs ~20 ns of a ~10 us step).
+std::mutex& odeGlobalStateMutex() {
+  static std::mutex mutex;
+  return mutex;
+}
+
+Vec3 toVec3(const dReal* v) { return Vec3(v[0], v[1], v[2]); }
+Quat toQuat(const dReal* q) { return Quat(q[0], q[1], q[2], q[3]); }  // ODE is (w, x, y, z) too
+void toOde(const Quat& q, dQuaternion out) {
+  out[0] = q.w;
+  out[1] = q.x;
+  out[2] = q.y;
+  out[3] = q.z;
+}
+
+bool finitePositive(double v) { return std::isfinite(v) && v > 0.0; }
+
+// Owned by the engine; every geom's user data points at one (stable address in a deque).
+struct GeomInfo {
+  ModelId model = -1;  // -1: static world
+  SurfaceParams surface;
+};
+
+// Vertex and index arrays must outlive the trimesh data that references them.
+struct MeshStore {
+  std::vector<double> vertices_m;  // x, y, z per vertex
+  std::vector<dTriIndex> indices;  // 3 per triangle
+  dTriMeshDataID data = nullptr;
+};
+
+struct JointState {
+  dJointID id = nullptr;
+  bool hinge = true;                // false: slider
+  double damping = 0.0;             // [N m s/rad] or [N s/m]
+  double friction = 0.0;            // [N m] or [N]
+  double effort_limit = 0.0;        // 0 = unlimited
+  double velocity_limit = 0.0;      // 0 = unlimited
+  double pending_effort = 0.0;      // applied in the next step only
+  // Unwrapped hinge angle = raw - raw_at_attach + 2 pi * turns; ODE's raw angle wraps at ±pi.
+  double raw_at_attach_rad = 0.0;
+  double last_raw_rad = 0.0;
+  long turns = 0;
+};
+
+struct ModelState {
+  std::vector<dBodyID> bodies;
+  std::vector<Pose> link_in_body;   // inverse(inertial_frame): link frame in the ODE body frame
+  size_t first_joint = 0;           // index into OdeEngine::joints_
+  size_t joint_count = 0;
+};
+
+class OdeEngine final : public PhysicsEngine {
+ public:
+  explicit OdeEngine(const PhysicsSettings& settings);
+  ~OdeEngine() override;
+  OdeEngine(const OdeEngine&) = delete;
+  OdeEngine& operator=(const OdeEngine&) = delete;
+
+  std::string name() const override { return "ode"; }
+  void addGroundPlane(const SurfaceParams& surface) override;
+  void addStaticShape(const Shape& shape, const Pose& world_pose, const SurfaceParams& surface) override;
+  ModelId addModel(const ArticulatedModel& model, const Pose& root_pose) override;
+  void step() override;
+  Pose bodyPose(ModelId model, int body) const override;
+  Twist bodyTwist(ModelId model, int body) const override;
+  double jointPosition(ModelId model, int joint) const override;
+  double jointVelocity(ModelId model, int joint) const override;
+  void setJointVelocityMotor(ModelId model, int joint, double velocity, double max_effort) override;
+  void addJointEffort(ModelId model, int joint, double effort) override;
+  void castRays(const std::vector<Vec3>& origins, const std::vector<Vec3>& directions, double max_range_m,
+                ModelId ignore_model, std::vector<RayHit>& hits) const override;
+
+ private:
+  static void nearCallback(void* data, dGeomID a, dGeomID b);
+  void collidePair(dGeomID a, dGeomID b);
+  dGeomID createGeom(const Shape& shape);
+  void registerGeom(dGeomID geom, ModelId model, const SurfaceParams& surface, bool dynamic);
+  const ModelState& modelAt(ModelId model) const;
+  const JointState& jointAt(ModelId model, int joint) const;
+  JointState& jointAt(ModelId model, int joint) {
+    return const_cast<JointState&>(static_cast<const OdeEngine*>(this)->jointAt(model, joint));
+  }
+  void setMotorParams(const JointState& joint, double velocity, double max_effort);
+
+  dWorldID world_ = nullptr;
+  // Static geoms (world shapes, kinematic roots of welded models) never collide with each other,
+  // so they live apart: a step tests dynamic-dynamic pairs plus dynamic x static, which stays
+  // cheap with many static shapes (a simple space's pair sweep would be quadratic in them).
+  dSpaceID dynamic_space_ = nullptr;
+  dSpaceID static_space_ = nullptr;
+  dJointGroupID contact_group_ = nullptr;
+  dGeomID ray_ = nullptr;                 // reused by castRays, not in the space
+  unsigned long rand_seed_ = 0;           // this engine's QuickStep shuffle seed
+  int max_contacts_per_pair_ = 1;
+  std::vector<dContact> contacts_;        // dCollide output, max_contacts_per_pair_ long
+  std::deque<GeomInfo> geom_infos_;
+  std::vector<dGeomID> ray_targets_;      // every geom, in creation order (deterministic ties)
+  std::vector<std::unique_ptr<MeshStore>> meshes_;
+  std::vector<ModelState> models_;
+  std::vector<JointState> joints_;        // all models' joints, models_ index into it
+};
+
+OdeEngine::OdeEngine(const PhysicsSettings& settings) : PhysicsEngine(settings) {
+  if (!finitePositive(settings.step_s)) throw std::invalid_argument("ode: step_s must be > 0");
+  ensureOdeThreadData();
+  world_ = dWorldCreate();
+  const Vec3& g = settings.gravity_mps2;
+  dWorldSetGravity(world_, g.x, g.y, g.z);
+  // Before any joint is created: joint limits copy the world ERP/CFM as their stop ERP/CFM.
+  dWorldSetERP(world_, settings.contact_erp);
+  dWorldSetCFM(world_, settings.contact_cfm);
+  dWorldSetQuickStepNumIterations(world_, std::max(1, settings.solver_iterations));
+  dWorldSetContactSurfaceLayer(world_, settings.contact_surface_layer_m);
+  dWorldSetContactMaxCorrectingVel(world_, settings.max_contact_correcting_vel_mps);
+  dWorldSetAutoDisableFlag(world_, 0);
+
+  // Few dynamic geoms per world: a simple space's AABB sweep beats hashing at this size, and
+  // a hash space's collide2 against a geom is a linear scan anyway.
+  dynamic_space_ = dSimpleSpaceCreate(nullptr);
+  static_space_ = dSimpleSpaceCreate(nullptr);
+  contact_group_ = dJointGroupCreate(0);
+
+  max_contacts_per_pair_ = std::clamp(settings.max_contacts, 1, 0xffff);  // dCollide flags: 16 bits
+  contacts_.resize(static_cast<size_t>(max_contacts_per_pair_));
+
+  ray_ = dCreateRay(nullptr, 1.0);
+  dGeomRaySetFirstContact(ray_, 0);
+  dGeomRaySetBackfaceCull(ray_, 0);
+  dGeomRaySetClosestHit(ray_, 1);  // trimeshes report their nearest hit, not an arbitrary one
+}
+
+OdeEngine::~OdeEngine() {
+  std::lock_guard<std::mutex> lock(odeGlobalStateMutex());
+  // Geoms first (the space destroys its own), then what they reference, then the world.
+  dGeomDestroy(ray_);
+  dSpaceDestroy(dynamic_space_);
+  dSpaceDestroy(static_space_);
+  for (auto& mesh : meshes_) dGeomTriMeshDataDestroy(mesh->data);
+  dJointGroupDestroy(contact_group_);
+  dWorldDestroy(world_);  // bodies and joints
+}
+
+void OdeEngine::registerGeom(dGeomID geom, ModelId model, const SurfaceParams& surface, bool dynamic) {
+  geom_infos_.push_back(GeomInfo{model, surface});
+  dGeomSetData(geom, &geom_infos_.back());
+  dSpaceAdd(dynamic ? dynamic_space_ : static_space_, geom);
+  ray_targets_.push_back(geom);
+}
+
+// Throws before anything is created, so a rejected model leaves the world untouched.
+void validateShape(const Shape& shape) {
+  switch (shape.type) {
+    case ShapeType::kBox: {
+      const Vec3& s = shape.box_size_m;
+      if (!finitePositive(s.x) || !finitePositive(s.y) || !finitePositive(s.z))
+        throw std::invalid_argument("ode: box sizes must be > 0");
+      return;
+    }
+    case ShapeType::kCylinder:
+      if (!finitePositive(shape.radius_m) || !finitePositive(shape.length_m))
+        throw std::invalid_argument("ode: cylinder radius and length must be > 0");
+      return;
+    case ShapeType::kSphere:
+      if (!finitePositive(shape.radius_m)) throw std::invalid_argument("ode: sphere radius must be > 0");
+      return;
+    case ShapeType::kMesh:
+      if (shape.mesh_triangles.empty() || shape.mesh_triangles.size() % 3 != 0)
+        throw std::invalid_argument("ode: mesh needs 3 indices per triangle");
+      for (int index : shape.mesh_triangles) {
+        if (index < 0 || static_cast<size_t>(index) >= shape.mesh_vertices_m.size())
+          throw std::invalid_argument("ode: mesh triangle index out of range");
+      }
+      return;
+  }
+  throw std::invalid_argument("ode: unknown shape type");
+}
+
+dGeomID OdeEngine::createGeom(const Shape& shape) {
+  switch (shape.type) {
+    case ShapeType::kBox:
+      return dCreateBox(nullptr, shape.box_size_m.x, shape.box_size_m.y, shape.box_size_m.z);
+    case ShapeType::kCylinder:
+      return dCreateCylinder(nullptr, shape.radius_m, shape.length_m);  // axis along local z
+    case ShapeType::kSphere:
+      return dCreateSphere(nullptr, shape.radius_m);
+    case ShapeType::kMesh:
+      break;
+  }
+  auto mesh = std::make_unique<MeshStore>();
+  mesh->vertices_m.reserve(3 * shape.mesh_vertices_m.size());
+  for (const Vec3& v : shape.mesh_vertices_m) mesh->vertices_m.insert(mesh->vertices_m.end(), {v.x, v.y, v.z});
+  mesh->indices.assign(shape.mesh_triangles.begin(), shape.mesh_triangles.end());
+  mesh->data = dGeomTriMeshDataCreate();
+  dGeomTriMeshDataBuildDouble(mesh->data, mesh->vertices_m.data(), 3 * sizeof(double),
+                              static_cast<int>(shape.mesh_vertices_m.size()), mesh->indices.data(),
+                              static_cast<int>(mesh->indices.size()), 3 * sizeof(dTriIndex));
+  dGeomID geom = dCreateTriMesh(nullptr, mesh->data, nullptr, nullptr, nullptr);
+  meshes_.push_back(std::move(mesh));
+  return geom;
+}
+
+void OdeEngine::addGroundPlane(const SurfaceParams& surface) {
+  std::lock_guard<std::mutex> lock(odeGlobalStateMutex());
+  registerGeom(dCreatePlane(nullptr, 0, 0, 1, 0), -1, surface, false);
+}
+
+void OdeEngine::addStaticShape(const Shape& shape, const Pose& world_pose, const SurfaceParams& surface) {
+  validateShape(shape);
+  std::lock_guard<std::mutex> lock(odeGlobalStateMutex());
+  dGeomID geom = createGeom(shape);
+  dGeomSetPosition(geom, world_pose.position.x, world_pose.position.y, world_pose.position.z);
+  dQuaternion q;
+  toOde(world_pose.orientation, q);
+  dGeomSetQuaternion(geom, q);
+  registerGeom(geom, -1, surface, false);
+}
+
+ModelId OdeEngine::addModel(const ArticulatedModel& model, const Pose& root_pose) {
+  if (model.bodies.empty()) throw std::invalid_argument("ode: model '" + model.name + "' has no bodies");
+  const int body_count = static_cast<int>(model.bodies.size());
+  for (const JointSpec& j : model.joints) {
+    if (j.parent_body < 0 || j.parent_body >= body_count || j.child_body < 0 || j.child_body >= body_count ||
+        j.parent_body == j.child_body)
+      throw std::invalid_argument("ode: joint '" + j.name + "' has invalid bodies");
+  }
+  for (const BodySpec& body : model.bodies) {
+    for (const CollisionSpec& collision : body.collisions) validateShape(collision.shape);
+  }
+  std::lock_guard<std::mutex> lock(odeGlobalStateMutex());
+  const ModelId id = static_cast<ModelId>(models_.size());
+  ModelState state;
+  state.first_joint = joints_.size();
+  state.joint_count = model.joints.size();
+
+  for (int b = 0; b < body_count; ++b) {
+    const BodySpec& spec = model.bodies[b];
+    const bool kinematic = model.fixed_to_world && b == 0;
+    dBodyID body = dBodyCreate(world_);
+    const Pose com_world = root_pose * spec.initial_pose_in_model * spec.inertial_frame;
+    dBodySetPosition(body, com_world.position.x, com_world.position.y, com_world.position.z);
+    dQuaternion q;
+    toOde(com_world.orientation, q);
+    dBodySetQuaternion(body, q);
+
+    double mass_kg = spec.mass_kg;
+    Vec3 inertia_kgm2 = spec.principal_inertia_kgm2;
+    if (!finitePositive(mass_kg)) {
+      mass_kg = kTinyMassKg;
+      inertia_kgm2 = Vec3(kTinyInertiaKgm2, kTinyInertiaKgm2, kTinyInertiaKgm2);
+    }
+    dMass mass;
+    dMassSetZero(&mass);
+    dMassSetParameters(&mass, mass_kg, 0, 0, 0, std::max(inertia_kgm2.x, kMinInertiaKgm2),
+                       std::max(inertia_kgm2.y, kMinInertiaKgm2), std::max(inertia_kgm2.z, kMinInertiaKgm2), 0, 0,
+                       0);
+    dBodySetMass(body, &mass);
+    if (kinematic) dBodySetKinematic(body);  // infinite mass, zero velocity: exactly still
+
+    const Pose link_in_body = spec.inertial_frame.inverse();
+    for (const CollisionSpec& collision : spec.collisions) {
+      dGeomID geom = createGeom(collision.shape);
+      dGeomSetBody(geom, body);
+      const Pose offset = link_in_body * collision.pose_in_link;
+      dGeomSetOffsetPosition(geom, offset.position.x, offset.position.y, offset.position.z);
+      dQuaternion oq;
+      toOde(offset.orientation, oq);
+      dGeomSetOffsetQuaternion(geom, oq);
+      registerGeom(geom, id, collision.surface, !kinematic);
+    }
+    state.bodies.push_back(body);
+    state.link_in_body.push_back(link_in_body);
+  }
+
+  for (const JointSpec& spec : model.joints) {
+    const Pose joint_world = root_pose * model.bodies[spec.parent_body].initial_pose_in_model * spec.pose_in_parent;
+    const Vec3 axis = joint_world.orientation.rotate(spec.axis.normalized());
+    dBodyID child = state.bodies[spec.child_body];
+    dBodyID parent = state.bodies[spec.parent_body];
+    JointState joint;
+    joint.hinge = spec.type != JointType::kPrismatic;
+    joint.damping = std::max(0.0, spec.damping);
+    joint.friction = std::max(0.0, spec.friction);
+    joint.effort_limit = std::max(0.0, spec.effort_limit);
+    joint.velocity_limit = std::max(0.0, spec.velocity_limit);
+    // Anchor and axis are set after attaching: ODE records the current relative pose as zero.
+    if (joint.hinge) {
+      joint.id = dJointCreateHinge(world_, nullptr);
+      dJointAttach(joint.id, child, parent);
+      dJointSetHingeAnchor(joint.id, joint_world.position.x, joint_world.position.y, joint_world.position.z);
+      dJointSetHingeAxis(joint.id, axis.x, axis.y, axis.z);
+      joint.raw_at_attach_rad = joint.last_raw_rad = dJointGetHingeAngle(joint.id);
+    } else {
+      joint.id = dJointCreateSlider(world_, nullptr);
+      dJointAttach(joint.id, child, parent);
+      dJointSetSliderAxis(joint.id, axis.x, axis.y, axis.z);
+    }
+    if (spec.type != JointType::kContinuous && spec.has_position_limits) {
+      // Lo first: ODE ignores a LoStop above the current HiStop (initially +inf).
+      if (joint.hinge) {
+        dJointSetHingeParam(joint.id, dParamLoStop, spec.lower);
+        dJointSetHingeParam(joint.id, dParamHiStop, spec.upper);
+      } else {
+        dJointSetSliderParam(joint.id, dParamLoStop, spec.lower);
+        dJointSetSliderParam(joint.id, dParamHiStop, spec.upper);
+      }
+    }
+    setMotorParams(joint, 0.0, 0.0);  // motor off: friction only
+    joints_.push_back(joint);
+  }
+  models_.push_back(std::move(state));
+  return id;
+}
+
+const ModelState& OdeEngine::modelAt(ModelId model) const {
+  if (model < 0 || static_cast<size_t>(model) >= models_.size())
+    throw std::out_of_range("ode: unknown model id " + std::to_string(model));
+  return models_[static_cast<size_t>(model)];
+}
+
+const JointState& OdeEngine::jointAt(ModelId model, int joint) const {
+  const ModelState& m = modelAt(model);
+  if (joint < 0 || static_cast<size_t>(joint) >= m.joint_count)
+    throw std::out_of_range("ode: unknown joint index " + std::to_string(joint));
+  return joints_[m.first_joint + static_cast<size_t>(joint)];
+}
+
+void OdeEngine::setMotorParams(const JointState& joint, double velocity, double max_effort) {
+  // No motor: a zero-velocity motor whose strength is the Coulomb friction (0 disables it).
+  if (!(max_effort > 0.0)) {
+    velocity = 0.0;
+    max_effort = joint.friction;
+  }
+  if (joint.hinge) {
+    dJointSetHingeParam(joint.id, dParamVel, velocity);
+    dJointSetHingeParam(joint.id, dParamFMax, max_effort);
+  } else {
+    dJointSetSliderParam(joint.id, dParamVel, velocity);
+    dJointSetSliderParam(joint.id, dParamFMax, max_effort);
+  }
+}
+
+void OdeEngine::setJointVelocityMotor(ModelId model, int joint, double velocity, double max_effort) {
+  const JointState& j = jointAt(model, joint);
+  if (j.velocity_limit > 0.0) velocity = std::clamp(velocity, -j.velocity_limit, j.velocity_limit);
+  if (j.effort_limit > 0.0) max_effort = std::min(max_effort, j.effort_limit);
+  setMotorParams(j, velocity, max_effort);
+}
+
+void OdeEngine::addJointEffort(ModelId model, int joint, double effort) {
+  jointAt(model, joint).pending_effort += effort;
+}
+
+void OdeEngine::nearCallback(void* data, dGeomID a, dGeomID b) { static_cast<OdeEngine*>(data)->collidePair(a, b); }
+
+void OdeEngine::collidePair(dGeomID a, dGeomID b) {
+  // Static-static pairs never get here (separate spaces); bodies of one model do not collide.
+  const auto* info_a = static_cast<const GeomInfo*>(dGeomGetData(a));
+  const auto* info_b = static_cast<const GeomInfo*>(dGeomGetData(b));
+  if (info_a->model >= 0 && info_a->model == info_b->model) return;
+
+  const int count = dCollide(a, b, max_contacts_per_pair_, &contacts_[0].geom, sizeof(dContact));
+  if (count <= 0) return;
+
+  dSurfaceParameters surface{};
+  surface.mode = dContactApprox1 | dContactMu2;
+  surface.mu = std::max(0.0, std::min(info_a->surface.mu, info_b->surface.mu));
+  surface.mu2 = std::max(0.0, std::min(info_a->surface.mu2, info_b->surface.mu2));
+  // Springs in series (Gazebo); a stiffness of 0 is rigid, so the other surface's one applies.
+  const double kp_a = info_a->surface.stiffness_npm, kp_b = info_b->surface.stiffness_npm;
+  const double kp_npm = kp_a > 0.0 && kp_b > 0.0 ? 1.0 / (1.0 / kp_a + 1.0 / kp_b) : std::max({kp_a, kp_b, 0.0});
+  if (kp_npm > 0.0) {
+    const double kd_nspm = std::max(0.0, info_a->surface.damping_nspm) + std::max(0.0, info_b->surface.damping_nspm);
+    const double hkp = settings_.step_s * kp_npm;
+    surface.mode |= dContactSoftERP | dContactSoftCFM;
+    surface.soft_erp = hkp / (hkp + kd_nspm);
+    surface.soft_cfm = 1.0 / (hkp + kd_nspm);
+  }
+
+  dBodyID body_a = dGeomGetBody(a), body_b = dGeomGetBody(b);
+  for (int i = 0; i < count; ++i) {
+    contacts_[i].surface = surface;
+    dJointID contact = dJointCreateContact(world_, contact_group_, &contacts_[i]);
+    dJointAttach(contact, body_a, body_b);
+  }
+}
+
+void OdeEngine::step() {
+  ensureOdeThreadData();
+  std::lock_guard<std::mutex> lock(odeGlobalStateMutex());
+  // Viscous damping as an explicit torque from the last velocity: stable while
+  // damping * step_s < 2 * (moment of inertia seen by the joint).
+  for (JointState& j : joints_) {
+    double effort = j.pending_effort;
+    j.pending_effort = 0.0;
+    if (j.hinge) {
+      if (j.damping > 0.0) effort -= j.damping * dJointGetHingeAngleRate(j.id);
+      if (effort != 0.0) dJointAddHingeTorque(j.id, effort);
+    } else {
+      if (j.damping > 0.0) effort -= j.damping * dJointGetSliderPositionRate(j.id);
+      if (effort != 0.0) dJointAddSliderForce(j.id, effort);
+    }
+  }
+  dSpaceCollide(dynamic_space_, this, &OdeEngine::nearCallback);
+  dSpaceCollide2(reinterpret_cast<dGeomID>(dynamic_space_), reinterpret_cast<dGeomID>(static_space_), this,
+                 &OdeEngine::nearCallback);
+  dRandSetSeed(rand_seed_);
+  dWorldQuickStep(world_, settings_.step_s);
+  rand_seed_ = dRandGetSeed();
+  dJointGroupEmpty(contact_group_);
+
+  // Count hinge revolutions: ODE's angle wraps at ±pi; assumes < pi rad per step.
+  for (JointState& j : joints_) {
+    if (!j.hinge) continue;
+    const double raw_rad = dJointGetHingeAngle(j.id);
+    const double delta_rad = raw_rad - j.last_raw_rad;
+    if (delta_rad > M_PI) --j.turns;
+    else if (delta_rad < -M_PI) ++j.turns;
+    j.last_raw_rad = raw_rad;
+  }
+}
+
+Pose OdeEngine::bodyPose(ModelId model, int body) const {
+  const ModelState& m = modelAt(model);
+  if (body < 0 || static_cast<size_t>(body) >= m.bodies.size())
+    throw std::out_of_range("ode: unknown body index " + std::to_string(body));
+  dBodyID b = m.bodies[static_cast<size_t>(body)];
+  return Pose(toVec3(dBodyGetPosition(b)), toQuat(dBodyGetQuaternion(b))) * m.link_in_body[static_cast<size_t>(body)];
+}
+
+Twist OdeEngine::bodyTwist(ModelId model, int body) const {
+  const Pose link = bodyPose(model, body);  // also validates the indices
+  dBodyID b = models_[static_cast<size_t>(model)].bodies[static_cast<size_t>(body)];
+  dVector3 v;
+  dBodyGetPointVel(b, link.position.x, link.position.y, link.position.z, v);
+  Twist twist;
+  twist.linear_mps = toVec3(v);
+  twist.angular_radps = toVec3(dBodyGetAngularVel(b));
+  return twist;
+}
+
+double OdeEngine::jointPosition(ModelId model, int joint) const {
+  const JointState& j = jointAt(model, joint);
+  if (!j.hinge) return dJointGetSliderPosition(j.id);
+  return j.last_raw_rad - j.raw_at_attach_rad + kTwoPi * static_cast<double>(j.turns);
+}
+
+double OdeEngine::jointVelocity(ModelId model, int joint) const {
+  const JointState& j = jointAt(model, joint);
+  return j.hinge ? dJointGetHingeAngleRate(j.id) : dJointGetSliderPositionRate(j.id);
+}
+
+void OdeEngine::castRays(const std::vector<Vec3>& origins, const std::vector<Vec3>& directions,
+                         double max_range_m, ModelId ignore_model, std::vector<RayHit>& hits) const {
+  if (origins.size() != directions.size())
+    throw std::invalid_argument("ode: castRays needs one direction per origin");
+  hits.resize(origins.size());
+  if (!finitePositive(max_range_m)) {
+    for (RayHit& h : hits) h = RayHit{false, std::max(0.0, max_range_m)};
+    return;
+  }
+  ensureOdeThreadData();
+  std::lock_guard<std::mutex> lock(odeGlobalStateMutex());
+  dGeomRaySetLength(ray_, max_range_m);
+  for (size_t r = 0; r < origins.size(); ++r) {
+    const Vec3& o = origins[r];
+    const Vec3& d = directions[r];
+    dGeomRaySet(ray_, o.x, o.y, o.z, d.x, d.y, d.z);
+    const Vec3 end = o + d * max_range_m;
+    const double lo[3] = {std::min(o.x, end.x), std::min(o.y, end.y), std::min(o.z, end.z)};
+    const double hi[3] = {std::max(o.x, end.x), std::max(o.y, end.y), std::max(o.z, end.z)};
+    double nearest_m = max_range_m;
+    bool hit = false;
+    for (dGeomID geom : ray_targets_) {
+      if (ignore_model >= 0 && static_cast<const GeomInfo*>(dGeomGetData(geom))->model == ignore_model) continue;
+      dReal aabb[6];  // minx, maxx, miny, maxy, minz, maxz; infinite for the plane
+      dGeomGetAABB(geom, aabb);
+      if (aabb[0] > hi[0] || aabb[1] < lo[0] || aabb[2] > hi[1] || aabb[3] < lo[1] || aabb[4] > hi[2] ||
+          aabb[5] < lo[2])
+        continue;
+      dContactGeom contact;
+      if (dCollide(ray_, geom, 1, &contact, sizeof(dContactGeom)) > 0 && contact.depth < nearest_m) {
+        nearest_m = contact.depth;  // distance from the ray origin
+        hit = true;
+      }
+    }
+    hits[r] = RayHit{hit, hit ? nearest_m : max_range_m};
+  }
+}
+
+}  // namespace
+
+std::unique_ptr<PhysicsEngine> createOdeEngine(const PhysicsSettings& settings) {
+  return std::make_unique<OdeEngine>(settings);
+}
+
 }  // namespace conde_physics

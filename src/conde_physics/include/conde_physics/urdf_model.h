@@ -1,0 +1,33 @@
+// URDF (already xacro-processed) -> ArticulatedModel for the physics engines.
+//
+// Links joined by fixed joints are merged into one rigid body (masses and inertias combined
+// with the parallel-axis theorem); revolute, continuous and prismatic joints become engine
+// joints. A root link named "world" welds the model to the world, as in Gazebo.
+// Contact parameters come from Gazebo's <gazebo reference="link"> tags (mu1, mu2, kp, kd).
+// Assumptions: floating and planar joints are not supported (an error); <mimic> is ignored with
+// a warning; visual elements are not used by physics.
+#pragma once
+
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "conde_physics/model.h"
+#include "conde_physics/resource_path.h"
+
+namespace conde_physics {
+
+class ModelError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// `source` names the description in messages (a file name or a parameter name). Throws
+// ModelError with a one-line message naming the source and the element at fault.
+ArticulatedModel buildModelFromUrdf(const std::string& urdf_xml, const std::string& source,
+                                    const PackageResolver& packages, std::vector<std::string>* warnings = nullptr);
+
+// Reads a binary or ASCII STL file into `shape` (vertices scaled by `scale`). Throws ModelError.
+void loadStlMesh(const std::string& path, const Vec3& scale, Shape& shape);
+
+}  // namespace conde_physics

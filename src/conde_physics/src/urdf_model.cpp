@@ -1,0 +1,351 @@
+#include "conde_physics/urdf_model.h"
+
+#include <console_bridge/console.h>
+#include <tinyxml2.h>
+#include <urdf_parser/urdf_parser.h>
+
+#include <cstring>
+#include <fstream>
+#include <functional>
+#include <map>
+#include <mutex>
+#include <set>
+#include <sstream>
+
+namespace conde_physics {
+namespace {
+
+// Bodies without mass in a moving model get this, so the engines stay stable.
+constexpr double kTinyMassKg = 1e-3;
+constexpr double kTinyInertiaKgm2 = 1e-6;
+
+// Keys of <gazebo reference="link"> blocks: those physics reads, and those other parts of the
+// simulator read or that are accepted and ignored (Gazebo rendering/solver hints).
+const std::set<std::string> kSurfaceKeys = {"mu1", "mu2", "kp", "kd"};
+const std::set<std::string> kOtherReferenceKeys = {
+    "sensor", "material", "selfCollide", "gravity", "turnGravityOff", "maxVel", "minDepth", "fdir1",
+    "maxContacts", "provideFeedback", "implicitSpringDamper", "dampingFactor", "laserRetro", "visual",
+    "stopCfm", "stopErp", "cfmDamping", "springStiffness", "springReference", "preserveFixedJoint",
+    "disableFixedJointLumping", "kinematic", "static"};
+
+// Collects console_bridge messages (urdfdom reports parse errors through it).
+class CapturingOutputHandler : public console_bridge::OutputHandler {
+ public:
+  void log(const std::string& text, console_bridge::LogLevel level, const char*, int) override {
+    if (level >= console_bridge::CONSOLE_BRIDGE_LOG_ERROR) errors.push_back(text);
+  }
+  std::vector<std::string> errors;
+};
+
+Pose toPose(const urdf::Pose& p) {
+  return Pose(Vec3(p.position.x, p.position.y, p.position.z),
+              Quat(p.rotation.w, p.rotation.x, p.rotation.y, p.rotation.z).normalized());
+}
+
+struct MassProps {
+  double mass_kg = 0.0;
+  Vec3 com;       // in the body's link frame
+  Inertia inertia;  // about `com`, body link axes
+};
+
+// Adds a point-mass-with-inertia to an accumulated body (parallel-axis theorem).
+void addMass(MassProps& acc, double m, const Vec3& com, const Inertia& inertia_at_com) {
+  if (m <= 0.0) return;
+  const double total = acc.mass_kg + m;
+  const Vec3 new_com = (acc.com * acc.mass_kg + com * m) / total;
+  auto shifted = [](const Inertia& i, double mass, const Vec3& d) {
+    Inertia r = i;
+    r.ixx += mass * (d.y * d.y + d.z * d.z);
+    r.iyy += mass * (d.x * d.x + d.z * d.z);
+    r.izz += mass * (d.x * d.x + d.y * d.y);
+    r.ixy -= mass * d.x * d.y;
+    r.ixz -= mass * d.x * d.z;
+    r.iyz -= mass * d.y * d.z;
+    return r;
+  };
+  const Inertia a = shifted(acc.inertia, acc.mass_kg, acc.com - new_com);
+  const Inertia b = shifted(inertia_at_com, m, com - new_com);
+  acc.inertia = {a.ixx + b.ixx, a.ixy + b.ixy, a.ixz + b.ixz, a.iyy + b.iyy, a.iyz + b.iyz, a.izz + b.izz};
+  acc.mass_kg = total;
+  acc.com = new_com;
+}
+
+double parseNumber(const std::string& text, const std::string& where) {
+  try {
+    size_t used = 0;
+    const double v = std::stod(text, &used);
+    if (text.find_first_not_of(" \t\r\n", used) != std::string::npos) throw std::invalid_argument(text);
+    return v;
+  } catch (const std::exception&) {
+    throw ModelError(where + ": expected a number, got '" + text + "'");
+  }
+}
+
+// Surface parameters per link from <gazebo reference="..."> blocks; validates keys.
+std::map<std::string, SurfaceParams> readSurfaces(const std::string& urdf_xml, const std::string& source,
+                                                  const urdf::ModelInterface& urdf) {
+  std::map<std::string, SurfaceParams> surfaces;
+  tinyxml2::XMLDocument doc;
+  if (doc.Parse(urdf_xml.c_str()) != tinyxml2::XML_SUCCESS) return surfaces;  // urdfdom reported it
+  const tinyxml2::XMLElement* robot = doc.FirstChildElement("robot");
+  if (!robot) return surfaces;
+  for (const auto* g = robot->FirstChildElement("gazebo"); g; g = g->NextSiblingElement("gazebo")) {
+    const char* reference = g->Attribute("reference");
+    if (!reference) continue;  // model-level blocks (plugins) are read by the simulator
+    const std::string ref(reference);
+    const std::string where = source + ":" + std::to_string(g->GetLineNum()) + ": <gazebo reference=\"" + ref + "\">";
+    const bool is_link = urdf.getLink(ref) != nullptr;
+    if (!is_link && urdf.getJoint(ref) == nullptr) {
+      throw ModelError(where + ": no link or joint named '" + ref + "'");
+    }
+    SurfaceParams& s = surfaces[ref];
+    for (const auto* e = g->FirstChildElement(); e; e = e->NextSiblingElement()) {
+      const std::string key = e->Name();
+      if (kSurfaceKeys.count(key)) {
+        const double v = parseNumber(e->GetText() ? e->GetText() : "", where + " <" + key + ">");
+        if (v < 0) throw ModelError(where + " <" + key + ">: must not be negative, got " + std::to_string(v));
+        if (key == "mu1") s.mu = v;
+        if (key == "mu2") s.mu2 = v;
+        if (key == "kp") s.stiffness_npm = v;
+        if (key == "kd") s.damping_nspm = v;
+      } else if (!kOtherReferenceKeys.count(key)) {
+        throw ModelError(source + ":" + std::to_string(e->GetLineNum()) + ": <gazebo reference=\"" + ref +
+                         "\">: unknown element <" + key + ">");
+      }
+    }
+  }
+  return surfaces;
+}
+
+}  // namespace
+
+void loadStlMesh(const std::string& path, const Vec3& scale, Shape& shape) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw ModelError("cannot open mesh file '" + path + "'");
+  std::string data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  shape.type = ShapeType::kMesh;
+  shape.mesh_vertices_m.clear();
+  shape.mesh_triangles.clear();
+  auto add_vertex = [&](double x, double y, double z) {
+    shape.mesh_vertices_m.emplace_back(x * scale.x, y * scale.y, z * scale.z);
+    shape.mesh_triangles.push_back(static_cast<int>(shape.mesh_vertices_m.size()) - 1);
+  };
+  // Binary STL: 80-byte header, uint32 count, 50 bytes per triangle. The size check tells it
+  // apart from ASCII files that happen to start with "solid".
+  if (data.size() >= 84) {
+    uint32_t count = 0;
+    std::memcpy(&count, data.data() + 80, 4);
+    if (data.size() == 84 + static_cast<size_t>(count) * 50) {
+      for (uint32_t t = 0; t < count; ++t) {
+        const char* tri = data.data() + 84 + t * 50 + 12;  // skip the normal
+        for (int v = 0; v < 3; ++v) {
+          float xyz[3];
+          std::memcpy(xyz, tri + v * 12, 12);
+          add_vertex(xyz[0], xyz[1], xyz[2]);
+        }
+      }
+      if (count == 0) throw ModelError("mesh file '" + path + "' has no triangles");
+      return;
+    }
+  }
+  std::istringstream text(data);
+  std::string word;
+  while (text >> word) {
+    if (word == "vertex") {
+      double x, y, z;
+      if (!(text >> x >> y >> z)) throw ModelError("mesh file '" + path + "': malformed ASCII STL vertex");
+      add_vertex(x, y, z);
+    }
+  }
+  if (shape.mesh_vertices_m.empty() || shape.mesh_vertices_m.size() % 3 != 0) {
+    throw ModelError("mesh file '" + path + "' is not a readable STL file");
+  }
+}
+
+ArticulatedModel buildModelFromUrdf(const std::string& urdf_xml, const std::string& source,
+                                    const PackageResolver& packages, std::vector<std::string>* warnings) {
+  auto warn = [&](const std::string& w) {
+    if (warnings) warnings->push_back(source + ": " + w);
+  };
+
+  urdf::ModelInterfaceSharedPtr urdf;
+  {
+    // console_bridge's handler is process-global: serialise parses.
+    static std::mutex parse_mutex;
+    std::lock_guard<std::mutex> lock(parse_mutex);
+    CapturingOutputHandler capture;
+    console_bridge::OutputHandler* previous = console_bridge::getOutputHandler();
+    console_bridge::useOutputHandler(&capture);
+    urdf = urdf::parseURDF(urdf_xml);
+    console_bridge::useOutputHandler(previous);
+    if (!urdf) {
+      std::string why = capture.errors.empty() ? "not a valid URDF document" : capture.errors.front();
+      // tinyxml2 knows the line of XML syntax errors; urdfdom does not say it.
+      tinyxml2::XMLDocument doc;
+      if (doc.Parse(urdf_xml.c_str()) != tinyxml2::XML_SUCCESS) {
+        why = "XML error at line " + std::to_string(doc.ErrorLineNum()) + ": " + doc.ErrorName();
+      }
+      throw ModelError(source + ": malformed URDF: " + why);
+    }
+  }
+  const auto surfaces = readSurfaces(urdf_xml, source, *urdf);
+
+  ArticulatedModel model;
+  model.name = urdf->getName();
+  urdf::LinkConstSharedPtr root = urdf->getRoot();
+  if (root->name == "world") {
+    if (root->child_links.size() != 1 || root->child_joints[0]->type != urdf::Joint::FIXED) {
+      throw ModelError(source + ": link 'world' must have exactly one fixed joint to the robot's root link");
+    }
+    model.fixed_to_world = true;
+    root = root->child_links[0];
+  }
+
+  std::vector<MassProps> mass(1);
+  std::function<void(const urdf::LinkConstSharedPtr&, int, const Pose&, const Pose&)> visit;
+  // body: index of the body holding `link`; in_body: link frame in the body's link frame;
+  // in_model: link frame in the model frame at zero joint positions.
+  visit = [&](const urdf::LinkConstSharedPtr& link, int body, const Pose& in_body, const Pose& in_model) {
+    // Taken before any child body is added below (emplace_back would invalidate it).
+    BodySpec& b = model.bodies[body];
+    if (!b.merged_links.empty()) {
+      b.merged_links.push_back(link->name);
+      b.merged_link_poses.push_back(in_body);
+    } else {
+      b.name = link->name;
+      b.merged_links = {link->name};
+      b.merged_link_poses = {Pose()};
+      b.initial_pose_in_model = in_model;
+    }
+    if (link->inertial) {
+      const Pose inertial = in_body * toPose(link->inertial->origin);
+      const auto& i = *link->inertial;
+      if (i.mass < 0) throw ModelError(source + ": link '" + link->name + "': <mass> must not be negative");
+      addMass(mass[body], i.mass, inertial.position,
+              rotateInertia({i.ixx, i.ixy, i.ixz, i.iyy, i.iyz, i.izz}, inertial.orientation));
+    }
+    const auto surface_it = surfaces.find(link->name);
+    const SurfaceParams surface = surface_it == surfaces.end() ? SurfaceParams() : surface_it->second;
+    for (const auto& c : link->collision_array) {
+      if (!c || !c->geometry) continue;
+      CollisionSpec spec;
+      spec.pose_in_link = in_body * toPose(c->origin);
+      spec.surface = surface;
+      const std::string where = source + ": link '" + link->name + "' <collision>";
+      switch (c->geometry->type) {
+        case urdf::Geometry::BOX: {
+          const auto& d = std::static_pointer_cast<urdf::Box>(c->geometry)->dim;
+          spec.shape.type = ShapeType::kBox;
+          spec.shape.box_size_m = Vec3(d.x, d.y, d.z);
+          if (d.x <= 0 || d.y <= 0 || d.z <= 0) throw ModelError(where + ": box size must be positive");
+          break;
+        }
+        case urdf::Geometry::CYLINDER: {
+          const auto cyl = std::static_pointer_cast<urdf::Cylinder>(c->geometry);
+          spec.shape.type = ShapeType::kCylinder;
+          spec.shape.radius_m = cyl->radius;
+          spec.shape.length_m = cyl->length;
+          if (cyl->radius <= 0 || cyl->length <= 0) throw ModelError(where + ": cylinder radius and length must be positive");
+          break;
+        }
+        case urdf::Geometry::SPHERE: {
+          spec.shape.type = ShapeType::kSphere;
+          spec.shape.radius_m = std::static_pointer_cast<urdf::Sphere>(c->geometry)->radius;
+          if (spec.shape.radius_m <= 0) throw ModelError(where + ": sphere radius must be positive");
+          break;
+        }
+        case urdf::Geometry::MESH: {
+          const auto mesh = std::static_pointer_cast<urdf::Mesh>(c->geometry);
+          std::string error;
+          const std::string path = resolveResourcePath(mesh->filename, ".", packages, error);
+          if (!error.empty()) throw ModelError(where + ": mesh '" + mesh->filename + "': " + error);
+          const std::string lower = path.size() >= 4 ? path.substr(path.size() - 4) : path;
+          if (lower != ".stl" && lower != ".STL") {
+            throw ModelError(where + ": mesh '" + mesh->filename + "': only STL collision meshes are supported");
+          }
+          try {
+            loadStlMesh(path, Vec3(mesh->scale.x, mesh->scale.y, mesh->scale.z), spec.shape);
+          } catch (const ModelError& e) {
+            throw ModelError(where + ": " + e.what());
+          }
+          break;
+        }
+      }
+      b.collisions.push_back(spec);
+    }
+
+    for (size_t k = 0; k < link->child_links.size(); ++k) {
+      const auto& joint = link->child_joints[k];
+      const auto& child = link->child_links[k];
+      const Pose joint_in_parent = toPose(joint->parent_to_joint_origin_transform);
+      const Pose child_in_model = in_model * joint_in_parent;
+      if (joint->type == urdf::Joint::FIXED) {
+        visit(child, body, in_body * joint_in_parent, child_in_model);
+        continue;
+      }
+      JointSpec j;
+      j.name = joint->name;
+      switch (joint->type) {
+        case urdf::Joint::REVOLUTE: j.type = JointType::kRevolute; break;
+        case urdf::Joint::CONTINUOUS: j.type = JointType::kContinuous; break;
+        case urdf::Joint::PRISMATIC: j.type = JointType::kPrismatic; break;
+        default:
+          throw ModelError(source + ": joint '" + joint->name + "': type " +
+                           (joint->type == urdf::Joint::FLOATING ? "floating" : "planar") + " is not supported");
+      }
+      j.parent_body = body;
+      j.pose_in_parent = in_body * joint_in_parent;
+      j.axis = Vec3(joint->axis.x, joint->axis.y, joint->axis.z).normalized();
+      if (j.axis.norm() == 0) throw ModelError(source + ": joint '" + joint->name + "': <axis> must not be zero");
+      if (joint->limits) {
+        j.effort_limit = joint->limits->effort;
+        j.velocity_limit = joint->limits->velocity;
+        if (j.type != JointType::kContinuous) {
+          j.has_position_limits = true;
+          j.lower = joint->limits->lower;
+          j.upper = joint->limits->upper;
+          if (j.lower > j.upper) {
+            throw ModelError(source + ": joint '" + joint->name + "': <limit> lower " + std::to_string(j.lower) +
+                             " is above upper " + std::to_string(j.upper));
+          }
+        }
+      }
+      if (joint->dynamics) {
+        j.damping = joint->dynamics->damping;
+        j.friction = joint->dynamics->friction;
+      }
+      if (joint->mimic) warn("joint '" + joint->name + "': <mimic> is ignored");
+      model.bodies.emplace_back();
+      mass.emplace_back();
+      j.child_body = static_cast<int>(model.bodies.size()) - 1;
+      model.joints.push_back(j);
+      visit(child, j.child_body, Pose(), child_in_model);
+    }
+  };
+  model.bodies.emplace_back();
+  visit(root, 0, Pose(), Pose());
+
+  for (size_t b = 0; b < model.bodies.size(); ++b) {
+    BodySpec& body = model.bodies[b];
+    MassProps& m = mass[b];
+    const bool must_move = !(b == 0 && model.fixed_to_world);
+    if (m.mass_kg <= 0.0) {
+      if (must_move) {
+        warn("body '" + body.name + "' has no mass; using " + std::to_string(kTinyMassKg) + " kg");
+      }
+      m.mass_kg = kTinyMassKg;
+      m.inertia = {kTinyInertiaKgm2, 0, 0, kTinyInertiaKgm2, 0, kTinyInertiaKgm2};
+    }
+    body.mass_kg = m.mass_kg;
+    Quat axes;
+    principalAxes(m.inertia, body.principal_inertia_kgm2, axes);
+    const double floor = kTinyInertiaKgm2 * 1e-3;  // keep engines away from zero moments
+    body.principal_inertia_kgm2 = Vec3(std::max(body.principal_inertia_kgm2.x, floor),
+                                       std::max(body.principal_inertia_kgm2.y, floor),
+                                       std::max(body.principal_inertia_kgm2.z, floor));
+    body.inertial_frame = Pose(m.com, axes);
+  }
+  return model;
+}
+
+}  // namespace conde_physics

@@ -1,0 +1,141 @@
+#include <gtest/gtest.h>
+
+#include "conde_physics/urdf_model.h"
+
+namespace cp = conde_physics;
+
+namespace {
+
+const char* kTwoWheeler = R"(<?xml version="1.0"?>
+<robot name="two_wheeler">
+  <link name="base_footprint"/>
+  <joint name="base_joint" type="fixed">
+    <parent link="base_footprint"/><child link="base_link"/>
+    <origin xyz="-0.1 0 0.1" rpy="0 0 0"/>
+  </joint>
+  <link name="base_link">
+    <inertial><origin xyz="0 0 0"/><mass value="2.0"/>
+      <inertia ixx="0.02" ixy="0" ixz="0" iyy="0.03" iyz="0" izz="0.04"/></inertial>
+    <collision><geometry><box size="0.3 0.2 0.1"/></geometry></collision>
+  </link>
+  <joint name="payload_joint" type="fixed">
+    <parent link="base_link"/><child link="payload"/>
+    <origin xyz="0.2 0 0" rpy="0 0 0"/>
+  </joint>
+  <link name="payload">
+    <inertial><mass value="2.0"/><inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial>
+  </link>
+  <joint name="left_wheel_joint" type="continuous">
+    <parent link="base_link"/><child link="left_wheel"/>
+    <origin xyz="0.1 0.15 -0.07" rpy="0 0 0"/><axis xyz="0 1 0"/>
+    <limit effort="5" velocity="20"/><dynamics damping="0.01" friction="0.02"/>
+  </joint>
+  <link name="left_wheel">
+    <inertial><mass value="0.1"/><inertia ixx="1e-4" ixy="0" ixz="0" iyy="2e-4" iyz="0" izz="1e-4"/></inertial>
+    <collision><origin rpy="1.5707963267948966 0 0"/><geometry><cylinder radius="0.03" length="0.02"/></geometry></collision>
+  </link>
+  <gazebo reference="left_wheel"><mu1>100</mu1><mu2>50</mu2><kp>1e6</kp><kd>100</kd><material>Gazebo/Black</material></gazebo>
+  <gazebo><plugin name="x" filename="libgazebo_ros_diff_drive.so"/></gazebo>
+</robot>)";
+
+TEST(UrdfModel, MergesFixedLinksAndCombinesMass) {
+  std::vector<std::string> warnings;
+  const cp::ArticulatedModel m = cp::buildModelFromUrdf(kTwoWheeler, "two_wheeler.urdf", nullptr, &warnings);
+  ASSERT_EQ(m.bodies.size(), 2u);
+  ASSERT_EQ(m.joints.size(), 1u);
+  EXPECT_EQ(m.bodies[0].name, "base_footprint");
+  EXPECT_EQ(m.bodies[0].merged_links, (std::vector<std::string>{"base_footprint", "base_link", "payload"}));
+  EXPECT_DOUBLE_EQ(m.bodies[0].mass_kg, 4.0);
+  // Two 2 kg masses at x = -0.1 and +0.1 in base_footprint: centre of mass at x = 0, z = 0.1.
+  EXPECT_NEAR(m.bodies[0].inertial_frame.position.x, 0.0, 1e-12);
+  EXPECT_NEAR(m.bodies[0].inertial_frame.position.z, 0.1, 1e-12);
+  // Parallel axis: izz = 0.04 + 0.01 + 2 * (2 * 0.1^2) = 0.09.
+  const cp::Vec3 moments = m.bodies[0].principal_inertia_kgm2;
+  EXPECT_NEAR(moments.x + moments.y + moments.z, 0.02 + 0.03 + 0.04 + 0.03 + 2 * 2 * (2 * 0.01), 1e-9);
+  int body = -1;
+  cp::Pose payload;
+  ASSERT_TRUE(m.linkInBody("payload", body, payload));
+  EXPECT_EQ(body, 0);
+  EXPECT_NEAR(payload.position.x, 0.1, 1e-12);
+  EXPECT_NEAR(payload.position.z, 0.1, 1e-12);
+  EXPECT_TRUE(warnings.empty());
+}
+
+TEST(UrdfModel, JointsAndSurfaces) {
+  const cp::ArticulatedModel m = cp::buildModelFromUrdf(kTwoWheeler, "two_wheeler.urdf", nullptr);
+  const cp::JointSpec& j = m.joints[0];
+  EXPECT_EQ(j.name, "left_wheel_joint");
+  EXPECT_EQ(j.type, cp::JointType::kContinuous);
+  EXPECT_FALSE(j.has_position_limits);
+  EXPECT_EQ(j.parent_body, 0);
+  EXPECT_EQ(j.child_body, 1);
+  EXPECT_NEAR(j.pose_in_parent.position.x, 0.0, 1e-12);   // -0.1 + 0.1
+  EXPECT_NEAR(j.pose_in_parent.position.y, 0.15, 1e-12);
+  EXPECT_NEAR(j.pose_in_parent.position.z, 0.03, 1e-12);  // 0.1 - 0.07: on the ground for r = 0.03
+  EXPECT_DOUBLE_EQ(j.effort_limit, 5.0);
+  EXPECT_DOUBLE_EQ(j.damping, 0.01);
+  EXPECT_DOUBLE_EQ(j.friction, 0.02);
+  EXPECT_NEAR(m.bodies[1].initial_pose_in_model.position.z, 0.03, 1e-12);
+  ASSERT_EQ(m.bodies[1].collisions.size(), 1u);
+  const cp::SurfaceParams& s = m.bodies[1].collisions[0].surface;
+  EXPECT_DOUBLE_EQ(s.mu, 100.0);
+  EXPECT_DOUBLE_EQ(s.mu2, 50.0);
+  EXPECT_DOUBLE_EQ(s.stiffness_npm, 1e6);
+  EXPECT_DOUBLE_EQ(s.damping_nspm, 100.0);
+  EXPECT_DOUBLE_EQ(m.bodies[0].collisions[0].surface.mu, 1.0);  // default
+}
+
+std::string errorOf(const std::string& xml) {
+  try {
+    cp::buildModelFromUrdf(xml, "bad.urdf", nullptr);
+  } catch (const cp::ModelError& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+TEST(UrdfModel, MalformedXmlNamesTheLine) {
+  EXPECT_EQ(errorOf("<robot name=\"r\">\n<link name=\"a\">\n</robot>"),
+            "bad.urdf: malformed URDF: XML error at line 2: XML_ERROR_MISMATCHED_ELEMENT");
+}
+
+TEST(UrdfModel, UrdfdomErrorsAreReported) {
+  const std::string msg = errorOf(
+      "<robot name=\"r\"><link name=\"a\"/><joint name=\"j\" type=\"fixed\"><parent link=\"a\"/></joint></robot>");
+  EXPECT_EQ(msg.rfind("bad.urdf: malformed URDF: ", 0), 0u) << msg;
+  EXPECT_NE(msg.find("child"), std::string::npos) << msg;
+}
+
+TEST(UrdfModel, UnknownGazeboReferenceElementIsAnError) {
+  EXPECT_EQ(errorOf("<robot name=\"r\">\n<link name=\"a\"/>\n<gazebo reference=\"a\">\n<mu3>1</mu3></gazebo></robot>"),
+            "bad.urdf:4: <gazebo reference=\"a\">: unknown element <mu3>");
+  EXPECT_EQ(errorOf("<robot name=\"r\">\n<link name=\"a\"/>\n<gazebo reference=\"b\"><mu1>1</mu1></gazebo></robot>"),
+            "bad.urdf:3: <gazebo reference=\"b\">: no link or joint named 'b'");
+  EXPECT_EQ(errorOf("<robot name=\"r\">\n<link name=\"a\"/>\n<gazebo reference=\"a\"><mu1>lots</mu1></gazebo></robot>"),
+            "bad.urdf:3: <gazebo reference=\"a\"> <mu1>: expected a number, got 'lots'");
+}
+
+TEST(UrdfModel, FloatingJointsAreRejected) {
+  EXPECT_EQ(errorOf("<robot name=\"r\"><link name=\"a\"/><link name=\"b\"/>"
+                    "<joint name=\"free\" type=\"floating\"><parent link=\"a\"/><child link=\"b\"/></joint></robot>"),
+            "bad.urdf: joint 'free': type floating is not supported");
+}
+
+TEST(UrdfModel, WorldLinkWeldsTheModel) {
+  const cp::ArticulatedModel m = cp::buildModelFromUrdf(
+      "<robot name=\"arm\"><link name=\"world\"/><joint name=\"weld\" type=\"fixed\"><parent link=\"world\"/>"
+      "<child link=\"base\"/></joint><link name=\"base\"/></robot>",
+      "arm.urdf", nullptr);
+  EXPECT_TRUE(m.fixed_to_world);
+  EXPECT_EQ(m.bodies[0].name, "base");
+}
+
+TEST(UrdfModel, MissingMeshFileIsAnError) {
+  const std::string msg = errorOf(
+      "<robot name=\"r\"><link name=\"a\"><collision><geometry><mesh filename=\"package://nowhere/m.stl\"/>"
+      "</geometry></collision></link></robot>");
+  EXPECT_EQ(msg, "bad.urdf: link 'a' <collision>: mesh 'package://nowhere/m.stl': unknown package 'nowhere' in "
+                 "'package://nowhere/m.stl'");
+}
+
+}  // namespace

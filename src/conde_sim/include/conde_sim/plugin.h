@@ -1,0 +1,64 @@
+// Gazebo-style plugins of the simulator, and the registry that maps gazebo_ros plugin file
+// names (libgazebo_ros_diff_drive.so, ...) to our implementations.
+//
+// Every plugin has one shape: load() reads all its parameters (each with its Gazebo default)
+// and logs the resolved values once; beforeStep() runs before each physics step (commands,
+// efforts); afterStep() after it (sensors, odometry), rate-limited in simulated time.
+// ROS callbacks run between steps, on the node's thread, so no plugin needs a lock.
+#pragma once
+
+#include <ros/ros.h>
+#include <tf2_ros/static_transform_broadcaster.h>
+#include <tf2_ros/transform_broadcaster.h>
+
+#include <functional>
+#include <map>
+#include <memory>
+#include <string>
+
+#include "conde_sim/plugin_params.h"
+#include "conde_sim/simulation.h"
+
+namespace conde_sim {
+
+struct PluginContext {
+  Simulation* sim = nullptr;
+  int robot = -1;                       // index of the robot that carries the plugin
+  ros::NodeHandle robot_nh;             // the robot's namespace
+  tf2_ros::TransformBroadcaster* tf = nullptr;
+  tf2_ros::StaticTransformBroadcaster* static_tf = nullptr;
+
+  // Node handle for a plugin: <robotNamespace> when given (as in gazebo_ros), else the robot's.
+  ros::NodeHandle nodeHandle(PluginParams& params) const;
+  // Frame name with the robot's frame prefix.
+  std::string frame(const std::string& name) const;
+  ros::Time now() const { return ros::Time(sim->timeS()); }
+};
+
+class SimPlugin {
+ public:
+  virtual ~SimPlugin() = default;
+  // Reads parameters and sets up topics. Throws PluginError naming the key at fault.
+  virtual void load(PluginContext& ctx, PluginParams& params) = 0;
+  virtual void beforeStep() {}
+  virtual void afterStep() {}
+  // After the world was reset: forget commands and integrated state.
+  virtual void reset() {}
+};
+
+using PluginFactory = std::function<std::unique_ptr<SimPlugin>()>;
+
+// Plugin file name -> factory, for every plugin the simulator implements.
+const std::map<std::string, PluginFactory>& pluginRegistry();
+
+// Joint index of `joint_name` in the context's robot, or a PluginError naming `key`.
+int requireJoint(const PluginContext& ctx, const PluginParams& params, const std::string& key,
+                 const std::string& joint_name);
+
+// The individual plugins (defined in src/plugins/).
+std::unique_ptr<SimPlugin> makeDiffDrivePlugin();
+std::unique_ptr<SimPlugin> makeJointStatePublisherPlugin();
+std::unique_ptr<SimPlugin> makeGroundTruthPlugin();
+std::unique_ptr<SimPlugin> makeImuSensorPlugin();
+
+}  // namespace conde_sim

@@ -1,0 +1,16 @@
+// Finds the Gazebo plugin blocks of a robot's URDF and loads our implementation of each:
+// <gazebo><plugin filename="..."> (model plugins) and
+// <gazebo reference="link"><sensor><plugin filename="..."> (sensor plugins).
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include "conde_sim/plugin.h"
+
+namespace conde_sim {
+
+// Throws PluginError for an unknown plugin file name, a bad parameter or an unknown key.
+std::vector<std::unique_ptr<SimPlugin>> loadRobotPlugins(PluginContext& ctx);
+
+}  // namespace conde_sim

@@ -1,0 +1,70 @@
+// Parameters of one Gazebo-style plugin block, read as gazebo_ros plugins read them: child
+// elements of <plugin> by name, values as text. Every key a plugin reads is recorded, so that
+// after loading, a key nobody read is reported as unknown (with file, line, plugin and key).
+#pragma once
+
+#include <tinyxml2.h>
+
+#include <set>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "conde_physics/math.h"
+
+namespace conde_sim {
+
+class PluginError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+class PluginParams {
+ public:
+  // `plugin` is the <plugin> element; `sensor` the enclosing <sensor> element or nullptr;
+  // `source` names the robot description in messages; `reference_link` is the link of the
+  // enclosing <gazebo reference="..."> block ("" for model-level plugins).
+  PluginParams(const tinyxml2::XMLElement* plugin, const tinyxml2::XMLElement* sensor, std::string source,
+               std::string reference_link);
+
+  std::string pluginName() const { return name_; }
+  std::string filename() const { return filename_; }
+  std::string referenceLink() const { return reference_link_; }
+  bool inSensor() const { return sensor_ != nullptr; }
+  bool has(const std::string& key) const;
+
+  std::string getString(const std::string& key, const std::string& fallback);
+  std::string requireString(const std::string& key);
+  double getDouble(const std::string& key, double fallback);
+  bool getBool(const std::string& key, bool fallback);  // true/false/1/0
+  conde_physics::Vec3 getVec3(const std::string& key, const conde_physics::Vec3& fallback);
+  // Comma- or space-separated names, e.g. <jointName>left, right</jointName>.
+  std::vector<std::string> getList(const std::string& key);
+
+  // Keys of the enclosing <sensor> element (update_rate, always_on, ...).
+  double sensorDouble(const std::string& key, double fallback);
+  bool sensorBool(const std::string& key, bool fallback);
+  std::string sensorType() const;
+  std::string sensorName() const;
+
+  // Keys that Gazebo reads but that have no effect here; accepted silently.
+  void ignore(const std::vector<std::string>& keys);
+  // Throws PluginError for the first key of <plugin> (and <sensor>) that was never read.
+  void checkAllUsed() const;
+
+  // "robot.urdf:42: plugin 'diff_drive' (libgazebo_ros_diff_drive.so)"
+  std::string where() const;
+  PluginError error(const std::string& key, const std::string& what) const;
+
+ private:
+  const tinyxml2::XMLElement* child(const tinyxml2::XMLElement* parent, const std::string& key) const;
+  std::string text(const tinyxml2::XMLElement* e) const;
+  double toDouble(const tinyxml2::XMLElement* e, const std::string& key) const;
+
+  const tinyxml2::XMLElement* plugin_;
+  const tinyxml2::XMLElement* sensor_;
+  std::string source_, reference_link_, name_, filename_;
+  std::set<std::string> used_, sensor_used_;
+};
+
+}  // namespace conde_sim

@@ -1,0 +1,73 @@
+// The simulated world without ROS: one physics engine, the world file's ground and objects, the
+// robots, and simulated time counted in whole fixed steps (so time never drifts).
+// The node (sim_node.cpp) adds ROS around it; tests use it directly and step it.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "conde_physics/physics_engine.h"
+#include "conde_physics/resource_path.h"
+#include "conde_physics/world_file.h"
+
+namespace conde_sim {
+
+struct RobotSpec {
+  std::string name;          // unique robot name (model name)
+  std::string ros_namespace; // "" keeps global topics (/cmd_vel, /odom)
+  std::string frame_prefix;  // prepended to TF frames this robot's plugins publish ("" = none)
+  std::string source;        // where the URDF came from, for messages
+  std::string urdf_xml;      // already xacro-processed
+  conde_physics::Pose spawn_pose;  // root link pose in the world
+};
+
+struct Robot {
+  RobotSpec spec;
+  conde_physics::ArticulatedModel model;
+  conde_physics::ModelId id = -1;
+};
+
+class Simulation {
+ public:
+  Simulation(conde_physics::WorldDescription world, std::string engine_name, conde_physics::PackageResolver packages);
+
+  // Parses the URDF and adds the robot at its spawn pose. Throws conde_physics::ModelError.
+  int addRobot(const RobotSpec& spec, std::vector<std::string>* warnings = nullptr);
+  // Puts every robot and object back to its start; simulated time goes on.
+  void resetWorld();
+  void step();
+
+  std::uint64_t stepCount() const { return step_count_; }
+  double stepS() const { return world_.physics.step_s; }
+  double timeS() const { return static_cast<double>(step_count_) * world_.physics.step_s; }
+
+  conde_physics::PhysicsEngine& engine() { return *engine_; }
+  const conde_physics::PhysicsEngine& engine() const { return *engine_; }
+  const std::string& engineName() const { return engine_name_; }
+  const conde_physics::WorldDescription& world() const { return world_; }
+  Robot& robot(int index) { return robots_.at(index); }
+  const Robot& robot(int index) const { return robots_.at(index); }
+  int robotCount() const { return static_cast<int>(robots_.size()); }
+
+  // Pose in the world of any link of a robot (merged into a body or not).
+  conde_physics::Pose linkPose(int robot, const std::string& link) const;
+  // Velocity of that link's origin and the angular velocity, world coordinates.
+  conde_physics::Twist linkTwist(int robot, const std::string& link) const;
+
+ private:
+  void buildWorld();
+
+  conde_physics::WorldDescription world_;
+  std::string engine_name_;
+  conde_physics::PackageResolver packages_;
+  std::unique_ptr<conde_physics::PhysicsEngine> engine_;
+  std::vector<Robot> robots_;
+  std::uint64_t step_count_ = 0;
+};
+
+// Number of physics steps between updates for a rate [Hz]; 0 Hz means every step.
+std::uint64_t updatePeriodSteps(double rate_hz, double step_s);
+
+}  // namespace conde_sim

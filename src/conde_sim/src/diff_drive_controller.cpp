@@ -1,0 +1,147 @@
+#include "conde_sim/diff_drive_controller.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "conde_sim/simulation.h"
+
+namespace conde_sim {
+
+bool DiffDriveController::setCommand(double linear_mps, double angular_radps, double time_s) {
+  if (!std::isfinite(linear_mps) || !std::isfinite(angular_radps)) return false;
+  linear_mps_ = linear_mps;
+  angular_radps_ = angular_radps;
+  command_time_s_ = time_s;
+  has_command_ = true;
+  return true;
+}
+
+bool DiffDriveController::timedOut(double time_s) const {
+  return has_command_ && params_.command_timeout_s > 0.0 && time_s - command_time_s_ > params_.command_timeout_s;
+}
+
+void DiffDriveController::update(double time_s, double dt_s, double& left_radps, double& right_radps) {
+  double v = linear_mps_, w = angular_radps_;
+  if (!has_command_ || timedOut(time_s)) v = w = 0.0;
+  const double left_target = v - w * params_.wheel_separation_m / 2.0;
+  const double right_target = v + w * params_.wheel_separation_m / 2.0;
+  if (params_.wheel_acceleration_mps2 > 0.0) {
+    const double max_change = params_.wheel_acceleration_mps2 * dt_s;
+    left_mps_ += std::clamp(left_target - left_mps_, -max_change, max_change);
+    right_mps_ += std::clamp(right_target - right_mps_, -max_change, max_change);
+  } else {
+    left_mps_ = left_target;
+    right_mps_ = right_target;
+  }
+  const double radius_m = params_.wheel_diameter_m / 2.0;
+  left_radps = left_mps_ / radius_m;
+  right_radps = right_mps_ / radius_m;
+}
+
+void DiffDriveController::reset() {
+  linear_mps_ = angular_radps_ = 0.0;
+  left_mps_ = right_mps_ = 0.0;
+  has_command_ = false;
+}
+
+void DiffDriveOdometry::reset(double left_rad, double right_rad) {
+  last_left_rad_ = left_rad;
+  last_right_rad_ = right_rad;
+  x_m_ = y_m_ = yaw_rad_ = 0.0;
+  linear_mps_ = angular_radps_ = 0.0;
+}
+
+void DiffDriveOdometry::update(double left_rad, double right_rad, double dt_s) {
+  const double dl = (left_rad - last_left_rad_) * radius_m_;
+  const double dr = (right_rad - last_right_rad_) * radius_m_;
+  last_left_rad_ = left_rad;
+  last_right_rad_ = right_rad;
+  const double ds = (dl + dr) / 2.0;
+  const double dyaw = (dr - dl) / separation_m_;
+  // Exact for a constant-curvature arc; the midpoint heading is the limit for small dyaw.
+  if (std::abs(dyaw) < 1e-9) {
+    x_m_ += ds * std::cos(yaw_rad_ + dyaw / 2.0);
+    y_m_ += ds * std::sin(yaw_rad_ + dyaw / 2.0);
+  } else {
+    const double r = ds / dyaw;
+    x_m_ += r * (std::sin(yaw_rad_ + dyaw) - std::sin(yaw_rad_));
+    y_m_ += -r * (std::cos(yaw_rad_ + dyaw) - std::cos(yaw_rad_));
+  }
+  yaw_rad_ = std::remainder(yaw_rad_ + dyaw, 2.0 * M_PI);
+  if (dt_s > 0.0) {
+    linear_mps_ = ds / dt_s;
+    angular_radps_ = dyaw / dt_s;
+  }
+}
+
+namespace cp = conde_physics;
+
+DiffDrive::DiffDrive(Simulation& sim, int robot, const Config& config)
+    : sim_(sim),
+      robot_(robot),
+      config_(config),
+      controller_(config.params),
+      odometry_(config.params.wheel_separation_m, config.params.wheel_diameter_m / 2.0) {
+  const cp::ArticulatedModel& model = sim.robot(robot).model;
+  left_ = model.jointIndex(config.left_joint);
+  right_ = model.jointIndex(config.right_joint);
+  if (left_ < 0) throw std::invalid_argument("no movable joint named '" + config.left_joint + "'");
+  if (right_ < 0) throw std::invalid_argument("no movable joint named '" + config.right_joint + "'");
+  int body = -1;
+  cp::Pose unused;
+  if (!model.linkInBody(config.base_link, body, unused)) {
+    throw std::invalid_argument("no link named '" + config.base_link + "'");
+  }
+  period_steps_ = updatePeriodSteps(config.update_rate_hz, sim.stepS());
+  reset();
+}
+
+bool DiffDrive::command(double linear_mps, double angular_radps) {
+  return controller_.setCommand(linear_mps, angular_radps, sim_.timeS());
+}
+
+bool DiffDrive::timedOut() const { return controller_.timedOut(sim_.timeS()); }
+
+void DiffDrive::reset() {
+  controller_.reset();
+  const cp::ModelId id = sim_.robot(robot_).id;
+  odometry_.reset(sim_.engine().jointPosition(id, left_), sim_.engine().jointPosition(id, right_));
+  start_pose_ = sim_.linkPose(robot_, config_.base_link);
+  odom_pose_ = config_.encoder_odometry ? cp::Pose() : start_pose_;
+  odom_twist_ = cp::Twist();
+  last_update_step_ = sim_.stepCount();
+}
+
+void DiffDrive::beforeStep() {
+  if (sim_.stepCount() % period_steps_ != 0) return;
+  double left_radps = 0, right_radps = 0;
+  controller_.update(sim_.timeS(), period_steps_ * sim_.stepS(), left_radps, right_radps);
+  const cp::ModelId id = sim_.robot(robot_).id;
+  sim_.engine().setJointVelocityMotor(id, left_, left_radps, config_.wheel_torque_nm);
+  sim_.engine().setJointVelocityMotor(id, right_, right_radps, config_.wheel_torque_nm);
+}
+
+bool DiffDrive::afterStep() {
+  const std::uint64_t step = sim_.stepCount();
+  if (step % period_steps_ != 0) return false;
+  const double dt_s = static_cast<double>(step - last_update_step_) * sim_.stepS();
+  last_update_step_ = step;
+  const cp::ModelId id = sim_.robot(robot_).id;
+  if (config_.encoder_odometry) {
+    odometry_.update(sim_.engine().jointPosition(id, left_), sim_.engine().jointPosition(id, right_), dt_s);
+    odom_pose_ = cp::Pose(cp::Vec3(odometry_.x_m(), odometry_.y_m(), 0.0), cp::Quat::fromRpy(0, 0, odometry_.yaw_rad()));
+    odom_twist_.linear_mps = cp::Vec3(odometry_.linear_mps(), 0, 0);
+    odom_twist_.angular_radps = cp::Vec3(0, 0, odometry_.angular_radps());
+  } else {
+    // Ground truth, twist expressed in the base frame (REP 105).
+    odom_pose_ = sim_.linkPose(robot_, config_.base_link);
+    const cp::Twist world = sim_.linkTwist(robot_, config_.base_link);
+    const cp::Quat to_base = odom_pose_.orientation.conjugate();
+    odom_twist_.linear_mps = to_base.rotate(world.linear_mps);
+    odom_twist_.angular_radps = to_base.rotate(world.angular_radps);
+  }
+  return true;
+}
+
+}  // namespace conde_sim

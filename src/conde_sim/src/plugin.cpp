@@ -1,0 +1,38 @@
+#include "conde_sim/plugin.h"
+
+namespace conde_sim {
+
+ros::NodeHandle PluginContext::nodeHandle(PluginParams& params) const {
+  if (params.has("robotNamespace")) {
+    const std::string ns = params.getString("robotNamespace", "");
+    return ros::NodeHandle(ns.empty() || ns[0] != '/' ? "/" + ns : ns);
+  }
+  return robot_nh;
+}
+
+std::string PluginContext::frame(const std::string& name) const {
+  const std::string& prefix = sim->robot(robot).spec.frame_prefix;
+  return prefix.empty() ? name : prefix + "/" + name;
+}
+
+const std::map<std::string, PluginFactory>& pluginRegistry() {
+  static const std::map<std::string, PluginFactory> registry = {
+      {"libgazebo_ros_diff_drive.so", makeDiffDrivePlugin},
+      {"libgazebo_ros_joint_state_publisher.so", makeJointStatePublisherPlugin},
+      {"libgazebo_ros_p3d.so", makeGroundTruthPlugin},
+      {"libgazebo_ros_imu_sensor.so", makeImuSensorPlugin},
+  };
+  return registry;
+}
+
+int requireJoint(const PluginContext& ctx, const PluginParams& params, const std::string& key,
+                 const std::string& joint_name) {
+  const int index = ctx.sim->robot(ctx.robot).model.jointIndex(joint_name);
+  if (index < 0) {
+    throw params.error(key, "robot '" + ctx.sim->robot(ctx.robot).spec.name + "' has no movable joint named '" +
+                                joint_name + "'");
+  }
+  return index;
+}
+
+}  // namespace conde_sim

@@ -1,0 +1,108 @@
+// libgazebo_ros_imu_sensor.so: sensor_msgs/Imu from an IMU sensor on a link.
+//
+//   <gazebo reference="imu_link"><sensor name="imu" type="imu">
+//     <always_on>true</always_on> <update_rate>100</update_rate>
+//     <plugin name="imu_plugin" filename="libgazebo_ros_imu_sensor.so">
+//       <topicName>imu</topicName> <frameName>imu_link</frameName> <updateRateHZ>100</updateRateHZ>
+//       <gaussianNoise>0.0</gaussianNoise> <xyzOffset>0 0 0</xyzOffset> <rpyOffset>0 0 0</rpyOffset>
+//     </plugin></sensor></gazebo>
+// Orientation is the link's orientation in the world (rotated by rpyOffset); angular velocity and
+// linear acceleration (gravity included, as an accelerometer measures it) are in the link frame.
+// Acceleration is the velocity change over one update period, which smooths contact jitter.
+// As in Gazebo, xyzOffset is accepted and unused; <bodyName> (from gazebo_ros_imu) is ignored.
+#include <sensor_msgs/Imu.h>
+
+#include <random>
+
+#include "conde_sim/plugin.h"
+
+namespace conde_sim {
+namespace {
+
+namespace cp = conde_physics;
+
+class ImuSensorPlugin : public SimPlugin {
+ public:
+  void load(PluginContext& ctx, PluginParams& params) override {
+    ctx_ = ctx;
+    ros::NodeHandle nh = ctx.nodeHandle(params);
+    link_ = params.referenceLink();
+    if (!params.inSensor() || link_.empty()) {
+      throw PluginError(params.where() + ": must sit in a <sensor type=\"imu\"> inside <gazebo reference=\"link\">");
+    }
+    const std::string topic = params.getString("topicName", "imu_data");
+    frame_ = ctx.frame(params.requireString("frameName"));
+    double rate_hz = params.getDouble("updateRateHZ", 1.0);
+    const double sensor_rate_hz = params.sensorDouble("update_rate", 0.0);
+    if (!params.has("updateRateHZ") && sensor_rate_hz > 0) rate_hz = sensor_rate_hz;
+    if (rate_hz < 0) throw params.error("updateRateHZ", "must not be negative");
+    period_steps_ = updatePeriodSteps(rate_hz, ctx.sim->stepS());
+    noise_stddev_ = params.getDouble("gaussianNoise", 0.0);
+    if (noise_stddev_ < 0) throw params.error("gaussianNoise", "must not be negative");
+    params.getVec3("xyzOffset", cp::Vec3());
+    const cp::Vec3 rpy = params.getVec3("rpyOffset", cp::Vec3());
+    rpy_offset_ = cp::Quat::fromRpy(rpy.x, rpy.y, rpy.z);
+    params.sensorBool("always_on", true);
+    params.ignore({"visualize", "pose", "topic", "imu", "bodyName", "alwaysOn"});
+    pub_ = nh.advertise<sensor_msgs::Imu>(topic, 10);
+    last_velocity_ = ctx.sim->linkTwist(ctx.robot, link_).linear_mps;
+    ROS_INFO("%s: IMU on link %s publishing %s in frame %s at %.1f Hz, noise %.4f",
+             ctx.sim->robot(ctx.robot).spec.name.c_str(), link_.c_str(), pub_.getTopic().c_str(), frame_.c_str(),
+             rate_hz, noise_stddev_);
+  }
+
+  void reset() override { last_velocity_ = ctx_.sim->linkTwist(ctx_.robot, link_).linear_mps; }
+
+  void afterStep() override {
+    if (ctx_.sim->stepCount() % period_steps_ != 0) return;
+    const cp::Pose pose = ctx_.sim->linkPose(ctx_.robot, link_);
+    const cp::Twist twist = ctx_.sim->linkTwist(ctx_.robot, link_);
+    const double dt_s = period_steps_ * ctx_.sim->stepS();
+    const cp::Vec3 accel_world = (twist.linear_mps - last_velocity_) / dt_s - ctx_.sim->world().physics.gravity_mps2;
+    last_velocity_ = twist.linear_mps;
+    if (pub_.getNumSubscribers() == 0) return;
+    const cp::Quat to_link = pose.orientation.conjugate();
+    const cp::Vec3 accel = to_link.rotate(accel_world);
+    const cp::Vec3 gyro = to_link.rotate(twist.angular_radps);
+    const cp::Quat q = (rpy_offset_ * pose.orientation).normalized();
+    sensor_msgs::Imu msg;
+    msg.header.stamp = ctx_.now();
+    msg.header.frame_id = frame_;
+    msg.orientation.w = q.w + noise();
+    msg.orientation.x = q.x + noise();
+    msg.orientation.y = q.y + noise();
+    msg.orientation.z = q.z + noise();
+    msg.angular_velocity.x = gyro.x + noise();
+    msg.angular_velocity.y = gyro.y + noise();
+    msg.angular_velocity.z = gyro.z + noise();
+    msg.linear_acceleration.x = accel.x + noise();
+    msg.linear_acceleration.y = accel.y + noise();
+    msg.linear_acceleration.z = accel.z + noise();
+    const double variance = noise_stddev_ * noise_stddev_;
+    for (int i : {0, 4, 8}) {
+      msg.orientation_covariance[i] = variance;
+      msg.angular_velocity_covariance[i] = variance;
+      msg.linear_acceleration_covariance[i] = variance;
+    }
+    pub_.publish(msg);
+  }
+
+ private:
+  double noise() { return noise_stddev_ > 0 ? gauss_(rng_) * noise_stddev_ : 0.0; }
+
+  PluginContext ctx_;
+  std::string link_, frame_;
+  cp::Quat rpy_offset_;
+  cp::Vec3 last_velocity_;
+  double noise_stddev_ = 0.0;
+  std::uint64_t period_steps_ = 1;
+  std::mt19937 rng_{0};
+  std::normal_distribution<double> gauss_{0.0, 1.0};
+  ros::Publisher pub_;
+};
+
+}  // namespace
+
+std::unique_ptr<SimPlugin> makeImuSensorPlugin() { return std::make_unique<ImuSensorPlugin>(); }
+
+}  // namespace conde_sim

@@ -1,0 +1,326 @@
+// conde_sim: the physics node. Loads a world file and robots (URDF with Gazebo plugin blocks),
+// steps ODE or Bullet at a fixed step, owns /clock, and runs the plugins between steps.
+//
+// Parameters (private):
+//   ~world_file        path of the *.world.yaml (required)
+//   ~physics_engine    ode | bullet                                   [ode]
+//   ~real_time_factor  1.0 paces to the wall clock, 0 runs as fast as possible   [1.0]
+//   ~paused            start paused (use ~step / ~unpause_physics)    [false]
+//   ~clock_rate_hz     /clock messages per simulated second           [1000]
+//   ~max_sim_time_s    stop cleanly at this simulated time, 0 = never [0]
+//   ~robots            list of {name, namespace, description_param, spawn, frame_prefix}; without
+//                      it one robot is read from /robot_description and spawned at ~spawn
+//   ~spawn             name of a world spawn pose, or "x y yaw"       [first spawn in the world]
+// Services: ~pause_physics, ~unpause_physics, ~reset_world (std_srvs/Empty),
+//           ~step (conde_msgs/StepSimulation).
+#include <conde_msgs/StepSimulation.h>
+#include <ros/callback_queue.h>
+#include <ros/package.h>
+#include <ros/ros.h>
+#include <rosgraph_msgs/Clock.h>
+#include <std_srvs/Empty.h>
+
+#include <chrono>
+#include <condition_variable>
+#include <cstdlib>
+#include <mutex>
+#include <sstream>
+#include <thread>
+
+#include "conde_physics/urdf_model.h"
+#include "conde_sim/plugin_loader.h"
+#include "conde_sim/simulation.h"
+#include "conde_sim/world_markers.h"
+
+namespace conde_sim {
+namespace {
+
+namespace cp = conde_physics;
+
+class StartupError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+std::string packagePath(const std::string& name) { return ros::package::getPath(name); }
+
+cp::Pose parseSpawn(const std::string& spawn, const cp::WorldDescription& world, const std::string& where) {
+  if (spawn.empty()) return world.spawns.empty() ? cp::Pose() : world.spawns.front().pose;
+  if (const cp::SpawnPose* named = world.findSpawn(spawn)) return named->pose;
+  std::istringstream in(spawn);
+  double x, y, yaw;
+  std::string rest;
+  if (in >> x >> y >> yaw && !(in >> rest)) return cp::Pose::fromXyzRpy(x, y, 0.0, 0.0, 0.0, yaw);
+  std::string names;
+  for (const auto& s : world.spawns) names += (names.empty() ? "" : ", ") + s.name;
+  throw StartupError(where + ": '" + spawn + "' is neither a spawn pose of world '" + world.name + "' (" + names +
+                     ") nor 'x y yaw'");
+}
+
+class SimNode {
+ public:
+  SimNode() : pnh_("~") {}
+
+  void start() {
+    std::string world_file;
+    if (!pnh_.getParam("world_file", world_file) || world_file.empty()) {
+      throw StartupError("parameter " + pnh_.resolveName("world_file") + " is required (path of a *.world.yaml)");
+    }
+    pnh_.param("physics_engine", engine_name_, std::string("ode"));
+    pnh_.param("real_time_factor", real_time_factor_, 1.0);
+    pnh_.param("paused", paused_, false);
+    pnh_.param("clock_rate_hz", clock_rate_hz_, 1000.0);
+    pnh_.param("max_sim_time_s", max_sim_time_s_, 0.0);
+    if (real_time_factor_ < 0) throw StartupError("parameter ~real_time_factor must be >= 0 (0 = as fast as possible)");
+    if (clock_rate_hz_ <= 0) throw StartupError("parameter ~clock_rate_hz must be > 0");
+    const auto engines = cp::availablePhysicsEngines();
+    if (std::find(engines.begin(), engines.end(), engine_name_) == engines.end()) {
+      throw StartupError("parameter " + pnh_.resolveName("physics_engine") + ": unknown physics engine '" +
+                         engine_name_ + "' (expected one of: ode, bullet)");
+    }
+
+    cp::WorldDescription world = cp::loadWorldFile(world_file, packagePath);
+    sim_ = std::make_unique<Simulation>(world, engine_name_, packagePath);
+    loadRobots();
+    for (int r = 0; r < sim_->robotCount(); ++r) {
+      PluginContext ctx;
+      ctx.sim = sim_.get();
+      ctx.robot = r;
+      ctx.robot_nh = ros::NodeHandle(sim_->robot(r).spec.ros_namespace.empty() ? "/" : sim_->robot(r).spec.ros_namespace);
+      ctx.tf = &tf_;
+      ctx.static_tf = &static_tf_;
+      for (auto& plugin : loadRobotPlugins(ctx)) plugins_.push_back(std::move(plugin));
+    }
+    clock_period_steps_ = updatePeriodSteps(clock_rate_hz_, sim_->stepS());
+
+    clock_pub_ = nh_.advertise<rosgraph_msgs::Clock>("/clock", 10);
+    markers_pub_ = pnh_.advertise<visualization_msgs::MarkerArray>("world_markers", 1, true);
+    const char* ros_home = std::getenv("ROS_HOME");
+    const char* home = std::getenv("HOME");
+    const std::string cache = ros_home ? std::string(ros_home) + "/conde_sim" : std::string(home ? home : "/tmp") + "/.ros/conde_sim";
+    markers_pub_.publish(worldMarkers(sim_->world(), writeGroundMesh(sim_->world(), cache)));
+
+    // Services run on their own thread and hand the work to the step loop, which is the only
+    // thread that touches the simulation.
+    service_nh_.setCallbackQueue(&service_queue_);
+    services_.push_back(service_nh_.advertiseService("pause_physics", &SimNode::onPause, this));
+    services_.push_back(service_nh_.advertiseService("unpause_physics", &SimNode::onUnpause, this));
+    services_.push_back(service_nh_.advertiseService("reset_world", &SimNode::onReset, this));
+    services_.push_back(service_nh_.advertiseService("step", &SimNode::onStep, this));
+    service_spinner_ = std::make_unique<ros::AsyncSpinner>(1, &service_queue_);
+    service_spinner_->start();
+
+    publishClock();
+    ROS_INFO("conde_sim: world '%s' (%s), engine %s, step %.4f s, real-time factor %s, %d robot(s), %zu plugin(s)%s",
+             sim_->world().name.c_str(), world_file.c_str(), engine_name_.c_str(), sim_->stepS(),
+             real_time_factor_ > 0 ? std::to_string(real_time_factor_).c_str() : "unlimited", sim_->robotCount(),
+             plugins_.size(), paused_ ? ", paused" : "");
+  }
+
+  // The step loop. Returns when ROS shuts down or ~max_sim_time_s is reached.
+  void run() {
+    auto wall_start = std::chrono::steady_clock::now();
+    double sim_start_s = sim_->timeS();
+    auto& queue = *ros::getGlobalCallbackQueue();
+    while (ros::ok()) {
+      handleRequests();
+      if (paused_ && pending_steps_ == 0) {
+        queue.callAvailable(ros::WallDuration(0.005));
+        wall_start = std::chrono::steady_clock::now();
+        sim_start_s = sim_->timeS();
+        continue;
+      }
+      queue.callAvailable();
+      stepOnce();
+      if (pending_steps_ > 0 && --pending_steps_ == 0) finishStepRequest();
+      if (max_sim_time_s_ > 0 && sim_->timeS() >= max_sim_time_s_ - 1e-9) {
+        ROS_INFO("conde_sim: reached ~max_sim_time_s = %.3f s; stopping", max_sim_time_s_);
+        break;
+      }
+      if (real_time_factor_ > 0 && !paused_) {
+        const auto target = wall_start + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                             std::chrono::duration<double>((sim_->timeS() - sim_start_s) / real_time_factor_));
+        if (target > std::chrono::steady_clock::now()) std::this_thread::sleep_until(target);
+      }
+    }
+    service_spinner_->stop();
+  }
+
+ private:
+  void loadRobots() {
+    XmlRpc::XmlRpcValue list;
+    if (!pnh_.getParam("robots", list)) {
+      std::string spawn;
+      pnh_.param("spawn", spawn, std::string());
+      addRobot("", "", "/robot_description", parseSpawn(spawn, sim_->world(), pnh_.resolveName("spawn")), "");
+      return;
+    }
+    const std::string where = pnh_.resolveName("robots");
+    if (list.getType() != XmlRpc::XmlRpcValue::TypeArray) throw StartupError(where + ": expected a list of robots");
+    for (int i = 0; i < list.size(); ++i) {
+      const std::string item = where + "[" + std::to_string(i) + "]";
+      if (list[i].getType() != XmlRpc::XmlRpcValue::TypeStruct) throw StartupError(item + ": expected a dictionary");
+      std::string name, ns, description = "robot_description", spawn, prefix;
+      for (auto& kv : list[i]) {
+        if (kv.second.getType() != XmlRpc::XmlRpcValue::TypeString) {
+          throw StartupError(item + "." + kv.first + ": expected a string");
+        }
+        const std::string value = static_cast<std::string>(kv.second);
+        if (kv.first == "name") name = value;
+        else if (kv.first == "namespace") ns = value;
+        else if (kv.first == "description_param") description = value;
+        else if (kv.first == "spawn") spawn = value;
+        else if (kv.first == "frame_prefix") prefix = value;
+        else throw StartupError(item + ": unknown key '" + kv.first + "' (expected name, namespace, description_param, spawn, frame_prefix)");
+      }
+      const std::string param = ros::NodeHandle(ns.empty() ? "/" : ns).resolveName(description);
+      addRobot(name, ns, param, parseSpawn(spawn, sim_->world(), item + ".spawn"), prefix);
+    }
+  }
+
+  void addRobot(const std::string& name, const std::string& ns, const std::string& description_param,
+                const cp::Pose& spawn, const std::string& prefix) {
+    std::string urdf;
+    if (!ros::param::get(description_param, urdf) || urdf.empty()) {
+      throw StartupError("parameter " + description_param + " is not set: load the robot's URDF there (xacro output)");
+    }
+    RobotSpec spec;
+    spec.ros_namespace = ns;
+    spec.frame_prefix = prefix;
+    spec.source = description_param;
+    spec.urdf_xml = urdf;
+    spec.spawn_pose = spawn;
+    std::vector<std::string> warnings;
+    // The model name comes from the URDF unless the robot list names it.
+    spec.name = name;
+    if (spec.name.empty()) spec.name = cp::buildModelFromUrdf(urdf, description_param, packagePath).name;
+    sim_->addRobot(spec, &warnings);
+    for (const auto& w : warnings) ROS_WARN("%s", w.c_str());
+    ROS_INFO("conde_sim: robot '%s' from %s at (%.3f, %.3f) yaw %.3f rad%s%s", spec.name.c_str(),
+             description_param.c_str(), spawn.position.x, spawn.position.y, spawn.orientation.yaw(),
+             ns.empty() ? "" : ", namespace ", ns.c_str());
+  }
+
+  void stepOnce() {
+    for (auto& p : plugins_) p->beforeStep();
+    sim_->step();
+    for (auto& p : plugins_) p->afterStep();
+    if (sim_->stepCount() % clock_period_steps_ == 0) publishClock();
+  }
+
+  void publishClock() {
+    rosgraph_msgs::Clock clock;
+    clock.clock = ros::Time(sim_->timeS());
+    clock_pub_.publish(clock);
+  }
+
+  // --- requests from the service thread ---
+  void handleRequests() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (reset_requested_) {
+      sim_->resetWorld();
+      for (auto& p : plugins_) p->reset();
+      reset_requested_ = false;
+      ROS_INFO("conde_sim: world reset at t = %.3f s", sim_->timeS());
+      done_.notify_all();
+    }
+    if (requested_steps_ > 0 && pending_steps_ == 0) {
+      pending_steps_ = requested_steps_;
+      requested_steps_ = 0;
+    }
+    paused_ = requested_paused_;
+  }
+
+  void finishStepRequest() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    step_done_time_s_ = sim_->timeS();
+    step_request_done_ = true;
+    publishClock();
+    done_.notify_all();
+  }
+
+  bool onPause(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    requested_paused_ = true;
+    return true;
+  }
+
+  bool onUnpause(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    requested_paused_ = false;
+    return true;
+  }
+
+  bool onReset(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
+    std::unique_lock<std::mutex> lock(mutex_);
+    reset_requested_ = true;
+    done_.wait(lock, [this] { return !reset_requested_ || !ros::ok(); });
+    return true;
+  }
+
+  bool onStep(conde_msgs::StepSimulation::Request& req, conde_msgs::StepSimulation::Response& res) {
+    std::unique_lock<std::mutex> lock(mutex_);
+    if (!requested_paused_) {
+      res.success = false;
+      res.message = "the simulation is running: call pause_physics before stepping";
+      return true;
+    }
+    if (req.steps == 0) {
+      res.success = true;
+      res.sim_time_s = step_done_time_s_;
+      return true;
+    }
+    step_request_done_ = false;
+    requested_steps_ = req.steps;
+    done_.wait(lock, [this] { return step_request_done_ || !ros::ok(); });
+    res.success = step_request_done_;
+    res.sim_time_s = step_done_time_s_;
+    res.message = res.success ? "" : "shutting down";
+    return true;
+  }
+
+  ros::NodeHandle nh_, pnh_;
+  ros::NodeHandle service_nh_{"~"};
+  ros::CallbackQueue service_queue_;
+  std::unique_ptr<ros::AsyncSpinner> service_spinner_;
+  std::vector<ros::ServiceServer> services_;
+  ros::Publisher clock_pub_, markers_pub_;
+  tf2_ros::TransformBroadcaster tf_;
+  tf2_ros::StaticTransformBroadcaster static_tf_;
+  std::unique_ptr<Simulation> sim_;
+  std::vector<std::unique_ptr<SimPlugin>> plugins_;
+  std::string engine_name_;
+  double real_time_factor_ = 1.0, clock_rate_hz_ = 1000.0, max_sim_time_s_ = 0.0;
+  std::uint64_t clock_period_steps_ = 1;
+  bool paused_ = false;
+  std::uint64_t pending_steps_ = 0;
+
+  // Shared with the service thread (guarded by mutex_).
+  std::mutex mutex_;
+  std::condition_variable done_;
+  bool requested_paused_ = false, reset_requested_ = false, step_request_done_ = false;
+  std::uint64_t requested_steps_ = 0;
+  double step_done_time_s_ = 0.0;
+
+ public:
+  void initialPause() { requested_paused_ = paused_; }
+};
+
+}  // namespace
+}  // namespace conde_sim
+
+int main(int argc, char** argv) {
+  ros::init(argc, argv, "conde_sim");
+  try {
+    conde_sim::SimNode node;
+    node.start();
+    node.initialPause();
+    node.run();
+  } catch (const std::exception& e) {
+    ROS_FATAL("conde_sim: %s", e.what());
+    // Also on stderr without ROS decoration: launch files and scripts show it as is.
+    std::fprintf(stderr, "conde_sim: error: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}

@@ -1,0 +1,227 @@
+// The diff drive on the real Conde robot (urdf/robots/conde.urdf.xacro), in-process, stepped,
+// once per physics engine. Distances and angles are checked against ground truth.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <memory>
+
+#include "conde_sim/diff_drive_controller.h"
+#include "conde_sim/simulation.h"
+
+namespace cp = conde_physics;
+using conde_sim::DiffDrive;
+using conde_sim::Simulation;
+
+namespace {
+
+std::string runXacro(const std::string& args) {
+  const std::string cmd = std::string("ROS_PACKAGE_PATH=") + CONDE_REPO_ROOT + " xacro " + CONDE_REPO_ROOT +
+                          "/urdf/robots/conde.urdf.xacro " + args + " 2>&1";
+  std::unique_ptr<FILE, decltype(&pclose)> pipe(popen(cmd.c_str(), "r"), pclose);
+  std::string out;
+  char buffer[4096];
+  size_t n;
+  while ((n = fread(buffer, 1, sizeof buffer, pipe.get())) > 0) out.append(buffer, n);
+  return out;
+}
+
+const std::string& condeUrdf() {
+  static const std::string urdf = runXacro("");
+  return urdf;
+}
+
+cp::WorldDescription flatWorld() {
+  cp::WorldDescription w;
+  w.name = "flat";
+  w.ground.friction.mu = 100;
+  w.ground.friction.mu2 = 50;
+  return w;
+}
+
+class ConDiffDrive : public ::testing::TestWithParam<std::string> {
+ protected:
+  void SetUp() override {
+    ASSERT_NE(condeUrdf().find("<robot"), std::string::npos) << "xacro failed: " << condeUrdf();
+    sim_ = std::make_unique<Simulation>(flatWorld(), GetParam(), nullptr);
+    conde_sim::RobotSpec spec;
+    spec.name = "conde";
+    spec.source = "conde.urdf.xacro";
+    spec.urdf_xml = condeUrdf();
+    sim_->addRobot(spec);
+    DiffDrive::Config c;
+    c.left_joint = "left_wheel_joint";
+    c.right_joint = "right_wheel_joint";
+    c.params.wheel_separation_m = 0.33;
+    c.params.wheel_diameter_m = 0.064;
+    c.wheel_torque_nm = 7.5;
+    c.update_rate_hz = 50;
+    c.encoder_odometry = true;
+    drive_ = std::make_unique<DiffDrive>(*sim_, 0, c);
+    settle();
+  }
+
+  // Lets the robot settle on its wheels and caster before a test measures anything.
+  void settle() {
+    run(0.5, 0.0, 0.0);
+    drive_->reset();
+  }
+
+  // Drives with (v, w) for `seconds`, re-sending the command at 20 Hz like a teleop node.
+  void run(double seconds, double linear_mps, double angular_radps) {
+    const int steps = static_cast<int>(std::lround(seconds / sim_->stepS()));
+    for (int i = 0; i < steps; ++i) {
+      if (i % 50 == 0) drive_->command(linear_mps, angular_radps);
+      step();
+    }
+  }
+
+  void step() {
+    drive_->beforeStep();
+    sim_->step();
+    drive_->afterStep();
+  }
+
+  cp::Pose truth() const { return sim_->linkPose(0, "base_footprint"); }
+
+  std::unique_ptr<Simulation> sim_;
+  std::unique_ptr<DiffDrive> drive_;
+};
+
+TEST_P(ConDiffDrive, HalfAMetrePerSecondForFourSecondsIsTwoMetres) {
+  const cp::Pose start = truth();
+  run(4.0, 0.5, 0.0);
+  const double travelled_m = (truth().position - start.position).norm();
+  EXPECT_NEAR(travelled_m, 2.0, 0.02 * 2.0);
+  EXPECT_NEAR(cp::wrapAngle(truth().orientation.yaw() - start.orientation.yaw()), 0.0, 0.01);
+}
+
+TEST_P(ConDiffDrive, OneRadianPerSecondForHalfPiSecondsIsNinetyDegrees) {
+  const double yaw0 = truth().orientation.yaw();
+  run(M_PI / 2, 0.0, 1.0);
+  run(0.3, 0.0, 0.0);  // stop (and let any overshoot show)
+  const double turned_deg = cp::wrapAngle(truth().orientation.yaw() - yaw0) * 180.0 / M_PI;
+  EXPECT_NEAR(turned_deg, 90.0, 3.0);
+}
+
+// The seed paper's square: 1 m sides at `speed`, 90 degree turns at 1 rad/s, back to the start.
+TEST_P(ConDiffDrive, EncoderOdometryTracksGroundTruthOnTheSquare) {
+  for (double speed : {0.3, 0.5}) {
+    settle();
+    const cp::Pose start = truth();
+    double path_m = 0.0;
+    for (int side = 0; side < 4; ++side) {
+      run(1.0 / speed, speed, 0.0);
+      run(M_PI / 2, 0.0, 1.0);
+      path_m += 1.0;
+    }
+    run(0.3, 0.0, 0.0);
+    // Ground truth relative to the start, in the start frame (= the odom frame).
+    const cp::Pose relative = start.inverse() * truth();
+    const cp::Pose& odom = drive_->odomPose();
+    const double error_m = std::hypot(odom.position.x - relative.position.x, odom.position.y - relative.position.y);
+    EXPECT_LT(error_m, 0.02 * path_m) << "speed " << speed;
+    EXPECT_NEAR(cp::wrapAngle(odom.orientation.yaw() - relative.orientation.yaw()), 0.0, 0.02) << "speed " << speed;
+  }
+}
+
+TEST_P(ConDiffDrive, ReversingReportsNegativeSpeed) {
+  run(1.0, -0.3, 0.0);
+  EXPECT_NEAR(drive_->odomTwist().linear_mps.x, -0.3, 0.01);
+  const cp::Pose relative = drive_->startPose().inverse() * truth();
+  EXPECT_LT(relative.position.x, -0.2);  // it really went backwards
+  EXPECT_LT(drive_->odomPose().position.x, -0.2);
+}
+
+TEST_P(ConDiffDrive, CommandTimeoutBrakes) {
+  drive_->command(0.5, 0.0);
+  for (int i = 0; i < 400; ++i) step();  // 0.4 s: still within the 0.5 s timeout
+  EXPECT_FALSE(drive_->timedOut());
+  EXPECT_GT(drive_->odomTwist().linear_mps.x, 0.45);
+  for (int i = 0; i < 400; ++i) step();  // 0.8 s without a new command
+  EXPECT_TRUE(drive_->timedOut());
+  EXPECT_NEAR(drive_->odomTwist().linear_mps.x, 0.0, 0.01);
+  const cp::Pose stopped = truth();
+  for (int i = 0; i < 500; ++i) step();
+  EXPECT_NEAR((truth().position - stopped.position).norm(), 0.0, 0.002);
+}
+
+TEST_P(ConDiffDrive, NonFiniteCommandsAreIgnored) {
+  run(1.0, 0.3, 0.0);
+  EXPECT_FALSE(drive_->command(std::nan(""), 0.0));
+  EXPECT_FALSE(drive_->command(0.0, INFINITY));
+  for (int i = 0; i < 200; ++i) step();
+  EXPECT_NEAR(drive_->odomTwist().linear_mps.x, 0.3, 0.01);  // the last good command holds
+}
+
+TEST_P(ConDiffDrive, SameCommandsGiveTheSameTrajectory) {
+  auto trajectory = [&]() {
+    Simulation sim(flatWorld(), GetParam(), nullptr);
+    conde_sim::RobotSpec spec;
+    spec.name = "conde";
+    spec.source = "conde.urdf.xacro";
+    spec.urdf_xml = condeUrdf();
+    sim.addRobot(spec);
+    DiffDrive::Config c;
+    c.left_joint = "left_wheel_joint";
+    c.right_joint = "right_wheel_joint";
+    c.params.wheel_separation_m = 0.33;
+    c.params.wheel_diameter_m = 0.064;
+    DiffDrive drive(sim, 0, c);
+    std::vector<double> xs;
+    for (int i = 0; i < 3000; ++i) {
+      if (i % 50 == 0) drive.command(0.4, std::sin(i * 0.001));
+      drive.beforeStep();
+      sim.step();
+      drive.afterStep();
+      const cp::Pose p = sim.linkPose(0, "base_footprint");
+      xs.push_back(p.position.x);
+      xs.push_back(p.position.y);
+    }
+    return xs;
+  };
+  EXPECT_EQ(trajectory(), trajectory());
+}
+
+INSTANTIATE_TEST_SUITE_P(BothEngines, ConDiffDrive, ::testing::Values("ode", "bullet"),
+                         [](const ::testing::TestParamInfo<std::string>& info) { return info.param; });
+
+TEST(DiffDriveController, WheelSpeedsFromTwist) {
+  conde_sim::DiffDriveParams p;
+  p.wheel_separation_m = 0.4;
+  p.wheel_diameter_m = 0.1;
+  conde_sim::DiffDriveController c(p);
+  double l, r;
+  c.update(0.0, 0.02, l, r);
+  EXPECT_EQ(l, 0.0);  // no command yet
+  ASSERT_TRUE(c.setCommand(1.0, 2.0, 0.0));
+  c.update(0.0, 0.02, l, r);
+  EXPECT_DOUBLE_EQ(l, (1.0 - 2.0 * 0.2) / 0.05);
+  EXPECT_DOUBLE_EQ(r, (1.0 + 2.0 * 0.2) / 0.05);
+}
+
+TEST(DiffDriveController, AccelerationRamp) {
+  conde_sim::DiffDriveParams p;
+  p.wheel_diameter_m = 0.1;
+  p.wheel_acceleration_mps2 = 1.0;
+  conde_sim::DiffDriveController c(p);
+  c.setCommand(1.0, 0.0, 0.0);
+  double l, r;
+  c.update(0.0, 0.1, l, r);
+  EXPECT_NEAR(l * 0.05, 0.1, 1e-12);  // 1 m/s^2 for 0.1 s
+  c.update(0.1, 0.1, l, r);
+  EXPECT_NEAR(r * 0.05, 0.2, 1e-12);
+}
+
+TEST(DiffDriveOdometry, ArcIntegrationIsExact) {
+  // Left wheel still, right wheel turning: a circle about the left wheel.
+  conde_sim::DiffDriveOdometry odom(0.5, 0.1);
+  odom.reset(0.0, 0.0);
+  const double right_rad = M_PI / 2 * 0.5 / 0.1;  // quarter circle of radius 0.5 m
+  odom.update(0.0, right_rad, 1.0);
+  EXPECT_NEAR(odom.yaw_rad(), M_PI / 2, 1e-12);
+  EXPECT_NEAR(odom.x_m(), 0.25, 1e-12);  // centre follows a circle of radius 0.25 m
+  EXPECT_NEAR(odom.y_m(), 0.25, 1e-12);
+}
+
+}  // namespace

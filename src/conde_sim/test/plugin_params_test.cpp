@@ -1,0 +1,79 @@
+#include <gtest/gtest.h>
+
+#include "conde_sim/plugin_params.h"
+
+using conde_sim::PluginError;
+using conde_sim::PluginParams;
+
+namespace {
+
+struct Parsed {
+  tinyxml2::XMLDocument doc;
+  const tinyxml2::XMLElement* plugin = nullptr;
+  const tinyxml2::XMLElement* sensor = nullptr;
+  explicit Parsed(const char* xml) {
+    doc.Parse(xml);
+    const auto* root = doc.FirstChildElement();
+    sensor = std::string(root->Name()) == "sensor" ? root : nullptr;
+    plugin = sensor ? sensor->FirstChildElement("plugin") : root;
+  }
+};
+
+TEST(PluginParams, ReadsValuesWithDefaults) {
+  Parsed p("<plugin name=\"dd\" filename=\"libx.so\">\n<wheelSeparation> 0.33 </wheelSeparation>\n"
+           "<publishTf>1</publishTf><jointName>a, b c</jointName><xyz>1 2 3</xyz></plugin>");
+  PluginParams params(p.plugin, nullptr, "robot.urdf", "");
+  EXPECT_DOUBLE_EQ(params.getDouble("wheelSeparation", 0.34), 0.33);
+  EXPECT_DOUBLE_EQ(params.getDouble("wheelDiameter", 0.15), 0.15);
+  EXPECT_TRUE(params.getBool("publishTf", false));
+  EXPECT_EQ(params.getList("jointName"), (std::vector<std::string>{"a", "b", "c"}));
+  EXPECT_DOUBLE_EQ(params.getVec3("xyz", {}).z, 3.0);
+  EXPECT_NO_THROW(params.checkAllUsed());
+}
+
+TEST(PluginParams, UnknownKeyNamesFileLinePluginAndKey) {
+  Parsed p("<plugin name=\"dd\" filename=\"libgazebo_ros_diff_drive.so\">\n<wheelSeparation>0.3</wheelSeparation>\n"
+           "<wheelSeperation>0.3</wheelSeperation></plugin>");
+  PluginParams params(p.plugin, nullptr, "conde.urdf", "");
+  params.getDouble("wheelSeparation", 0.34);
+  try {
+    params.checkAllUsed();
+    FAIL() << "expected PluginError";
+  } catch (const PluginError& e) {
+    EXPECT_STREQ(e.what(), "conde.urdf:3: plugin 'dd' (libgazebo_ros_diff_drive.so): unknown parameter <wheelSeperation>");
+  }
+}
+
+TEST(PluginParams, BadValuesNameTheKey) {
+  Parsed p("<plugin name=\"dd\" filename=\"libx.so\"><updateRate>fast</updateRate><publishTf>yes</publishTf></plugin>");
+  PluginParams params(p.plugin, nullptr, "r.urdf", "");
+  try {
+    params.getDouble("updateRate", 10);
+    FAIL();
+  } catch (const PluginError& e) {
+    EXPECT_STREQ(e.what(), "r.urdf:1: plugin 'dd' (libx.so): <updateRate>: expected a number, got 'fast'");
+  }
+  EXPECT_THROW(params.getBool("publishTf", true), PluginError);
+  try {
+    params.requireString("leftJoint");
+    FAIL();
+  } catch (const PluginError& e) {
+    EXPECT_STREQ(e.what(), "r.urdf:1: plugin 'dd' (libx.so): <leftJoint>: required parameter is missing");
+  }
+}
+
+TEST(PluginParams, SensorKeysAreCheckedToo) {
+  Parsed p("<sensor name=\"imu\" type=\"imu\"><update_rate>100</update_rate>\n<updaterate>5</updaterate>"
+           "<plugin name=\"i\" filename=\"libgazebo_ros_imu_sensor.so\"/></sensor>");
+  PluginParams params(p.plugin, p.sensor, "r.urdf", "imu_link");
+  EXPECT_DOUBLE_EQ(params.sensorDouble("update_rate", 0), 100.0);
+  EXPECT_EQ(params.sensorType(), "imu");
+  try {
+    params.checkAllUsed();
+    FAIL();
+  } catch (const PluginError& e) {
+    EXPECT_STREQ(e.what(), "r.urdf:2: sensor 'imu' (imu): unknown element <updaterate>");
+  }
+}
+
+}  // namespace

@@ -1,0 +1,80 @@
+#!/usr/bin/env python3
+"""Wiring test of sim.launch with a real roscore (see sim_smoke.test)."""
+import math
+import time
+import unittest
+import xml.etree.ElementTree as ET
+
+import rospy
+import rostest
+import tf2_ros
+from geometry_msgs.msg import Twist
+from nav_msgs.msg import Odometry
+from rosgraph_msgs.msg import Clock
+
+WALL_TIMEOUT_S = 60.0  # generous: the machine may be slow and busy
+
+
+def wait_for(predicate, what):
+    """Polls `predicate` until it holds; wall-clock timeout because sim time may not run yet."""
+    end = time.monotonic() + WALL_TIMEOUT_S
+    while time.monotonic() < end and not rospy.is_shutdown():
+        if predicate():
+            return
+        time.sleep(0.02)
+    raise AssertionError(f"timed out after {WALL_TIMEOUT_S} s waiting for {what}")
+
+
+class SimSmokeTest(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        rospy.init_node("sim_smoke_test")
+
+    def test_clock_advances(self):
+        stamps = []
+        sub = rospy.Subscriber("/clock", Clock, lambda m: stamps.append(m.clock.to_sec()))
+        wait_for(lambda: len(stamps) > 10 and stamps[-1] > stamps[0], "/clock to advance")
+        sub.unregister()
+        self.assertTrue(all(b >= a for a, b in zip(stamps, stamps[1:])), "clock went backwards")
+
+    def test_cmd_vel_moves_odom(self):
+        odoms = []
+        sub = rospy.Subscriber("/odom", Odometry, odoms.append)
+        pub = rospy.Publisher("/cmd_vel", Twist, queue_size=1)
+        wait_for(lambda: odoms, "/odom")
+        start = odoms[-1].pose.pose.position
+        cmd = Twist()
+        cmd.linear.x = 0.3
+
+        def moved():
+            pub.publish(cmd)
+            p = odoms[-1].pose.pose.position
+            return math.hypot(p.x - start.x, p.y - start.y) > 0.1
+
+        wait_for(moved, "/odom to move 0.1 m under cmd_vel 0.3 m/s")
+        self.assertGreater(odoms[-1].twist.twist.linear.x, 0.1)
+        self.assertEqual(odoms[-1].header.frame_id, "odom")
+        self.assertEqual(odoms[-1].child_frame_id, "base_footprint")
+        sub.unregister()
+
+    def test_tf_tree_reaches_every_link(self):
+        urdf = rospy.get_param("/robot_description")
+        links = [link.get("name") for link in ET.fromstring(urdf).iter("link")]
+        self.assertIn("base_footprint", links)
+        buffer = tf2_ros.Buffer()
+        tf2_ros.TransformListener(buffer)
+        missing = list(links)
+
+        def all_found():
+            missing[:] = [l for l in links if not buffer.can_transform("odom", l, rospy.Time(0))]
+            return not missing
+
+        try:
+            wait_for(all_found, "TF odom -> every link")
+        except AssertionError:
+            self.fail(f"no transform from odom to: {missing}")
+        self.assertTrue(buffer.can_transform("world", "base_footprint", rospy.Time(0)))
+
+
+if __name__ == "__main__":
+    rostest.rosrun("conde_tests", "sim_smoke", SimSmokeTest)

@@ -1,0 +1,108 @@
+"""Bad input stops conde_sim_node at start-up with a message naming the file and the field, and
+a non-zero exit. Each case runs the real node against a real roscore on a free loopback port."""
+import os
+import socket
+import subprocess
+import time
+
+import pytest
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+FIXTURES = os.path.join(HERE, "fixtures")
+FLAT_WORLD = os.path.join(FIXTURES, "flat.world.yaml")
+
+GOOD_URDF = """<robot name="box_bot">
+<link name="base"><inertial><mass value="1"/><inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/>
+</inertial><collision><geometry><box size="0.2 0.2 0.2"/></geometry></collision></link>
+</robot>"""
+
+
+def free_port():
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+@pytest.fixture(scope="module")
+def master():
+    port = free_port()
+    env = dict(os.environ, ROS_MASTER_URI=f"http://127.0.0.1:{port}", ROS_IP="127.0.0.1")
+    core = subprocess.Popen(["roscore", "-p", str(port)], env=env, stdout=subprocess.DEVNULL,
+                            stderr=subprocess.DEVNULL)
+    deadline = time.monotonic() + 60
+    while subprocess.run(["rosparam", "list"], env=env, capture_output=True).returncode != 0:
+        assert time.monotonic() < deadline, "roscore did not come up"
+        time.sleep(0.2)
+    yield env
+    core.terminate()
+    core.wait(timeout=30)
+
+
+def run_node(env, urdf=GOOD_URDF, **params):
+    """Starts conde_sim_node with the given private parameters; returns (exit code, stderr)."""
+    subprocess.run(["rosparam", "set", "/robot_description", urdf], env=env, check=True)
+    args = ["rosrun", "conde_sim", "conde_sim_node"] + [f"_{k}:={v}" for k, v in params.items()]
+    proc = subprocess.run(args, env=env, capture_output=True, text=True, timeout=60)
+    return proc.returncode, proc.stderr
+
+
+def error_line(stderr):
+    lines = [l for l in stderr.splitlines() if l.startswith("conde_sim: error: ")]
+    assert lines, f"no error line in:\n{stderr}"
+    return lines[-1][len("conde_sim: error: "):]
+
+
+def test_unknown_engine(master):
+    code, err = run_node(master, world_file=FLAT_WORLD, physics_engine="havok", max_sim_time_s=0.1)
+    assert code != 0
+    assert error_line(err) == "parameter /conde_sim/physics_engine: unknown physics engine 'havok' (expected one of: ode, bullet)"
+
+
+def test_missing_world_file_parameter(master):
+    code, err = run_node(master)
+    assert code != 0
+    assert error_line(err) == "parameter /conde_sim/world_file is required (path of a *.world.yaml)"
+
+
+def test_unknown_world_key(master):
+    path = os.path.join(FIXTURES, "unknown_key.world.yaml")
+    code, err = run_node(master, world_file=path)
+    assert code != 0
+    assert error_line(err) == (f"{path}:5: ground: unknown key 'gravity' "
+                               "(expected one of: texture, x_range_m, y_range_m, color_rgb, friction)")
+
+
+def test_missing_texture(master):
+    path = os.path.join(FIXTURES, "missing_texture.world.yaml")
+    code, err = run_node(master, world_file=path)
+    assert code != 0
+    assert error_line(err) == (f"{path}:4: ground.texture: cannot load image "
+                               f"'{os.path.join(FIXTURES, 'no_such_track.png')}': No such file or directory")
+
+
+def test_malformed_urdf(master):
+    code, err = run_node(master, urdf="<robot name='r'>\n<link name='a'>\n</robot>", world_file=FLAT_WORLD)
+    assert code != 0
+    assert error_line(err) == "/robot_description: malformed URDF: XML error at line 2: XML_ERROR_MISMATCHED_ELEMENT"
+
+
+def test_unknown_plugin(master):
+    urdf = GOOD_URDF.replace("</robot>", '<gazebo>\n<plugin name="p" filename="libgazebo_ros_teleport.so"/>\n</gazebo>\n</robot>')
+    code, err = run_node(master, urdf=urdf, world_file=FLAT_WORLD)
+    assert code != 0
+    assert error_line(err).startswith("/robot_description:5: plugin 'p' (libgazebo_ros_teleport.so): "
+                                      "unknown plugin 'libgazebo_ros_teleport.so' (known: ")
+
+
+def test_unknown_plugin_parameter(master):
+    urdf = GOOD_URDF.replace("</robot>", '<gazebo>\n<plugin name="gt" filename="libgazebo_ros_p3d.so">'
+                             "<bodyName>base</bodyName><topicName>gt</topicName>\n<bodyname>base</bodyname>"
+                             "</plugin>\n</gazebo>\n</robot>")
+    code, err = run_node(master, urdf=urdf, world_file=FLAT_WORLD)
+    assert code != 0
+    assert error_line(err) == "/robot_description:6: plugin 'gt' (libgazebo_ros_p3d.so): unknown parameter <bodyname>"
+
+
+def test_good_input_runs_to_max_sim_time(master):
+    code, err = run_node(master, world_file=FLAT_WORLD, real_time_factor=0, max_sim_time_s=0.5)
+    assert code == 0, err

@@ -1,0 +1,1 @@
+"""conde_worlds: worlds and the procedurally generated competition track of conde_sim."""

@@ -1,0 +1,819 @@
+"""Metric geometry of the competition track (Portuguese Robotics Open, autonomous driving).
+
+Pure Python + numpy, no ROS.  Everything is in metres and radians in the world frame:
+origin at the floor centre, x east, y north, headings measured from +x counter-clockwise.
+
+Layout
+------
+The track is a two-lane, two-way road in the shape of an "8": a central straight along +y
+(the reference line, i.e. the dashed centre line, at x = 1.778) joined at each end to a
+"balloon" loop.  Each loop is one road that leaves the end of the straight, goes once around
+an island and comes back into the straight from the west (a Y fork at y = +-FORK_Y):
+
+    north loop road:  arc of radius LOOP_RADIUS, counter-clockwise, 270 deg, from the top of
+                      the straight (1.778, LOOP_CENTRE_Y) over the top and down the west side
+                      to the bottom of the island, heading east;
+                      a short straight heading east;
+                      arc of radius FORK_RADIUS, clockwise, 90 deg, that turns south and
+                      merges tangentially into the straight at (1.778, FORK_Y).
+    south loop road:  the mirror image in y.
+
+All joins are G1 (tangent continuous); the painted lines are parallel offsets of the road
+reference line, so the lane width is the same everywhere (0.746 m clear, as measured on the
+straight).  Traffic drives on the right: northbound in the east lane of the straight.
+
+Where two roads overlap (the forks) a painted line of one road is not drawn inside the other
+road (between its boundary-line centres), so the forks are open areas bounded by the outer
+lines; the two boundary lines that meet at the island tip get a round join.
+
+Measured facts kept exactly (see docs: conde-original.md s4.2-4.4, competition-rules.md s1):
+the three lines of the straight, the crosswalk bars and stripes, the parallel-parking bulge
+and the bay-parking picture.  The loops are an own, consistent construction that matches the
+measured loop extents (outer line x -3.43, west side lines, island x extent) but not the
+island's tail: a G1 fork at |y| ~ 2 with constant lane width cannot reach down to the
+measured island tip at |y| = 3.25; here the island ends at |y| ~ 3.84.
+
+Lane centres
+------------
+A lap of the "8" can be driven in two ways, which differ in the sense in which the loops are
+driven; both start northbound on the straight:
+
+    ``north_ccw``  keeps straight at both forks: north loop counter-clockwise, south loop
+                   clockwise;
+    ``north_cw``   takes the branch at both forks: north loop clockwise, south loop
+                   counter-clockwise.
+
+Each is a closed chain of lines and arcs, offset LANE_OFFSET to the right of the direction of
+travel from the road reference line.  :meth:`Track.lane_centres` samples them densely with a
+section label per point; :meth:`Track.locate` gives, for world points, the signed lateral
+distance to the nearest lane centre (positive = left of that lane's direction of travel,
+i.e. toward the road centre line) and whether the point is on the road.
+"""
+
+import math
+from dataclasses import dataclass
+from typing import List, Sequence, Tuple
+
+import numpy as np
+
+TWO_PI = 2.0 * math.pi
+
+# ----------------------------------------------------------------------------------------------
+# Measured / chosen dimensions (m)
+# ----------------------------------------------------------------------------------------------
+
+#: x of the road reference line (centre of the dashed line) on the central straight.
+X_REF = 1.778
+#: Lateral distance from the road reference line to the centre of a boundary line.
+LINE_SPACING = 0.8065
+#: Width of the solid boundary lines (west line of the straight: x 0.929 .. 1.014).
+SOLID_WIDTH = 0.085
+#: Width of the dashed centre line (straight: x 1.760 .. 1.796; quoted as "0.04 m").
+DASHED_WIDTH = 0.036
+#: Dash length and gap of every dashed line (period 0.348 m).
+DASH_ON = 0.20
+DASH_OFF = 0.148
+#: Clear lane width between the inner edges of the lines (0.746 m).
+LANE_WIDTH = LINE_SPACING - SOLID_WIDTH / 2.0 - DASHED_WIDTH / 2.0
+#: Offset of each lane centre from the road reference line (lane centres x 1.387 and 2.169).
+LANE_OFFSET = DASHED_WIDTH / 2.0 + LANE_WIDTH / 2.0
+#: Half width of the road surface including the boundary lines (road 1.697 m wide).
+ROAD_HALF_WIDTH = LINE_SPACING + SOLID_WIDTH / 2.0
+
+#: Radius of the loop reference line: the loop's dashed line is tangent to the straight's
+#: dashed line (x 1.778) and reaches x = -2.577 on the west side (measured -2.598 .. -2.556).
+LOOP_RADIUS = (X_REF + 2.577) / 2.0
+LOOP_CENTRE_X = X_REF - LOOP_RADIUS
+#: |y| of the loop centres (measured outer line / island extents give 5.19 .. 5.28).
+LOOP_CENTRE_Y = 5.25
+#: Radius of the reverse curve by which a loop merges into the straight.
+FORK_RADIUS = 1.0
+#: |y| at which the loop road becomes tangent to the straight (the fork).
+FORK_Y = LOOP_CENTRE_Y - LOOP_RADIUS - FORK_RADIUS
+
+#: Crosswalk (zebra), all measured.
+CROSSWALK_X = (1.169, 2.387)
+CROSSWALK_TOP_BAR_Y = (0.155, 0.252)
+CROSSWALK_BOTTOM_BAR_Y = (-0.340, -0.252)
+CROSSWALK_STRIPE_Y = (-0.192, 0.104)
+CROSSWALK_STRIPE_X = (1.211, 1.398, 1.588, 1.778, 1.968, 2.158, 2.345)
+CROSSWALK_STRIPE_WIDTH = 0.095  # measured 0.092 .. 0.099
+#: Extent of the whole crosswalk along the straight.
+CROSSWALK_Y = (CROSSWALK_BOTTOM_BAR_Y[0], CROSSWALK_TOP_BAR_Y[1])
+
+#: Parallel-parking bulge on the east side of the straight (measured).
+BULGE_LINE_X = (3.373 + 3.429) / 2.0
+BULGE_LINE_WIDTH = 3.429 - 3.373
+BULGE_STRAIGHT_Y = (1.221, 4.284)
+#: The east line of the straight is dashed along the bulge (first dash starts at y 0.58).
+BULGE_DASHED_Y = (0.58, 4.93)
+
+#: Bay-parking picture (a separate plane in the original): 1.05 x 1.6 m centred (3.4, -2.3).
+BAY_AREA_X = (2.875, 3.925)
+BAY_AREA_Y = (-3.1, -1.5)
+#: White border widths: west, east, north, south (measured).
+BAY_BORDER = {"west": 0.092, "east": 0.077, "north": 0.048, "south": 0.060}
+#: Dashed divider between the two bays (measured y -2.321 .. -2.273).
+BAY_DIVIDER_Y = (-2.321, -2.273)
+#: "P" letter (own design): height along +x, width along y, stroke, bowl height.
+P_HEIGHT = 0.50
+P_WIDTH = 0.32
+P_STROKE = 0.075
+P_BOWL_HEIGHT = 0.30
+
+#: Spawn poses (x, y, z, yaw) of the robots' root links.
+SPAWNS = {
+    # Conde: base_footprint = ground point under the drive-axle centre; model origin
+    # (2.14, -0.5) with the axle 0.17 m ahead.
+    "conde": (2.14, -0.33, 0.0, 1.5708),
+    "major": (2.17, -0.58, 0.0, 1.5708),
+}
+
+
+# ----------------------------------------------------------------------------------------------
+# Primitives
+# ----------------------------------------------------------------------------------------------
+
+def _as_points(points) -> np.ndarray:
+    p = np.asarray(points, dtype=float)
+    return p.reshape(-1, 2)
+
+
+@dataclass(frozen=True)
+class Segment:
+    """Straight segment from p0 to p1, parametrised by arc length s in [0, length]."""
+
+    p0: Tuple[float, float]
+    p1: Tuple[float, float]
+
+    kind = "line"
+
+    @property
+    def length(self) -> float:
+        return math.hypot(self.p1[0] - self.p0[0], self.p1[1] - self.p0[1])
+
+    @property
+    def direction(self) -> np.ndarray:
+        d = np.subtract(self.p1, self.p0)
+        return d / np.hypot(d[0], d[1])
+
+    def point(self, s) -> np.ndarray:
+        s = np.asarray(s, dtype=float)
+        return np.asarray(self.p0) + s[..., None] * self.direction
+
+    def heading(self, s) -> np.ndarray:
+        d = self.direction
+        return np.full(np.shape(s), math.atan2(d[1], d[0]))
+
+    def project(self, points) -> Tuple[np.ndarray, np.ndarray]:
+        """Arc length of the perpendicular foot (not clamped) and lateral offset (+ = left)."""
+        p = _as_points(points) - np.asarray(self.p0)
+        d = self.direction
+        return p @ d, d[0] * p[:, 1] - d[1] * p[:, 0]
+
+    def offset(self, d: float) -> "Segment":
+        """The parallel segment d to the left (negative d: to the right)."""
+        u = self.direction
+        n = np.array([-u[1], u[0]]) * d
+        return Segment(tuple(np.add(self.p0, n)), tuple(np.add(self.p1, n)))
+
+    def reversed(self) -> "Segment":
+        return Segment(self.p1, self.p0)
+
+    def sub(self, s0: float, s1: float) -> "Segment":
+        return Segment(tuple(self.point(s0)), tuple(self.point(s1)))
+
+    def mirrored_y(self) -> "Segment":
+        return Segment((self.p0[0], -self.p0[1]), (self.p1[0], -self.p1[1]))
+
+    def transformed(self, angle: float, origin) -> "Segment":
+        return Segment(_rot(self.p0, angle, origin), _rot(self.p1, angle, origin))
+
+    def to_dict(self) -> dict:
+        return {"type": "line", "from": _r(self.p0), "to": _r(self.p1)}
+
+
+@dataclass(frozen=True)
+class Arc:
+    """Circular arc: centre, radius, start angle and signed sweep (+ = counter-clockwise)."""
+
+    centre: Tuple[float, float]
+    radius: float
+    start: float
+    sweep: float
+
+    kind = "arc"
+
+    @property
+    def sense(self) -> float:
+        return 1.0 if self.sweep > 0 else -1.0
+
+    @property
+    def length(self) -> float:
+        return self.radius * abs(self.sweep)
+
+    def angle(self, s) -> np.ndarray:
+        return self.start + self.sense * np.asarray(s, dtype=float) / self.radius
+
+    def point(self, s) -> np.ndarray:
+        a = self.angle(s)
+        return np.stack([self.centre[0] + self.radius * np.cos(a),
+                         self.centre[1] + self.radius * np.sin(a)], axis=-1)
+
+    def heading(self, s) -> np.ndarray:
+        return self.angle(s) + self.sense * math.pi / 2.0
+
+    def project(self, points) -> Tuple[np.ndarray, np.ndarray]:
+        """Arc length of the radial foot and lateral offset (+ = left of the direction of travel).
+
+        Angles outside the sweep map to s < 0 or s > length, split half-way round the gap."""
+        p = _as_points(points) - np.asarray(self.centre)
+        dist = np.hypot(p[:, 0], p[:, 1])
+        rel = np.mod(self.sense * (np.arctan2(p[:, 1], p[:, 0]) - self.start), TWO_PI)
+        span = abs(self.sweep)
+        rel = np.where(rel > span + (TWO_PI - span) / 2.0, rel - TWO_PI, rel)
+        return rel * self.radius, self.sense * (self.radius - dist)
+
+    def offset(self, d: float) -> "Arc":
+        r = self.radius - self.sense * d
+        if r <= 0:
+            raise ValueError("offset %.3f m collapses an arc of radius %.3f m" % (d, self.radius))
+        return Arc(self.centre, r, self.start, self.sweep)
+
+    def reversed(self) -> "Arc":
+        return Arc(self.centre, self.radius, self.start + self.sweep, -self.sweep)
+
+    def sub(self, s0: float, s1: float) -> "Arc":
+        return Arc(self.centre, self.radius, float(self.angle(s0)), self.sense * (s1 - s0) / self.radius)
+
+    def mirrored_y(self) -> "Arc":
+        return Arc((self.centre[0], -self.centre[1]), self.radius, -self.start, -self.sweep)
+
+    def transformed(self, angle: float, origin) -> "Arc":
+        return Arc(_rot(self.centre, angle, origin), self.radius, self.start + angle, self.sweep)
+
+    def to_dict(self) -> dict:
+        return {"type": "arc", "centre": _r(self.centre), "radius_m": _f(self.radius, 6),
+                "start_rad": _f(self.start, 6), "sweep_rad": _f(self.sweep, 6)}
+
+
+def _rot(p, angle, origin) -> Tuple[float, float]:
+    c, s = math.cos(angle), math.sin(angle)
+    return (origin[0] + c * p[0] - s * p[1], origin[1] + s * p[0] + c * p[1])
+
+
+def _f(v, nd=6) -> float:
+    """A plain Python float rounded to nd decimals (for the YAML export)."""
+    return round(float(v), nd) + 0.0  # + 0.0 turns -0.0 into 0.0
+
+
+def _r(p, nd=6) -> List[float]:
+    return [_f(v, nd) for v in p]
+
+
+class Path:
+    """A chain of primitives parametrised by the total arc length."""
+
+    def __init__(self, prims: Sequence):
+        self.prims = list(prims)
+        lengths = [p.length for p in self.prims]
+        self.starts = np.concatenate([[0.0], np.cumsum(lengths)[:-1]])
+        self.length = float(sum(lengths))
+
+    def offset(self, d: float) -> "Path":
+        return Path([p.offset(d) for p in self.prims])
+
+    def reversed(self) -> "Path":
+        return Path([p.reversed() for p in reversed(self.prims)])
+
+    def mirrored_y(self) -> "Path":
+        return Path([p.mirrored_y() for p in self.prims])
+
+    def _locate(self, s):
+        s = np.asarray(s, dtype=float)
+        i = np.clip(np.searchsorted(self.starts, s, side="right") - 1, 0, len(self.prims) - 1)
+        return i, s - self.starts[i]
+
+    def point(self, s) -> np.ndarray:
+        i, ls = self._locate(s)
+        out = np.empty(np.shape(s) + (2,))
+        for k, p in enumerate(self.prims):
+            m = i == k
+            if np.any(m):
+                out[m] = p.point(ls[m])
+        return out
+
+    def heading(self, s) -> np.ndarray:
+        i, ls = self._locate(s)
+        out = np.empty(np.shape(s))
+        for k, p in enumerate(self.prims):
+            m = i == k
+            if np.any(m):
+                out[m] = p.heading(ls[m])
+        return out
+
+
+@dataclass(frozen=True)
+class Stroke:
+    """A painted stroke: a primitive drawn with a width over the visible arc-length intervals.
+
+    The stroke ends are square (butt) at the interval ends.  join_start / join_end say that
+    the painted line continues tangentially in another stroke at s = 0 / s = length (a join
+    between primitives of one line, not an end), which a renderer must draw without a seam."""
+
+    name: str
+    prim: object
+    width: float
+    intervals: Tuple[Tuple[float, float], ...]
+    style: str = "solid"
+    join_start: bool = False
+    join_end: bool = False
+
+    def to_dict(self) -> dict:
+        return {"name": self.name, "style": self.style, "width_m": _f(self.width, 6),
+                "centre": self.prim.to_dict(),
+                "visible_m": [[_f(a, 5), _f(b, 5)] for a, b in self.intervals]}
+
+
+@dataclass(frozen=True)
+class Dot:
+    """A filled disc (used as the round join where two cut lines meet)."""
+
+    name: str
+    centre: Tuple[float, float]
+    radius: float
+
+    def to_dict(self) -> dict:
+        return {"name": self.name, "centre": _r(self.centre), "radius_m": _f(self.radius, 6)}
+
+
+@dataclass(frozen=True)
+class Road:
+    """A two-lane road: reference line (dashed centre line) with the boundary lines at
+    +-LINE_SPACING."""
+
+    name: str
+    path: Path
+
+    def contains(self, points, half_width: float, strict: bool = False) -> np.ndarray:
+        """Points within half_width of the reference line, measured perpendicular to a
+        primitive whose parameter range contains the foot point (open range if strict)."""
+        pts = _as_points(points)
+        out = np.zeros(len(pts), dtype=bool)
+        for prim in self.path.prims:
+            s, lat = prim.project(pts)
+            if strict:
+                in_range = (s > 1e-9) & (s < prim.length - 1e-9)
+                out |= in_range & (np.abs(lat) < half_width)
+            else:
+                in_range = (s >= -1e-9) & (s <= prim.length + 1e-9)
+                out |= in_range & (np.abs(lat) <= half_width)
+        return out
+
+
+# ----------------------------------------------------------------------------------------------
+# Interval helpers
+# ----------------------------------------------------------------------------------------------
+
+def _merge(intervals) -> List[Tuple[float, float]]:
+    out = []
+    for a, b in sorted(intervals):
+        if b <= a:
+            continue
+        if out and a <= out[-1][1] + 1e-12:
+            out[-1] = (out[-1][0], max(out[-1][1], b))
+        else:
+            out.append((a, b))
+    return out
+
+
+def _intersect(a_list, b_list) -> List[Tuple[float, float]]:
+    out = []
+    for a0, a1 in a_list:
+        for b0, b1 in b_list:
+            lo, hi = max(a0, b0), min(a1, b1)
+            if hi > lo:
+                out.append((lo, hi))
+    return _merge(out)
+
+
+def dash_intervals(s0: float, s1: float, phase: float = 0.0,
+                   on: float = DASH_ON, off: float = DASH_OFF) -> List[Tuple[float, float]]:
+    """Dashes on [s0, s1]; a dash starts at every s = s0 - phase + k * (on + off)."""
+    period = on + off
+    out = []
+    k = math.floor(phase / period) if phase > 0 else 0
+    start = s0 - phase + k * period
+    while start < s1:
+        a, b = max(start, s0), min(start + on, s1)
+        if b > a:
+            out.append((a, b))
+        start += period
+    return out
+
+
+# ----------------------------------------------------------------------------------------------
+# Track
+# ----------------------------------------------------------------------------------------------
+
+def _north_loop_path() -> Path:
+    c1 = (LOOP_CENTRE_X, LOOP_CENTRE_Y)
+    arc1 = Arc(c1, LOOP_RADIUS, 0.0, 1.5 * math.pi)
+    y_bottom = LOOP_CENTRE_Y - LOOP_RADIUS
+    c2 = (X_REF - FORK_RADIUS, FORK_Y)
+    seg = Segment((LOOP_CENTRE_X, y_bottom), (c2[0], y_bottom))
+    arc2 = Arc(c2, FORK_RADIUS, 0.5 * math.pi, -0.5 * math.pi)
+    return Path([arc1, seg, arc2])
+
+
+class Track:
+    """The complete track: roads, painted strokes, areas, lane centres.  Build with
+    :func:`build_track`."""
+
+    def __init__(self):
+        central = Road("central", Path([Segment((X_REF, -LOOP_CENTRE_Y), (X_REF, LOOP_CENTRE_Y))]))
+        north = Road("north_loop", _north_loop_path())
+        south = Road("south_loop", north.path.mirrored_y())
+        self.roads = {r.name: r for r in (central, north, south)}
+        # Which roads cut which: a line of road X is not painted inside road Y.
+        self._cutters = {"central": [north, south], "north_loop": [central], "south_loop": [central]}
+        self.strokes: List[Stroke] = []
+        self.dots: List[Dot] = []
+        self._build_road_lines()
+        self._build_crosswalk()
+        self._build_parallel_parking()
+        self._build_bay_parking()
+        self._build_lanes()
+
+    # --- painted lines of the roads ------------------------------------------------------------
+
+    def _visible(self, road_name: str, path: Path, step: float = 0.002) -> List[Tuple[float, float]]:
+        """Arc-length intervals of an offset path of road_name that are not inside a cutting road."""
+        cutters = self._cutters[road_name]
+        n = max(2, int(math.ceil(path.length / step)) + 1)
+        s = np.linspace(0.0, path.length, n)
+
+        def cut(sv):
+            pts = path.point(np.atleast_1d(sv))
+            m = np.zeros(len(pts), dtype=bool)
+            for r in cutters:
+                m |= r.contains(pts, LINE_SPACING - 1e-7, strict=True)
+            return m
+
+        inside = cut(s)
+        edges = []
+        for k in np.nonzero(inside[1:] != inside[:-1])[0]:
+            lo, hi = s[k], s[k + 1]
+            for _ in range(40):  # bisection to ~1e-14 m
+                mid = 0.5 * (lo + hi)
+                if cut(mid)[0] == inside[k]:
+                    lo = mid
+                else:
+                    hi = mid
+            edges.append(0.5 * (lo + hi))
+        bounds = [0.0] + edges + [path.length]
+        state = not inside[0]
+        out = []
+        for a, b in zip(bounds[:-1], bounds[1:]):
+            # Pieces shorter than 1 cm only occur where a line runs tangentially into a line
+            # of the other road (at the forks) and lies on top of it: leave them out.
+            if state and b - a >= 0.01:
+                out.append((a, b))
+            state = not state
+        return _merge(out)
+
+    def _add_path_strokes(self, name, path: Path, width, intervals, style, ends_continue=True):
+        """One stroke per primitive of path.  ends_continue: the line goes on in another road
+        at both ends of the path (true for all road lines: the roads form a closed network)."""
+        n = len(path.prims)
+        for k, prim in enumerate(path.prims):
+            a0 = path.starts[k]
+            local = _intersect(intervals, [(a0, a0 + prim.length)])
+            local = tuple((a - a0, b - a0) for a, b in local)
+            if local:
+                self.strokes.append(Stroke("%s_%d" % (name, k), prim, width, local, style,
+                                           join_start=k > 0 or ends_continue,
+                                           join_end=k < n - 1 or ends_continue))
+
+    def _build_road_lines(self):
+        central = self.roads["central"]
+        L = central.path.length
+        y0 = -LOOP_CENTRE_Y  # central s = y - y0
+
+        # Central straight.
+        west = central.path.offset(LINE_SPACING)
+        self._add_path_strokes("central_west", west, SOLID_WIDTH, self._visible("central", west), "solid")
+        east = central.path.offset(-LINE_SPACING)
+        b0, b1 = BULGE_DASHED_Y[0] - y0, BULGE_DASHED_Y[1] - y0
+        east_iv = _merge([(0.0, b0), (b1, L)] + dash_intervals(b0, b1))
+        east_iv = _intersect(east_iv, self._visible("central", east))
+        self._add_path_strokes("central_east", east, SOLID_WIDTH, east_iv, "solid+dashed")
+        # Dashed centre: a gap, then dashes, outward from each end of the crosswalk.
+        top, bottom = CROSSWALK_Y[1] - y0, CROSSWALK_Y[0] - y0
+        centre_iv = dash_intervals(top, L, phase=DASH_ON)
+        centre_iv += [(L - b, L - a) for a, b in dash_intervals(L - bottom, L, phase=DASH_ON)]
+        centre_iv = _intersect(_merge(centre_iv), self._visible("central", central.path))
+        self._add_path_strokes("central_centre", central.path, DASHED_WIDTH, centre_iv, "dashed")
+
+        # Loops: the dash pattern continues from the straight.
+        phase = math.fmod(LOOP_CENTRE_Y - CROSSWALK_Y[1] + DASH_ON, DASH_ON + DASH_OFF)
+        for name in ("north_loop", "south_loop"):
+            road = self.roads[name]
+            if name == "south_loop":
+                ph = math.fmod(LOOP_CENTRE_Y + CROSSWALK_Y[0] + DASH_ON, DASH_ON + DASH_OFF)
+            else:
+                ph = phase
+            # The north loop path runs counter-clockwise: its left is the island side; the
+            # south loop (mirror image) runs clockwise: its left is the outer side.
+            d_island = LINE_SPACING if name == "north_loop" else -LINE_SPACING
+            for side, d in (("island", d_island), ("outer", -d_island)):
+                p = road.path.offset(d)
+                self._add_path_strokes("%s_%s" % (name, side), p, SOLID_WIDTH,
+                                       self._visible(name, p), "solid")
+            iv = _intersect(dash_intervals(0.0, road.path.length, phase=ph),
+                            self._visible(name, road.path))
+            self._add_path_strokes("%s_centre" % name, road.path, DASHED_WIDTH, iv, "dashed")
+
+        # Round join at each island tip (where the straight's west line meets the island line).
+        for name, sign in (("north_loop", 1.0), ("south_loop", -1.0)):
+            yt = FORK_Y + math.sqrt((FORK_RADIUS + LINE_SPACING) ** 2 - (FORK_RADIUS - LINE_SPACING) ** 2)
+            self.dots.append(Dot("%s_island_tip" % name, (X_REF - LINE_SPACING, sign * yt), SOLID_WIDTH / 2.0))
+
+    # --- crosswalk -----------------------------------------------------------------------------
+
+    def _build_crosswalk(self):
+        x0, x1 = CROSSWALK_X
+        for name, (ya, yb) in (("crosswalk_bar_top", CROSSWALK_TOP_BAR_Y),
+                               ("crosswalk_bar_bottom", CROSSWALK_BOTTOM_BAR_Y)):
+            yc = 0.5 * (ya + yb)
+            seg = Segment((x0, yc), (x1, yc))
+            self.strokes.append(Stroke(name, seg, yb - ya, ((0.0, seg.length),)))
+        ya, yb = CROSSWALK_STRIPE_Y
+        for k, xc in enumerate(CROSSWALK_STRIPE_X):
+            seg = Segment((xc, ya), (xc, yb))
+            self.strokes.append(Stroke("crosswalk_stripe_%d" % k, seg, CROSSWALK_STRIPE_WIDTH, ((0.0, seg.length),)))
+
+    # --- parallel parking ----------------------------------------------------------------------
+
+    def _build_parallel_parking(self):
+        xe = X_REF + LINE_SPACING
+        run = BULGE_LINE_X - xe  # 45-degree slants
+        ya, yb = BULGE_STRAIGHT_Y
+        corners = [(xe, ya - run), (BULGE_LINE_X, ya), (BULGE_LINE_X, yb), (xe, yb + run)]
+        self.bulge_outline = corners
+        for k in range(3):
+            seg = Segment(corners[k], corners[k + 1])
+            self.strokes.append(Stroke("parallel_parking_%d" % k, seg, BULGE_LINE_WIDTH, ((0.0, seg.length),)))
+        for k in (1, 2):
+            self.dots.append(Dot("parallel_parking_corner_%d" % k, corners[k], BULGE_LINE_WIDTH / 2.0))
+
+    # --- bay parking ---------------------------------------------------------------------------
+
+    def _build_bay_parking(self):
+        (x0, x1), (y0, y1) = BAY_AREA_X, BAY_AREA_Y
+        b = BAY_BORDER
+
+        def rect(name, xa, xb, ya, yb):
+            # A filled rectangle as one stroke along its longer side.
+            if xb - xa >= yb - ya:
+                seg = Segment((xa, 0.5 * (ya + yb)), (xb, 0.5 * (ya + yb)))
+                w = yb - ya
+            else:
+                seg = Segment((0.5 * (xa + xb), ya), (0.5 * (xa + xb), yb))
+                w = xb - xa
+            self.strokes.append(Stroke(name, seg, w, ((0.0, seg.length),)))
+
+        rect("bay_border_west", x0, x0 + b["west"], y0, y1)
+        rect("bay_border_east", x1 - b["east"], x1, y0, y1)
+        rect("bay_border_north", x0, x1, y1 - b["north"], y1)
+        rect("bay_border_south", x0, x1, y0, y0 + b["south"])
+        xi0, xi1 = x0 + b["west"], x1 - b["east"]
+        dy0, dy1 = BAY_DIVIDER_Y
+        div = Segment((xi0, 0.5 * (dy0 + dy1)), (xi1, 0.5 * (dy0 + dy1)))
+        self.strokes.append(Stroke("bay_divider", div, dy1 - dy0,
+                                   tuple(dash_intervals(0.0, div.length)), "dashed"))
+        self.bays = {
+            "north": ((xi0, xi1), (dy1, y1 - b["north"])),
+            "south": ((xi0, xi1), (y0 + b["south"], dy0)),
+        }
+        for name, ((xa, xb), (ya, yb)) in self.bays.items():
+            self._add_letter_p("bay_%s_P" % name, (0.5 * (xa + xb), 0.5 * (ya + yb)))
+
+    def _add_letter_p(self, name, centre):
+        """A bold "P" that reads upright for a robot driving east (+x) into the bay.
+
+        Built in letter coordinates (u right, v up, origin at the letter's bottom-left corner),
+        then rotated by -90 deg so that letter-up = world +x."""
+        H, W, t, hb = P_HEIGHT, P_WIDTH, P_STROKE, P_BOWL_HEIGHT
+        ro = hb / 2.0
+        rc = ro - t / 2.0
+        ucx, vcy = W - ro, H - ro
+        stem = Segment((t / 2.0, 0.0), (t / 2.0, H))
+        bowl = [Segment((t / 2.0, H - t / 2.0), (ucx, H - t / 2.0)),  # top bar
+                Arc((ucx, vcy), rc, 0.5 * math.pi, -math.pi),  # round right side
+                Segment((ucx, H - hb + t / 2.0), (t / 2.0, H - hb + t / 2.0))]  # bottom bar
+        angle = -0.5 * math.pi
+        # Rotation by -90 deg maps (u, v) to (v, -u); place the letter centre at `centre`.
+        c = _rot((W / 2.0, H / 2.0), angle, (0.0, 0.0))
+        origin = (centre[0] - c[0], centre[1] - c[1])
+        stem = stem.transformed(angle, origin)
+        self.strokes.append(Stroke("%s_stem" % name, stem, t, ((0.0, stem.length),)))
+        bowl = Path([p.transformed(angle, origin) for p in bowl])
+        self._add_path_strokes("%s_bowl" % name, bowl, t, [(0.0, bowl.length)], "solid", ends_continue=False)
+
+    # --- lanes ---------------------------------------------------------------------------------
+
+    def _build_lanes(self):
+        central = self.roads["central"].path.prims[0]
+        y0 = -LOOP_CENTRE_Y
+
+        def c(ya, yb):
+            # Central straight from y = ya to y = yb (either direction).
+            if yb > ya:
+                return [central.sub(ya - y0, yb - y0)]
+            return [central.sub(yb - y0, ya - y0).reversed()]
+
+        north = self.roads["north_loop"].path
+        south = self.roads["south_loop"].path
+        routes = {
+            "north_ccw": c(0.0, LOOP_CENTRE_Y) + north.prims + c(FORK_Y, -LOOP_CENTRE_Y)
+            + south.prims + c(-FORK_Y, 0.0),
+            "north_cw": c(0.0, FORK_Y) + north.reversed().prims + c(LOOP_CENTRE_Y, -FORK_Y)
+            + south.reversed().prims + c(-LOOP_CENTRE_Y, 0.0),
+        }
+        self.routes = {k: Path(v).offset(-LANE_OFFSET) for k, v in routes.items()}
+
+    # --- public queries ------------------------------------------------------------------------
+
+    def lane_centres(self, spacing: float = 0.01) -> dict:
+        """Dense closed lane-centre polylines.
+
+        Returns {route: {"xy": (N, 2) array, "heading": (N,) rad, "section": list of N labels,
+        "s": (N,) arc length from the route start, "length": route length}}.  The points are
+        spaced uniformly, at most `spacing` apart; the last point is not repeated.  Labels are
+        'straight', 'curve' or 'crosswalk' (points of the straight within the crosswalk)."""
+        out = {}
+        for name, path in self.routes.items():
+            n = int(math.ceil(path.length / spacing - 1e-9))
+            s = np.arange(n) * (path.length / n)
+            xy = path.point(s)
+            i, _ = path._locate(s)
+            kinds = np.array([p.kind for p in path.prims])[i]
+            section = np.where(kinds == "arc", "curve", "straight").astype(object)
+            section[self.in_crosswalk(xy)] = "crosswalk"
+            out[name] = {"xy": xy, "heading": np.mod(path.heading(s), TWO_PI), "section": list(section),
+                         "s": s, "length": path.length}
+        return out
+
+    def in_crosswalk(self, points) -> np.ndarray:
+        """Points inside the crosswalk box (between the straight's boundary lines, bar to bar)."""
+        p = _as_points(points)
+        return ((p[:, 0] >= X_REF - ROAD_HALF_WIDTH) & (p[:, 0] <= X_REF + ROAD_HALF_WIDTH)
+                & (p[:, 1] >= CROSSWALK_Y[0]) & (p[:, 1] <= CROSSWALK_Y[1]))
+
+    def on_road(self, points, half_width: float = ROAD_HALF_WIDTH) -> np.ndarray:
+        """Points on the road surface.  By default the boundary lines count as road (the road
+        is 1.698 m wide; measured 1.697 m); pass half_width=LINE_SPACING - SOLID_WIDTH / 2 for
+        the clear area between the lines.  The parking areas are not road (see
+        in_parallel_parking, in_bay)."""
+        pts = _as_points(points)
+        out = np.zeros(len(pts), dtype=bool)
+        for road in self.roads.values():
+            out |= road.contains(pts, half_width)
+        return out
+
+    def in_parallel_parking(self, points) -> np.ndarray:
+        """Points in the parallel-parking bulge: east of the straight's east line and inside the
+        bulge outline (line centres)."""
+        p = _as_points(points)
+        (xe, y_south), (xo, _), _, (_, y_north) = self.bulge_outline
+        d = p[:, 0] - xe  # the slanted ends are at 45 degrees
+        return (d > 0) & (p[:, 0] < xo) & (p[:, 1] > y_south + d) & (p[:, 1] < y_north - d)
+
+    def in_bay(self, points, bay: str) -> np.ndarray:
+        """Points inside bay 'north' or 'south' of the bay-parking area (inside the white lines)."""
+        p = _as_points(points)
+        (xa, xb), (ya, yb) = self.bays[bay]
+        return (p[:, 0] >= xa) & (p[:, 0] <= xb) & (p[:, 1] >= ya) & (p[:, 1] <= yb)
+
+    def locate(self, points) -> dict:
+        """Nearest lane centre for world points (x, y).
+
+        Returns a dict of arrays (one entry per point):
+          lateral   signed distance to the nearest lane centre [m]; + = left of that lane's
+                    direction of travel (toward the road centre line), - = toward the edge;
+          distance  |lateral| where the foot point is inside a primitive, else the distance to
+                    the nearest lane-centre point;
+          route     name of the route the nearest lane centre belongs to (on the shared
+                    straight both routes coincide; the first one is reported);
+          s         arc length of the foot point along that route;
+          heading   direction of travel of the lane at the foot point [rad, 0..2pi);
+          section   'straight' | 'curve' | 'crosswalk' at the foot point;
+          on_road   the point is on the road surface (see on_road).
+        """
+        pts = _as_points(points)
+        n = len(pts)
+        best = np.full(n, np.inf)
+        lateral = np.zeros(n)
+        route = np.empty(n, dtype=object)
+        s_out = np.zeros(n)
+        heading = np.zeros(n)
+        kind = np.empty(n, dtype=object)
+        foot = np.zeros((n, 2))
+        for name, path in self.routes.items():
+            for k, prim in enumerate(path.prims):
+                s, lat = prim.project(pts)
+                sc = np.clip(s, 0.0, prim.length)
+                fp = prim.point(sc)
+                dist = np.hypot(pts[:, 0] - fp[:, 0], pts[:, 1] - fp[:, 1])
+                better = dist < best - 1e-12
+                if not np.any(better):
+                    continue
+                best[better] = dist[better]
+                inside = (s >= 0.0) & (s <= prim.length)
+                lateral[better] = np.where(inside, lat, np.sign(lat) * dist)[better]
+                route[better] = name
+                s_out[better] = path.starts[k] + sc[better]
+                heading[better] = np.mod(prim.heading(sc[better]), TWO_PI)
+                kind[better] = prim.kind
+                foot[better] = fp[better]
+        section = np.where(kind == "arc", "curve", "straight").astype(object)
+        section[self.in_crosswalk(foot)] = "crosswalk"
+        return {"lateral": lateral, "distance": best, "route": route, "s": s_out, "heading": heading,
+                "section": section, "on_road": self.on_road(pts)}
+
+    def lateral_offset(self, x: float, y: float) -> Tuple[float, bool]:
+        """Scalar convenience: (signed lateral distance to the nearest lane centre, on road)."""
+        r = self.locate([[x, y]])
+        return float(r["lateral"][0]), bool(r["on_road"][0])
+
+    # --- export --------------------------------------------------------------------------------
+
+    def to_dict(self, lane_spacing: float = 0.05) -> dict:
+        """Plain data for the geometry YAML (lane centres sampled every <= lane_spacing m)."""
+        lanes = []
+        for name, lc in self.lane_centres(lane_spacing).items():
+            lanes.append({
+                "name": name,
+                "closed": True,
+                "length_m": _f(lc["length"], 5),
+                "spacing_m": _f(lc["length"] / len(lc["xy"]), 6),
+                "xy": [[_f(float(a), 4), _f(float(b), 4)] for a, b in lc["xy"]],
+                "heading_rad": [_f(float(h), 4) for h in lc["heading"]],
+                "section": [str(v) for v in lc["section"]],
+            })
+        xw, xe = X_REF - LINE_SPACING, X_REF + LINE_SPACING
+        return {
+            "format": "conde_track_geometry/1",
+            "name": "competition_track",
+            "frame": "world: origin at the floor centre, x east, y north, z up; metres, radians",
+            "dimensions": {
+                "road_reference_x_m": X_REF,
+                "line_spacing_m": _f(LINE_SPACING),
+                "solid_line_width_m": SOLID_WIDTH,
+                "dashed_line_width_m": DASHED_WIDTH,
+                "dash_m": DASH_ON,
+                "gap_m": DASH_OFF,
+                "lane_width_m": _f(LANE_WIDTH, 6),
+                "lane_offset_m": _f(LANE_OFFSET, 6),
+                "road_width_m": _f(2 * ROAD_HALF_WIDTH, 6),
+                "loop_centre_m": _r([LOOP_CENTRE_X, LOOP_CENTRE_Y]),
+                "loop_radius_m": _f(LOOP_RADIUS),
+                "loop_outer_line_radius_m": _f(LOOP_RADIUS + LINE_SPACING, 6),
+                "loop_island_line_radius_m": _f(LOOP_RADIUS - LINE_SPACING, 6),
+                "fork_radius_m": FORK_RADIUS,
+                "fork_y_m": _f(FORK_Y, 6),
+            },
+            "roads": [{"name": r.name, "reference": [p.to_dict() for p in r.path.prims]}
+                      for r in self.roads.values()],
+            "lines": [s.to_dict() for s in self.strokes],
+            "dots": [d.to_dict() for d in self.dots],
+            "crosswalk": {
+                "box": {"x_m": [_f(xw - SOLID_WIDTH / 2, 6), _f(xe + SOLID_WIDTH / 2, 6)],
+                        "y_m": list(CROSSWALK_Y)},
+                "bars_y_m": [list(CROSSWALK_BOTTOM_BAR_Y), list(CROSSWALK_TOP_BAR_Y)],
+                "bars_x_m": list(CROSSWALK_X),
+                "stripe_centres_x_m": list(CROSSWALK_STRIPE_X),
+                "stripe_width_m": CROSSWALK_STRIPE_WIDTH,
+                "stripes_y_m": list(CROSSWALK_STRIPE_Y),
+            },
+            "parallel_parking": {
+                "outline_m": [_r(p) for p in self.bulge_outline],
+                "line_width_m": _f(BULGE_LINE_WIDTH, 6),
+                "bay": {"x_m": [_f(xe + SOLID_WIDTH / 2, 6), _f(BULGE_LINE_X - BULGE_LINE_WIDTH / 2, 6)],
+                        "y_m": list(BULGE_STRAIGHT_Y)},
+                "dashed_east_line_y_m": list(BULGE_DASHED_Y),
+            },
+            "bay_parking": {
+                "area": {"x_m": list(BAY_AREA_X), "y_m": list(BAY_AREA_Y)},
+                "entry_heading_rad": 0.0,
+                "bays": [{"name": k, "x_m": _r(v[0]), "y_m": _r(v[1])} for k, v in self.bays.items()],
+            },
+            "spawn": {k: {"xyz": list(v[:3]), "yaw": v[3]} for k, v in SPAWNS.items()},
+            "lane_centres": lanes,
+        }
+
+
+def build_track() -> Track:
+    """The competition track."""
+    return Track()
