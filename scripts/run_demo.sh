@@ -8,5 +8,5 @@ export PATH="/usr/bin:$PATH"
 scripts/install_dependencies.sh build
 scripts/build.sh
 # shellcheck disable=SC1091
-source devel/setup.bash
+set +u; source devel/setup.bash; set -u
 rosrun conde_eval odometry_test --output-dir results "$@"

@@ -8,14 +8,14 @@ export PATH="/usr/bin:$PATH"
 scripts/install_dependencies.sh build || exit 1
 scripts/build.sh || exit 1
 # shellcheck disable=SC1091
-source devel/setup.bash
+set +u; source devel/setup.bash; set -u
 results=build/test_results
 rm -rf "$results"
 mkdir -p "$results/pytest"
 
 scripts/build.sh run_tests -j1 || echo "run_tests: make reported a failure (details in the results below)"
 
-python_tests=(src/*/test urdf/test worlds/test)
+python_tests=(src/*/test urdf/test worlds/test tests)
 existing=()
 for d in "${python_tests[@]}"; do [ -d "$d" ] && ls "$d"/test_*.py >/dev/null 2>&1 && existing+=("$d"); done
 for d in "${existing[@]}"; do

@@ -432,7 +432,7 @@ def test_diff_drive_plugin_matches_the_links(args):
     assert params['odometrySource'] == args.get('odometry_source', 'encoder')
     assert params['publishOdomTF'] == args.get('publish_odom_tf', 'true')
     expected = {
-        'updateRate': '50', 'wheelTorque': '7.5', 'wheelAcceleration': '0',
+        'updateRate': '50', 'wheelTorque': '7.5', 'wheelAcceleration': '5.0',
         'commandTopic': 'cmd_vel', 'odometryTopic': 'odom', 'odometryFrame': 'odom',
         'publishWheelTF': 'false', 'publishWheelJointState': 'false', 'publishTf': '1',
         'legacyMode': 'false', 'rosDebugLevel': 'na',

@@ -276,7 +276,7 @@ TEST_P(EngineConformance, RaysMeasureDistanceToShapes) {
   auto engine = makeEngine();
   cp::Shape wall;
   wall.type = cp::ShapeType::kBox;
-  wall.box_size_m = cp::Vec3(0.1, 2.0, 1.0);
+  wall.box_size_m = cp::Vec3(0.1, 6.0, 1.0);  // wide enough for the slanted ray (y = 2.67 at the wall)
   engine->addStaticShape(wall, cp::Pose::fromXyzRpy(2.05, 0, 0.5, 0, 0, 0), cp::SurfaceParams());
   const cp::ModelId cube = engine->addModel(makeCube(), cp::Pose::fromXyzRpy(0, 0, 0.1, 0, 0, 0));
   std::vector<cp::RayHit> hits;

@@ -98,8 +98,7 @@ bool combineSurfaces(btManifoldPoint& cp, const btCollisionObjectWrapper* wrap0,
   cp.m_contactMotion1 = cp.m_contactMotion2 = 0.0;
   const bool tyre = wrap0->getCollisionShape()->getUserIndex() == kTyreShape ||
                     wrap1->getCollisionShape()->getUserIndex() == kTyreShape;
-  static const double frcfm = getenv("BT_FRCFM") ? atof(getenv("BT_FRCFM")) : kTyreFrictionCfm;  // DEBUG-REMOVE
-  cp.m_frictionCFM = tyre ? frcfm : 0.0;
+  cp.m_frictionCFM = tyre ? kTyreFrictionCfm : 0.0;
   cp.m_contactPointFlags |= BT_CONTACT_FLAG_LATERAL_FRICTION_INITIALIZED;
   const double ka_npm = a->stiffness_npm, kb_npm = b->stiffness_npm;
   if (ka_npm > 0.0 || kb_npm > 0.0) {
@@ -112,72 +111,6 @@ bool combineSurfaces(btManifoldPoint& cp, const btCollisionObjectWrapper* wrap0,
     cp.m_contactPointFlags &= ~BT_CONTACT_FLAG_CONTACT_STIFFNESS_DAMPING;
   }
   return true;
-}
-
-// ---- solver rows ---------------------------------------------------------------------------
-
-// One projected Gauss-Seidel update of a constraint row, the same arithmetic as Bullet's scalar
-// reference row solver, but compiled here: the library's version goes through an extra call
-// layer and a division per row, and these rows are where most of a step's time goes.
-// The return value only serves Bullet's early exit (max squared residual <= threshold, 0 by
-// default), for which the impulse change is as good as Bullet's velocity change.
-inline void applyRowImpulse(btSolverBody& body, const btVector3& linear, const btVector3& angular, btScalar impulse) {
-  if (body.m_originalBody == nullptr) return;  // static or kinematic: never moves
-  const btVector3& inv_mass = body.internalGetInvMass();
-  btVector3& dv = body.internalGetDeltaLinearVelocity();
-  btVector3& dw = body.internalGetDeltaAngularVelocity();
-  const btScalar ix = impulse * body.m_linearFactor.x(), iy = impulse * body.m_linearFactor.y(),
-                 iz = impulse * body.m_linearFactor.z();
-  dv.setValue(dv.x() + linear.x() * inv_mass.x() * ix, dv.y() + linear.y() * inv_mass.y() * iy,
-              dv.z() + linear.z() * inv_mass.z() * iz);
-  dw.setValue(dw.x() + angular.x() * impulse * body.m_angularFactor.x(),
-              dw.y() + angular.y() * impulse * body.m_angularFactor.y(),
-              dw.z() + angular.z() * impulse * body.m_angularFactor.z());
-}
-
-inline btScalar rowImpulseChange(btSolverBody& a, btSolverBody& b, const btSolverConstraint& c) {
-  const btVector3& va = a.internalGetDeltaLinearVelocity();
-  const btVector3& wa = a.internalGetDeltaAngularVelocity();
-  const btVector3& vb = b.internalGetDeltaLinearVelocity();
-  const btVector3& wb = b.internalGetDeltaAngularVelocity();
-  const btScalar rel_vel = c.m_contactNormal1.x() * va.x() + c.m_contactNormal1.y() * va.y() +
-                           c.m_contactNormal1.z() * va.z() + c.m_relpos1CrossNormal.x() * wa.x() +
-                           c.m_relpos1CrossNormal.y() * wa.y() + c.m_relpos1CrossNormal.z() * wa.z() +
-                           c.m_contactNormal2.x() * vb.x() + c.m_contactNormal2.y() * vb.y() +
-                           c.m_contactNormal2.z() * vb.z() + c.m_relpos2CrossNormal.x() * wb.x() +
-                           c.m_relpos2CrossNormal.y() * wb.y() + c.m_relpos2CrossNormal.z() * wb.z();
-  return c.m_rhs - c.m_appliedImpulse * c.m_cfm - rel_vel * c.m_jacDiagABInv;
-}
-
-btScalar solveRowGeneric(btSolverBody& a, btSolverBody& b, const btSolverConstraint& c) {
-  btScalar delta = rowImpulseChange(a, b, c);
-  const btScalar sum = c.m_appliedImpulse + delta;
-  if (sum < c.m_lowerLimit) {
-    delta = c.m_lowerLimit - c.m_appliedImpulse;
-    c.m_appliedImpulse = c.m_lowerLimit;
-  } else if (sum > c.m_upperLimit) {
-    delta = c.m_upperLimit - c.m_appliedImpulse;
-    c.m_appliedImpulse = c.m_upperLimit;
-  } else {
-    c.m_appliedImpulse = sum;
-  }
-  applyRowImpulse(a, c.m_contactNormal1, c.m_angularComponentA, delta);
-  applyRowImpulse(b, c.m_contactNormal2, c.m_angularComponentB, delta);
-  return delta;
-}
-
-btScalar solveRowLowerLimit(btSolverBody& a, btSolverBody& b, const btSolverConstraint& c) {
-  btScalar delta = rowImpulseChange(a, b, c);
-  const btScalar sum = c.m_appliedImpulse + delta;
-  if (sum < c.m_lowerLimit) {
-    delta = c.m_lowerLimit - c.m_appliedImpulse;
-    c.m_appliedImpulse = c.m_lowerLimit;
-  } else {
-    c.m_appliedImpulse = sum;
-  }
-  applyRowImpulse(a, c.m_contactNormal1, c.m_angularComponentA, delta);
-  applyRowImpulse(b, c.m_contactNormal2, c.m_angularComponentB, delta);
-  return delta;
 }
 
 // Broadphase filter: the usual group/mask test, and no pairs within one model.
@@ -244,10 +177,6 @@ class BulletEngine : public PhysicsEngine {
     broadphase_ = std::make_unique<btDbvtBroadphase>();
     broadphase_->getOverlappingPairCache()->setOverlapFilterCallback(&pair_filter_);
     solver_ = std::make_unique<btSequentialImpulseConstraintSolver>();
-    if (!getenv("BT_REFROW")) {  // DEBUG-REMOVE
-    solver_->setConstraintRowSolverGeneric(&solveRowGeneric);
-    solver_->setConstraintRowSolverLowerLimit(&solveRowLowerLimit);
-    }  // DEBUG-REMOVE
     world_ = std::make_unique<btDiscreteDynamicsWorld>(dispatcher_.get(), broadphase_.get(), solver_.get(),
                                                        config_.get());
     world_->setGravity(toBt(settings.gravity_mps2));
@@ -262,16 +191,6 @@ class BulletEngine : public PhysicsEngine {
     info.m_linearSlop = settings.contact_surface_layer_m;  // allowed penetration, like ODE's layer
     // One friction direction per point (the default) lets wheels slide sideways.
     info.m_solverMode |= SOLVER_USE_2_FRICTION_DIRECTIONS | SOLVER_ENABLE_FRICTION_DIRECTION_CACHING;
-    if (getenv("BT_MODE_OR")) info.m_solverMode |= atoi(getenv("BT_MODE_OR"));  // DEBUG-REMOVE
-    if (getenv("BT_MODE_ANDNOT")) info.m_solverMode &= ~atoi(getenv("BT_MODE_ANDNOT"));  // DEBUG-REMOVE
-    if (getenv("BT_FCFM")) info.m_frictionCFM = atof(getenv("BT_FCFM"));  // DEBUG-REMOVE
-    if (getenv("BT_ITER")) info.m_numIterations = atoi(getenv("BT_ITER"));  // DEBUG-REMOVE
-    if (getenv("BT_ERP")) info.m_erp = atof(getenv("BT_ERP"));  // DEBUG-REMOVE
-    if (getenv("BT_INNER")) info.m_numNonContactInnerIterations = atoi(getenv("BT_INNER"));  // DEBUG-REMOVE
-    if (getenv("BT_RES")) info.m_leastSquaresResidualThreshold = atof(getenv("BT_RES"));  // DEBUG-REMOVE
-    if (getenv("BT_WS")) info.m_warmstartingFactor = atof(getenv("BT_WS"));  // DEBUG-REMOVE
-    if (getenv("BT_SPLIT")) info.m_splitImpulse = atoi(getenv("BT_SPLIT"));  // DEBUG-REMOVE
-    if (getenv("BT_MP")) config_->setPlaneConvexMultipointIterations(atoi(getenv("BT_MP")), atoi(getenv("BT_MP")));  // DEBUG-REMOVE
   }
 
   ~BulletEngine() override {
@@ -401,24 +320,6 @@ class BulletEngine : public PhysicsEngine {
     world_->stepSimulation(dt_s, 0, dt_s);  // exactly one internal step; clears applied forces
     for (auto& m : models_)
       for (Joint& joint : m->joints) updatePosition(joint);
-    static const bool dbg = getenv("BT_DEBUG") != nullptr;  // DEBUG-REMOVE
-    if (dbg) debugDump();  // DEBUG-REMOVE
-  }
-  void debugDump() {  // DEBUG-REMOVE
-    static int n = 0; ++n;  // DEBUG-REMOVE
-    if (n % 100 != 0 && !(n > 1000 && n < 1010)) return;  // DEBUG-REMOVE
-    for (auto& m : models_) for (Joint& j : m->joints) {  // DEBUG-REMOVE
-      btTransform pf, cf; jointFrames(j, pf, cf);  // DEBUG-REMOVE
-      btVector3 dp = cf.getOrigin() - pf.getOrigin(); btVector3 ax = pf.getBasis().getColumn(2).cross(cf.getBasis().getColumn(2));  // DEBUG-REMOVE
-      printf("  step %d joint pivot err (%.2e %.2e %.2e) axis err (%.2e %.2e %.2e)\n", n, dp.x(), dp.y(), dp.z(), ax.x(), ax.y(), ax.z());  // DEBUG-REMOVE
-    }  // DEBUG-REMOVE
-    for (int i = 0; i < dispatcher_->getNumManifolds(); ++i) {  // DEBUG-REMOVE
-      btPersistentManifold* m = dispatcher_->getManifoldByIndexInternal(i);  // DEBUG-REMOVE
-      for (int k = 0; k < m->getNumContacts(); ++k) {  // DEBUG-REMOVE
-        const btManifoldPoint& p = m->getContactPoint(k);  // DEBUG-REMOVE
-        printf("  step %d man %d (%d,%d) pt %d B=(%.4f %.4f %.5f) d=%.5f mu=%.2f imp=%.4f f1=%.4f f2=%.4f life=%d\n", n, i, m->getBody0()->getUserIndex(), m->getBody1()->getUserIndex(), k, p.getPositionWorldOnB().x(), p.getPositionWorldOnB().y(), p.getPositionWorldOnB().z(), p.getDistance(), p.m_combinedFriction, p.m_appliedImpulse, p.m_appliedImpulseLateral1, p.m_appliedImpulseLateral2, p.getLifeTime());  // DEBUG-REMOVE
-      }  // DEBUG-REMOVE
-    }  // DEBUG-REMOVE
   }
 
   Pose bodyPose(ModelId model, int body) const override {
@@ -571,7 +472,6 @@ class BulletEngine : public PhysicsEngine {
     rb->setCollisionFlags(rb->getCollisionFlags() | btCollisionObject::CF_CUSTOM_MATERIAL_CALLBACK);
     if (mass_kg > 0.0) rb->setActivationState(DISABLE_DEACTIVATION);  // sleeping would change results
     rb->setUserIndex(model_id);
-    if (getenv("BT_GYRO")) rb->setFlags(atoi(getenv("BT_GYRO")));  // DEBUG-REMOVE
     rb->setUserPointer(const_cast<SurfaceParams*>(fallback));
     btRigidBody* raw = rb.get();
     bodies_.push_back(std::move(rb));
