@@ -19,6 +19,7 @@
 #include <ros/ros.h>
 #include <rosgraph_msgs/Clock.h>
 #include <std_srvs/Empty.h>
+#include <sys/resource.h>
 
 #include <chrono>
 #include <condition_variable>
@@ -119,6 +120,8 @@ class SimNode {
 
   // The step loop. Returns when ROS shuts down or ~max_sim_time_s is reached.
   void run() {
+    const auto run_start = std::chrono::steady_clock::now();
+    const double run_start_sim_s = sim_->timeS();
     auto wall_start = std::chrono::steady_clock::now();
     double sim_start_s = sim_->timeS();
     auto& queue = *ros::getGlobalCallbackQueue();
@@ -144,6 +147,12 @@ class SimNode {
       }
     }
     service_spinner_->stop();
+    const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - run_start).count();
+    rusage usage{};
+    getrusage(RUSAGE_SELF, &usage);
+    ROS_INFO("conde_sim: simulated %.3f s in %.3f s of wall time (real-time factor %.1f), peak RSS %.1f MB",
+             sim_->timeS() - run_start_sim_s, wall_s, (sim_->timeS() - run_start_sim_s) / std::max(wall_s, 1e-9),
+             usage.ru_maxrss / 1024.0);
   }
 
  private:

@@ -31,11 +31,15 @@ const std::string& condeUrdf() {
   return urdf;
 }
 
+// A flat plane with the competition world's physics settings and ground friction (the track's
+// own objects would be in the way of the test manoeuvres).
 cp::WorldDescription flatWorld() {
+  const cp::WorldDescription competition =
+      cp::loadWorldFile(std::string(CONDE_REPO_ROOT) + "/worlds/worlds/competition.world.yaml", nullptr);
   cp::WorldDescription w;
   w.name = "flat";
-  w.ground.friction.mu = 100;
-  w.ground.friction.mu2 = 50;
+  w.physics = competition.physics;
+  w.ground.friction = competition.ground.friction;
   return w;
 }
 

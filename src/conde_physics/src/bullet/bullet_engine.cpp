@@ -554,7 +554,7 @@ class BulletEngine : public PhysicsEngine {
       j.hinge->enableAngularMotor(on, velocity, max_effort * dt_s);
     } else {
       j.slider->enableMotor(0, on);
-      j.slider->setTargetVelocity(0, velocity);
+      j.slider->setTargetVelocity(0, -velocity);  // its linear motor drives parent (A) relative to child (B)
       j.slider->setMaxMotorForce(0, max_effort);
     }
   }
