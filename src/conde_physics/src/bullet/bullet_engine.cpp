@@ -160,6 +160,7 @@ struct Joint {
   double window_center_rad = 0.0;
   bool motor_on = false;
   double motor_velocity = 0.0, motor_max_effort = 0.0;
+  bool motor_at_stop = false;  // hinge resting on a limit: motor applied by us, not by Bullet
   double pending_effort = 0.0; // [N m] or [N], for the next step only
 };
 
@@ -316,7 +317,7 @@ class BulletEngine : public PhysicsEngine {
   void step() override {
     const double dt_s = settings_.step_s;
     for (auto& m : models_)
-      for (Joint& joint : m->joints) applyJointEffort(joint, dt_s);
+      for (Joint& joint : m->joints) applyJointEfforts(joint, dt_s);
     world_->stepSimulation(dt_s, 0, dt_s);  // exactly one internal step; clears applied forces
     for (auto& m : models_)
       for (Joint& joint : m->joints) updatePosition(joint);
@@ -541,46 +542,58 @@ class BulletEngine : public PhysicsEngine {
   }
 
   // The velocity motor, or when none is set a zero-velocity motor holding the Coulomb friction.
+  // False when neither acts.
+  static bool motorCommand(const Joint& j, double& velocity, double& max_effort) {
+    velocity = j.motor_on ? j.motor_velocity : 0.0;
+    max_effort = j.motor_on ? j.motor_max_effort : j.friction;
+    return max_effort > 0.0;
+  }
+
   void updateMotor(Joint& j) {
-    const double dt_s = settings_.step_s;
-    bool on = j.motor_on;
-    double velocity = j.motor_velocity, max_effort = j.motor_max_effort;
-    if (!on && j.friction > 0.0) {
-      on = true;
-      velocity = 0.0;
-      max_effort = j.friction;
-    }
+    double velocity = 0.0, max_effort = 0.0;
+    const bool on = motorCommand(j, velocity, max_effort) && !j.motor_at_stop;
     if (j.hinge) {
-      j.hinge->enableAngularMotor(on, velocity, max_effort * dt_s);
+      j.hinge->enableAngularMotor(on, velocity, max_effort * settings_.step_s);  // [N m s] per step
     } else {
       j.slider->enableMotor(0, on);
       j.slider->setTargetVelocity(0, -velocity);  // its linear motor drives parent (A) relative to child (B)
-      j.slider->setMaxMotorForce(0, max_effort);
+      j.slider->setMaxMotorForce(0, max_effort);  // [N]
     }
   }
 
-  // Commanded effort plus viscous damping, applied as equal and opposite torques (forces).
-  void applyJointEffort(Joint& j, double dt_s) {
+  // Commanded effort, viscous damping and (on a stop) the motor, applied as equal and opposite
+  // torques or forces for the coming step.
+  void applyJointEfforts(Joint& j, double dt_s) {
     double effort = j.pending_effort;
     j.pending_effort = 0.0;
     if (j.effort_limit > 0.0) effort = std::clamp(effort, -j.effort_limit, j.effort_limit);
-    if (j.damping > 0.0) {
-      const double v = velocityOf(j);
-      // Explicit damping, capped so it can at most stop the joint in one step (stable for any
-      // damping on light wheels).
+
+    // Bullet's hinge shares one row between limit and motor; on a stop the row takes the limit's
+    // bounds, so a motor pulling away from the stop would get unlimited torque. There we apply
+    // the motor ourselves, explicitly, as ODE does.
+    if (j.hinge && j.has_limits) {
+      const bool at_stop = j.position >= j.upper || j.position <= j.lower;
+      if (at_stop != j.motor_at_stop) {
+        j.motor_at_stop = at_stop;
+        updateMotor(j);
+      }
+    }
+    double motor_velocity = 0.0, motor_max_effort = 0.0;
+    const bool explicit_motor = j.motor_at_stop && motorCommand(j, motor_velocity, motor_max_effort);
+    if (j.damping > 0.0 || explicit_motor) {
       const btVector3 axis = axisWorld(j);
-      double inv_inertia = 0.0;
-      if (j.hinge) {
-        inv_inertia = j.child->computeAngularImpulseDenominator(axis) + j.parent->computeAngularImpulseDenominator(axis);
-      } else {
-        inv_inertia = j.child->getInvMass() + j.parent->getInvMass();
+      const double v = velocityOf(j);
+      const double inv_inertia = j.hinge ? j.child->computeAngularImpulseDenominator(axis) +
+                                               j.parent->computeAngularImpulseDenominator(axis)
+                                         : j.child->getInvMass() + j.parent->getInvMass();
+      // Effort that would bring the joint to `target` in this step by itself [N m or N]: caps
+      // the explicit terms so they cannot overshoot (stable for any damping on light wheels).
+      auto reaching = [&](double target) { return inv_inertia > 0.0 ? (target - v) / (inv_inertia * dt_s) : 0.0; };
+      if (j.damping > 0.0) {
+        const double cap = std::abs(reaching(0.0));
+        effort += std::clamp(-j.damping * v, -cap, cap);
       }
-      double damping_effort = -j.damping * v;
-      if (inv_inertia > 0.0) {
-        const double max_effort = std::abs(v) / (inv_inertia * dt_s);
-        damping_effort = std::clamp(damping_effort, -max_effort, max_effort);
-      }
-      effort += damping_effort;
+      if (explicit_motor) effort += std::clamp(reaching(motor_velocity), -motor_max_effort, motor_max_effort);
     }
     if (effort == 0.0) return;
     const btVector3 axis = axisWorld(j);
