@@ -20,7 +20,7 @@ existing=()
 for d in "${python_tests[@]}"; do [ -d "$d" ] && ls "$d"/test_*.py >/dev/null 2>&1 && existing+=("$d"); done
 for d in "${existing[@]}"; do
   name=$(echo "$d" | tr '/' '_')
-  /usr/bin/python3 -m pytest -q -p no:cacheprovider "$d" --junit-xml="$results/pytest/$name.xml" \
+  /usr/bin/python3 -m pytest -q -p no:cacheprovider -o python_files="test_*.py" "$d" --junit-xml="$results/pytest/$name.xml" \
     || echo "pytest: failures in $d"
 done
 

@@ -6,6 +6,7 @@ import subprocess
 import time
 
 import pytest
+import rosgraph
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 FIXTURES = os.path.join(HERE, "fixtures")
@@ -40,7 +41,11 @@ def master():
 
 def run_node(env, urdf=GOOD_URDF, **params):
     """Starts conde_sim_node with the given private parameters; returns (exit code, stderr)."""
-    subprocess.run(["rosparam", "set", "/robot_description", urdf], env=env, check=True)
+    master_api = rosgraph.Master("/bad_input_test", master_uri=env["ROS_MASTER_URI"])
+    # Private parameters from an earlier case stay on the master: start from none.
+    if master_api.hasParam("/conde_sim"):
+        master_api.deleteParam("/conde_sim")
+    master_api.setParam("/robot_description", urdf)  # (rosparam set would fold the newlines)
     args = ["rosrun", "conde_sim", "conde_sim_node"] + [f"_{k}:={v}" for k, v in params.items()]
     proc = subprocess.run(args, env=env, capture_output=True, text=True, timeout=60)
     return proc.returncode, proc.stderr

@@ -7,18 +7,23 @@
 // - Revolute and continuous joints are btHingeConstraint with the child as body A: the hinge
 //   angle, limits and motor then all read "child relative to parent" about +axis. Prismatic
 //   joints are btGeneric6DofSpring2Constraint with everything but the x translation locked.
-// - Joint positions are measured by us after every step (unwrapped for any number of turns).
-// - Friction and contact stiffness are combined per contact point in gContactAddedCallback,
-//   from a SurfaceParams hung on every collision shape: min(mu) as in ODE/Gazebo, kp in
-//   series, kd in parallel.
+//   Joint positions are measured by us after every step (unwrapped for any number of turns).
+// - Friction and contact stiffness are set per contact point in gContactAddedCallback (a
+//   Bullet global; we set it to a stateless function), from the SurfaceParams hung on every
+//   collision shape: min(mu) as in ODE/Gazebo, kp in series, kd in parallel; two friction
+//   directions fixed by the contact normal.
+// - Wheels (cylinders spinning about their own axis on a joint) become tyres: rounded tread and
+//   slightly compliant friction; see makeShape() and kTyreFrictionCfm.
 // - Bodies of one model never collide: a broadphase pair filter on the model id kept in each
 //   collision object's user index (-1 = static world).
 // - One step() is exactly one Bullet step: stepSimulation(step_s, 0) runs a single internal
-//   step of step_s (no substeps, no interpolation), then clears the applied forces.
+//   step of step_s (no substeps, no interpolation), then clears the applied forces. No heap
+//   allocation once the contacts exist.
 //
-// Documented simplifications: meshes of moving bodies collide as their convex hull (inflated by
-// the 1 mm margin); a manifold holds at most 4 points per pair of shapes, so
-// max_contacts is not used; max_contact_correcting_vel_mps has no Bullet counterpart.
+// Simplifications: meshes of moving bodies collide as their convex hull (grown by the 1 mm
+// margin); box and cylinder edges are rounded by that margin; a manifold holds at most 4 points
+// per pair of shapes, so max_contacts is not used; max_contact_correcting_vel_mps has no Bullet
+// counterpart.
 #include "bullet/bullet_engine.h"
 
 #include <btBulletDynamicsCommon.h>
@@ -144,7 +149,6 @@ struct Body {
 };
 
 struct Joint {
-  JointType type = JointType::kRevolute;
   btRigidBody* parent = nullptr;
   btRigidBody* child = nullptr;
   // Joint frame in each body's COM frame; the joint axis is its z (hinge) or x (prismatic).
@@ -267,7 +271,6 @@ class BulletEngine : public PhysicsEngine {
           spec.child_body >= static_cast<int>(model.bodies.size()))
         throw std::invalid_argument("joint '" + spec.name + "' refers to a missing body");
       Joint& joint = m->joints[j];
-      joint.type = spec.type;
       joint.parent = m->bodies[spec.parent_body].rb;
       joint.child = m->bodies[spec.child_body].rb;
       joint.damping = spec.damping;
@@ -522,10 +525,10 @@ class BulletEngine : public PhysicsEngine {
     if (j.limit_window) updateHingeLimit(j, false);
   }
 
-  // btAngularLimit keeps ranges below pi only; wider ranges get a window of the range around
-  // the current position (moved before the joint could reach a false edge).
+  // Stops of a hinge: relaxation 0 (no bounce off the stop), bias 1 (the full ERP corrects an
+  // overshoot). btAngularLimit holds ranges below pi only; wider ranges get a window of the
+  // range around the current position, moved long before the joint could reach a false edge.
   void updateHingeLimit(Joint& j, bool force) {
-    // Relaxation 0: no bounce off the stop; bias 1: full ERP on the limit error.
     if (!j.has_limits) {
       if (force) j.hinge->setLimit(1.0, -1.0);  // lower > upper: free
       return;

@@ -11,6 +11,7 @@ import tf2_ros
 from geometry_msgs.msg import Twist
 from nav_msgs.msg import Odometry
 from rosgraph_msgs.msg import Clock
+from sensor_msgs.msg import Imu
 
 WALL_TIMEOUT_S = 60.0  # generous: the machine may be slow and busy
 
@@ -56,6 +57,31 @@ class SimSmokeTest(unittest.TestCase):
         self.assertEqual(odoms[-1].header.frame_id, "odom")
         self.assertEqual(odoms[-1].child_frame_id, "base_footprint")
         sub.unregister()
+
+    def test_imu_measures_gravity_in_its_frame(self):
+        msgs = []
+        sub = rospy.Subscriber("/imu", Imu, msgs.append)
+        wait_for(lambda: len(msgs) >= 5, "/imu")
+        sub.unregister()
+        imu = msgs[-1]
+        self.assertEqual(imu.header.frame_id, "imu_link")
+        # The robot stands or drives on flat ground: the accelerometer feels gravity upwards.
+        self.assertAlmostEqual(imu.linear_acceleration.z, 9.81, delta=0.5)
+        q = imu.orientation
+        self.assertAlmostEqual(math.hypot(q.x, q.y), 0.0, delta=0.02)  # level: no roll or pitch
+
+    def test_ground_truth_is_in_the_world_frame(self):
+        msgs = []
+        sub = rospy.Subscriber("/ground_truth/odom", Odometry, msgs.append)
+        wait_for(lambda: msgs, "/ground_truth/odom")
+        sub.unregister()
+        gt = msgs[-1]
+        self.assertEqual(gt.header.frame_id, "world")
+        self.assertEqual(gt.child_frame_id, "base_footprint")
+        # Spawned at the crosswalk (2.14, -0.33); the other tests move it less than a metre.
+        p = gt.pose.pose.position
+        self.assertLess(math.hypot(p.x - 2.14, p.y + 0.33), 1.5)
+        self.assertAlmostEqual(p.z, 0.0, delta=0.01)
 
     def test_tf_tree_reaches_every_link(self):
         urdf = rospy.get_param("/robot_description")
