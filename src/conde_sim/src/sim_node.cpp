@@ -28,7 +28,6 @@
 #include <sstream>
 #include <thread>
 
-#include "conde_physics/urdf_model.h"
 #include "conde_sim/plugin_loader.h"
 #include "conde_sim/simulation.h"
 #include "conde_sim/world_markers.h"
@@ -200,12 +199,10 @@ class SimNode {
     spec.urdf_xml = urdf;
     spec.spawn_pose = spawn;
     std::vector<std::string> warnings;
-    // The model name comes from the URDF unless the robot list names it.
-    spec.name = name;
-    if (spec.name.empty()) spec.name = cp::buildModelFromUrdf(urdf, description_param, packagePath).name;
-    sim_->addRobot(spec, &warnings);
+    spec.name = name;  // "" = the URDF's robot name
+    const int index = sim_->addRobot(spec, &warnings);
     for (const auto& w : warnings) ROS_WARN("%s", w.c_str());
-    ROS_INFO("conde_sim: robot '%s' from %s at (%.3f, %.3f) yaw %.3f rad%s%s", spec.name.c_str(),
+    ROS_INFO("conde_sim: robot '%s' from %s at (%.3f, %.3f) yaw %.3f rad%s%s", sim_->robot(index).spec.name.c_str(),
              description_param.c_str(), spawn.position.x, spawn.position.y, spawn.orientation.yaw(),
              ns.empty() ? "" : ", namespace ", ns.c_str());
   }

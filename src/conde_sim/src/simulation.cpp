@@ -29,12 +29,15 @@ void Simulation::buildWorld() {
 }
 
 int Simulation::addRobot(const RobotSpec& spec, std::vector<std::string>* warnings) {
-  for (const Robot& r : robots_) {
-    if (r.spec.name == spec.name) throw cp::ModelError(spec.source + ": a robot named '" + spec.name + "' already exists");
-  }
   Robot robot;
   robot.spec = spec;
   robot.model = cp::buildModelFromUrdf(spec.urdf_xml, spec.source, packages_, warnings);
+  if (robot.spec.name.empty()) robot.spec.name = robot.model.name;
+  for (const Robot& r : robots_) {
+    if (r.spec.name == robot.spec.name) {
+      throw cp::ModelError(spec.source + ": a robot named '" + robot.spec.name + "' already exists");
+    }
+  }
   robot.id = engine_->addModel(robot.model, spec.spawn_pose);
   robots_.push_back(std::move(robot));
   return robotCount() - 1;
@@ -47,23 +50,26 @@ void Simulation::step() {
   ++step_count_;
 }
 
-cp::Pose Simulation::linkPose(int robot, const std::string& link) const {
-  const Robot& r = robots_.at(robot);
+// Body holding `link` and the link's pose in that body's frame; throws for an unknown link.
+static int bodyOfLink(const Robot& r, const std::string& link, cp::Pose& link_in_body) {
   int body = -1;
-  cp::Pose link_in_body;
   if (!r.model.linkInBody(link, body, link_in_body)) {
     throw std::out_of_range("robot '" + r.spec.name + "' has no link '" + link + "'");
   }
+  return body;
+}
+
+cp::Pose Simulation::linkPose(int robot, const std::string& link) const {
+  const Robot& r = robots_.at(robot);
+  cp::Pose link_in_body;
+  const int body = bodyOfLink(r, link, link_in_body);
   return engine_->bodyPose(r.id, body) * link_in_body;
 }
 
 cp::Twist Simulation::linkTwist(int robot, const std::string& link) const {
   const Robot& r = robots_.at(robot);
-  int body = -1;
   cp::Pose link_in_body;
-  if (!r.model.linkInBody(link, body, link_in_body)) {
-    throw std::out_of_range("robot '" + r.spec.name + "' has no link '" + link + "'");
-  }
+  const int body = bodyOfLink(r, link, link_in_body);
   const cp::Pose body_pose = engine_->bodyPose(r.id, body);
   cp::Twist t = engine_->bodyTwist(r.id, body);
   t.linear_mps += t.angular_radps.cross(body_pose.orientation.rotate(link_in_body.position));

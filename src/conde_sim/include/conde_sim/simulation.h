@@ -15,7 +15,7 @@
 namespace conde_sim {
 
 struct RobotSpec {
-  std::string name;          // unique robot name (model name)
+  std::string name;          // unique robot name; "" = the URDF's robot name
   std::string ros_namespace; // "" keeps global topics (/cmd_vel, /odom)
   std::string frame_prefix;  // prepended to TF frames this robot's plugins publish ("" = none)
   std::string source;        // where the URDF came from, for messages
@@ -33,7 +33,8 @@ class Simulation {
  public:
   Simulation(conde_physics::WorldDescription world, std::string engine_name, conde_physics::PackageResolver packages);
 
-  // Parses the URDF and adds the robot at its spawn pose. Throws conde_physics::ModelError.
+  // Parses the URDF and adds the robot at its spawn pose; returns its index.
+  // Throws conde_physics::ModelError.
   int addRobot(const RobotSpec& spec, std::vector<std::string>* warnings = nullptr);
   // Puts every robot and object back to its start; simulated time goes on.
   void resetWorld();
