@@ -7,6 +7,4 @@ cd "$(dirname "$0")/.."
 export PATH="/usr/bin:$PATH"
 scripts/install_dependencies.sh build
 scripts/build.sh
-# shellcheck disable=SC1091
-set +u; source devel/setup.bash; set -u
-rosrun conde_eval odometry_test --output-dir results "$@"
+scripts/main_job.sh "$@"

@@ -1,0 +1,140 @@
+// CPU camera renderer: draws what a pinhole camera (optionally with plumb_bob lens distortion)
+// sees of the world: the textured ground plane, boxes, cylinders, cones and spheres with flat
+// shading, and textured box faces (signs, display panels whose image changes at run time).
+//
+// Usage:
+//   RenderScene scene = renderSceneFromWorld(world);          // ground + world objects
+//   int body = scene.addObject(box_object);                   // e.g. a robot link, group = model id
+//   scene.setObjectPose(body, pose_in_world);                 // every frame for moving objects
+//   CameraModel model = CameraModel::fromHorizontalFov(320, 240, 1.5708);
+//   CameraRenderer camera(model);                             // precomputes one ray per pixel
+//   RgbImage image;
+//   camera.render(scene, world_T_optical, /*exclude_group=*/robot_id, &rng, image);
+//
+// Frames: the camera pose is that of its *optical* frame (REP 103: +z forward, +x right in the
+// image, +y down in the image). Pixel (u, v) has its centre at integer coordinates (OpenCV
+// convention): u = 0 is the left column, v = 0 the top row.
+//
+// Projection (what CameraInfo must report): a camera-frame point (X, Y, Z), Z > 0, has the
+// normalised coordinates x = X/Z, y = Y/Z; distortion (OpenCV / ROS plumb_bob):
+//   r2 = x^2 + y^2, radial = 1 + k1 r2 + k2 r2^2 + k3 r2^3
+//   xd = x radial + 2 p1 x y + p2 (r2 + 2 x^2),  yd = y radial + p1 (r2 + 2 y^2) + 2 p2 x y
+// and it lands at u = fx xd + cx, v = fy yd + cy. The renderer inverts this per pixel, so an
+// image rendered with distortion and undistorted with cv::undistort and the same numbers gives
+// back the pinhole image.
+#pragma once
+
+#include <cstdint>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "conde_physics/math.h"
+#include "conde_physics/world_file.h"
+
+namespace conde_physics {
+
+// 8-bit RGB image, rows top to bottom, 3 bytes per pixel, no padding.
+struct RgbImage {
+  int width = 0;
+  int height = 0;
+  std::vector<std::uint8_t> data;  // size width * height * 3
+
+  void resize(int w, int h) { width = w; height = h; data.assign(static_cast<size_t>(w) * h * 3, 0); }
+  const std::uint8_t* pixel(int u, int v) const { return &data[(static_cast<size_t>(v) * width + u) * 3]; }
+  std::uint8_t* pixel(int u, int v) { return &data[(static_cast<size_t>(v) * width + u) * 3]; }
+};
+
+// Reads an image file (any format OpenCV decodes) as RGB. Throws std::runtime_error naming
+// the path when it does not decode.
+RgbImage loadRgbImage(const std::string& path);
+
+struct LensDistortion {  // plumb_bob, the ROS / OpenCV order is k1 k2 p1 p2 k3
+  double k1 = 0.0, k2 = 0.0, k3 = 0.0, p1 = 0.0, p2 = 0.0;
+  bool isZero() const { return k1 == 0.0 && k2 == 0.0 && k3 == 0.0 && p1 == 0.0 && p2 == 0.0; }
+};
+
+struct CameraModel {
+  int width_px = 0;
+  int height_px = 0;
+  double fx_px = 0.0, fy_px = 0.0, cx_px = 0.0, cy_px = 0.0;
+  LensDistortion distortion;
+  double near_clip_m = 0.1;        // nothing nearer than this (along the ray) is drawn
+  double far_clip_m = 100.0;       // nor farther
+  double noise_stddev = 0.0;       // Gaussian noise on each channel, in units of full scale (0..1),
+                                   // as Gazebo's <noise type="gaussian"> on cameras
+
+  // Gazebo's intrinsics: fx = fy = width / (2 tan(hfov / 2)). The principal point is the image
+  // centre in OpenCV's convention, ((width - 1) / 2, (height - 1) / 2), i.e. where the rendered
+  // image really is centred (Gazebo reports (width + 1) / 2, one pixel off).
+  // Throws std::invalid_argument for a non-positive size or hfov outside (0, pi).
+  static CameraModel fromHorizontalFov(int width_px, int height_px, double horizontal_fov_rad);
+
+  // Pixel of a point given in the optical frame (with distortion). False when z <= 0.
+  bool project(const Vec3& point_optical, double& u_px, double& v_px) const;
+};
+
+enum class RenderShape { kBox, kCylinder, kCone, kSphere };
+
+struct RenderObject {
+  RenderShape shape = RenderShape::kBox;
+  Vec3 size_m;               // kBox: full edge lengths
+  double radius_m = 0.0;     // kCylinder, kCone (base), kSphere
+  double length_m = 0.0;     // kCylinder, kCone: along local z; a cone's base is at z = -length/2
+  Pose pose;                 // world pose of the shape centre
+  Vec3 color_rgb{0.7, 0.7, 0.7};  // 0..1, flat shaded
+  // kBox only: an image on the local +z face, column 0 at local -x, row 0 at local +y, so it is
+  // upright and not mirrored for a viewer in front of the face (as libgazebo_ros_video). Drawn
+  // unlit (like a screen). Empty = plain colour.
+  RgbImage face_image;
+  int group = -1;            // e.g. the model id of a robot; cameras may exclude one group
+};
+
+// The ground plane z = 0 and everything on it.
+class RenderScene {
+ public:
+  // Ground: the texture covers [x_min, x_max] x [y_min, y_max], columns along +x, row 0 at
+  // y_max, sampled bilinearly; outside it (or without one) the plane has colour ground_rgb.
+  void setGround(const RgbImage& texture, double x_min_m, double x_max_m, double y_min_m, double y_max_m,
+                 const Vec3& ground_rgb);
+  void setGroundColor(const Vec3& ground_rgb);
+  void setSkyColor(const Vec3& sky_rgb);  // where a ray meets nothing; default (0.7, 0.8, 0.9)
+
+  int addObject(const RenderObject& object);  // returns its index
+  void setObjectPose(int index, const Pose& pose);
+  void setObjectImage(int index, const RgbImage& image);  // kBox only; replaces the face image
+  const RenderObject& object(int index) const { return objects_[index]; }
+  int objectCount() const { return static_cast<int>(objects_.size()); }
+
+ private:
+  friend class CameraRenderer;
+  RgbImage ground_texture_;
+  double ground_x_min_m_ = 0.0, ground_x_max_m_ = 0.0, ground_y_min_m_ = 0.0, ground_y_max_m_ = 0.0;
+  Vec3 ground_rgb_{0.7, 0.7, 0.7};
+  Vec3 sky_rgb_{0.7, 0.8, 0.9};
+  std::vector<RenderObject> objects_;
+};
+
+// The ground and every object of a world file (textures loaded; display panels start with their
+// texture or their colour). Object i of the world is object i of the scene.
+RenderScene renderSceneFromWorld(const WorldDescription& world);
+
+class CameraRenderer {
+ public:
+  // Throws std::invalid_argument for a non-positive size or focal length, or clip planes with
+  // near <= 0 or far <= near.
+  explicit CameraRenderer(const CameraModel& model);
+  const CameraModel& model() const { return model_; }
+
+  // Renders into `image` (resized to the model's size). Objects whose group equals
+  // exclude_group are not drawn (-1 excludes nothing). `noise_rng` is used only when the model
+  // has noise; nullptr then means no noise.
+  void render(const RenderScene& scene, const Pose& world_T_optical, int exclude_group, std::mt19937* noise_rng,
+              RgbImage& image) const;
+
+ private:
+  CameraModel model_;
+  std::vector<Vec3> rays_optical_;  // one unit direction per pixel, distortion already inverted
+};
+
+}  // namespace conde_physics
