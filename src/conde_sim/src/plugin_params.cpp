@@ -46,6 +46,19 @@ double PluginParams::toDouble(const tinyxml2::XMLElement* e, const std::string& 
   }
 }
 
+const tinyxml2::XMLElement* PluginParams::descendant(const tinyxml2::XMLElement* parent,
+                                                     const std::string& path) const {
+  const tinyxml2::XMLElement* e = parent;
+  size_t start = 0;
+  while (e && start <= path.size()) {
+    const size_t end = path.find('/', start);
+    e = child(e, path.substr(start, end == std::string::npos ? std::string::npos : end - start));
+    if (end == std::string::npos) break;
+    start = end + 1;
+  }
+  return e;
+}
+
 bool PluginParams::has(const std::string& key) const { return child(plugin_, key) != nullptr; }
 
 std::string PluginParams::getString(const std::string& key, const std::string& fallback) {
@@ -105,13 +118,21 @@ std::vector<std::string> PluginParams::getList(const std::string& key) {
 
 double PluginParams::sensorDouble(const std::string& key, double fallback) {
   sensor_used_.insert(key);
-  const auto* e = child(sensor_, key);
+  const auto* e = descendant(sensor_, key);
   return e ? toDouble(e, key) : fallback;
 }
 
+std::string PluginParams::sensorString(const std::string& key, const std::string& fallback) {
+  sensor_used_.insert(key);
+  const auto* e = descendant(sensor_, key);
+  return e ? text(e) : fallback;
+}
+
+bool PluginParams::sensorHas(const std::string& key) const { return descendant(sensor_, key) != nullptr; }
+
 bool PluginParams::sensorBool(const std::string& key, bool fallback) {
   sensor_used_.insert(key);
-  const auto* e = child(sensor_, key);
+  const auto* e = descendant(sensor_, key);
   if (!e) return fallback;
   const std::string t = text(e);
   if (t == "true" || t == "1") return true;
@@ -142,12 +163,19 @@ void PluginParams::checkAllUsed() const {
     }
   }
   if (!sensor_) return;
-  for (const auto* e = sensor_->FirstChildElement(); e; e = e->NextSiblingElement()) {
-    if (!sensor_used_.count(e->Name())) {
-      throw PluginError(source_ + ":" + std::to_string(e->GetLineNum()) + ": sensor '" + sensorName() + "' (" +
-                        sensorType() + "): unknown element <" + e->Name() + ">");
-    }
+  for (const auto* e = sensor_->FirstChildElement(); e; e = e->NextSiblingElement()) checkSensorElement(e, e->Name());
+}
+
+void PluginParams::checkSensorElement(const tinyxml2::XMLElement* e, const std::string& path) const {
+  if (sensor_used_.count(path)) return;
+  const std::string prefix = path + "/";
+  bool read_below = false;
+  for (const auto& used : sensor_used_) read_below = read_below || used.compare(0, prefix.size(), prefix) == 0;
+  if (!read_below) {
+    throw PluginError(source_ + ":" + std::to_string(e->GetLineNum()) + ": sensor '" + sensorName() + "' (" +
+                      sensorType() + "): unknown element <" + path + ">");
   }
+  for (const auto* c = e->FirstChildElement(); c; c = c->NextSiblingElement()) checkSensorElement(c, prefix + c->Name());
 }
 
 }  // namespace conde_sim

@@ -76,4 +76,22 @@ TEST(PluginParams, SensorKeysAreCheckedToo) {
   }
 }
 
+TEST(PluginParams, NestedSensorKeysAreReadByPathAndChecked) {
+  Parsed p("<sensor name=\"cam\" type=\"camera\"><camera><horizontal_fov>1.5</horizontal_fov>\n"
+           "<image><width>320</width><format>R8G8B8</format>\n<heigth>240</heigth></image></camera>"
+           "<plugin name=\"c\" filename=\"libgazebo_ros_camera.so\"/></sensor>");
+  PluginParams params(p.plugin, p.sensor, "r.urdf", "camera_link");
+  EXPECT_DOUBLE_EQ(params.sensorDouble("camera/horizontal_fov", 0), 1.5);
+  EXPECT_DOUBLE_EQ(params.sensorDouble("camera/image/width", 0), 320);
+  EXPECT_EQ(params.sensorString("camera/image/format", ""), "R8G8B8");
+  EXPECT_DOUBLE_EQ(params.sensorDouble("camera/image/height", 240), 240);  // absent: fallback
+  EXPECT_FALSE(params.sensorHas("camera/image/height"));
+  try {
+    params.checkAllUsed();
+    FAIL();
+  } catch (const PluginError& e) {
+    EXPECT_STREQ(e.what(), "r.urdf:3: sensor 'cam' (camera): unknown element <camera/image/heigth>");
+  }
+}
+
 }  // namespace

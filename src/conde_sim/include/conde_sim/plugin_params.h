@@ -41,9 +41,13 @@ class PluginParams {
   // Comma- or space-separated names, e.g. <jointName>left, right</jointName>.
   std::vector<std::string> getList(const std::string& key);
 
-  // Keys of the enclosing <sensor> element (update_rate, always_on, ...).
+  // Keys of the enclosing <sensor> element (update_rate, always_on, ...). A key may be a path
+  // into nested elements, e.g. "camera/image/width"; elements under a path nobody read are
+  // reported by checkAllUsed() with their whole path.
   double sensorDouble(const std::string& key, double fallback);
   bool sensorBool(const std::string& key, bool fallback);
+  std::string sensorString(const std::string& key, const std::string& fallback);
+  bool sensorHas(const std::string& key) const;
   std::string sensorType() const;
   std::string sensorName() const;
 
@@ -58,6 +62,9 @@ class PluginParams {
 
  private:
   const tinyxml2::XMLElement* child(const tinyxml2::XMLElement* parent, const std::string& key) const;
+  // The element at a '/'-separated path below `parent`, or nullptr.
+  const tinyxml2::XMLElement* descendant(const tinyxml2::XMLElement* parent, const std::string& path) const;
+  void checkSensorElement(const tinyxml2::XMLElement* e, const std::string& path) const;
   std::string text(const tinyxml2::XMLElement* e) const;
   double toDouble(const tinyxml2::XMLElement* e, const std::string& key) const;
 
