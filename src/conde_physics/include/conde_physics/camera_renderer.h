@@ -95,6 +95,10 @@ class RenderScene {
  public:
   // Ground: the texture covers [x_min, x_max] x [y_min, y_max], columns along +x, row 0 at
   // y_max, sampled bilinearly; outside it (or without one) the plane has colour ground_rgb.
+  // Where a pixel's footprint on the ground covers two texels or more (far or grazing ground),
+  // it is read bilinearly from the mipmap level whose texel best matches the footprint's area
+  // (as OpenGL's LINEAR_MIPMAP_NEAREST, which picks by the longer axis): less aliasing, and
+  // neighbouring pixels read neighbouring texels.
   void setGround(const RgbImage& texture, double x_min_m, double x_max_m, double y_min_m, double y_max_m,
                  const Vec3& ground_rgb);
   void setGroundColor(const Vec3& ground_rgb);
@@ -108,7 +112,16 @@ class RenderScene {
 
  private:
   friend class CameraRenderer;
-  RgbImage ground_texture_;
+  // The ground texture as a mipmap: level 0 is the image, level L + 1 averages 2x2 texels of
+  // level L (its size rounded up, edges repeated). Texels are packed (R in the low byte, then G,
+  // B, 0); each level has one more column and row repeating its last ones, so a bilinear read
+  // never leaves it.
+  struct TextureLevel {
+    int width_px = 0, height_px = 0;  // without the repeated column and row
+    size_t first_texel = 0;           // in ground_texels_; rows of width_px + 1 texels
+  };
+  std::vector<TextureLevel> ground_levels_;  // empty: no texture
+  std::vector<std::uint32_t> ground_texels_;
   double ground_x_min_m_ = 0.0, ground_x_max_m_ = 0.0, ground_y_min_m_ = 0.0, ground_y_max_m_ = 0.0;
   Vec3 ground_rgb_{0.7, 0.7, 0.7};
   Vec3 sky_rgb_{0.7, 0.8, 0.9};
@@ -121,20 +134,43 @@ RenderScene renderSceneFromWorld(const WorldDescription& world);
 
 class CameraRenderer {
  public:
-  // Throws std::invalid_argument for a non-positive size or focal length, or clip planes with
-  // near <= 0 or far <= near.
+  // Throws std::invalid_argument for a non-positive size or focal length, clip planes with
+  // near <= 0 or far <= near, a negative noise_stddev, or a lens distortion that cannot be
+  // inverted at some pixel (the model folds over inside the image).
   explicit CameraRenderer(const CameraModel& model);
   const CameraModel& model() const { return model_; }
 
   // Renders into `image` (resized to the model's size). Objects whose group equals
   // exclude_group are not drawn (-1 excludes nothing). `noise_rng` is used only when the model
-  // has noise; nullptr then means no noise.
+  // has noise; nullptr then means no noise. Allocates nothing once `image` has the right size
+  // and a frame of the scene has been drawn on this thread.
   void render(const RenderScene& scene, const Pose& world_T_optical, int exclude_group, std::mt19937* noise_rng,
               RgbImage& image) const;
 
  private:
+  // The image is drawn in tiles of kTileWidth x kTileHeight pixels (smaller at the right and
+  // bottom edges); an object is tested only on the tiles whose ray cone its bounding sphere meets.
+  static constexpr int kTileWidth = 16;
+  static constexpr int kTileHeight = 8;
+  static constexpr int kTilePixels = kTileWidth * kTileHeight;
+
+  // A cone around `axis` (unit, optical frame) that holds the rays of a set of pixels.
+  struct RayCone {
+    Vec3 axis{0.0, 0.0, 1.0};
+    double half_angle_rad = 0.0, cos_half = 1.0, sin_half = 0.0;
+  };
+  struct Tile {
+    int u0 = 0, v0 = 0, width = 0, height = 0;  // pixels [u0, u0 + width) x [v0, v0 + height)
+    RayCone cone;
+  };
+
   CameraModel model_;
   std::vector<Vec3> rays_optical_;  // one unit direction per pixel, distortion already inverted
+  std::vector<Tile> tiles_;
+  RayCone image_cone_;              // holds every ray of the image
+  // The rays again as floats in tile order, kTilePixels per tile, row by row inside a tile
+  // (rows kTileWidth long; pixels outside a clipped tile repeat its first ray), for the ground pass.
+  std::vector<float> tile_ray_x_, tile_ray_y_, tile_ray_z_;
 };
 
 }  // namespace conde_physics
