@@ -111,3 +111,43 @@ def test_unknown_plugin_parameter(master):
 def test_good_input_runs_to_max_sim_time(master):
     code, err = run_node(master, world_file=FLAT_WORLD, real_time_factor=0, max_sim_time_s=0.5)
     assert code == 0, err
+
+
+def camera_urdf(camera_xml, plugin_xml=""):
+    """GOOD_URDF with a camera on its link: <sensor> on line 5, the camera on 6, <plugin> on 7."""
+    return GOOD_URDF.replace("</robot>", '<gazebo reference="base">\n<sensor type="camera" name="cam">\n'
+                             f"{camera_xml}\n"
+                             f'<plugin name="cam_controller" filename="libgazebo_ros_camera.so">{plugin_xml}</plugin>\n'
+                             "</sensor>\n</gazebo>\n</robot>")
+
+
+@pytest.mark.parametrize("camera_xml, message", [
+    ("<camera><image><width>0</width><height>120</height></image></camera>",
+     "<camera/image>: image size must be a positive whole number of pixels (got 0x120)"),
+    ("<camera><image><width>160</width><height>-4</height></image></camera>",
+     "<camera/image>: image size must be a positive whole number of pixels (got 160x-4)"),
+    ("<camera><horizontal_fov>3.1416</horizontal_fov></camera>",
+     "<camera/horizontal_fov>: must be in (0, pi) rad (got 3.1416)"),
+    ("<camera><image><format>R16G16B16</format></image></camera>",
+     "<camera/image/format>: unknown image format 'R16G16B16' (expected R8G8B8, B8G8R8 or L8)"),
+    ("<camera><clip><near>0.5</near><far>0.1</far></clip></camera>",
+     "<camera/clip>: needs 0 < near < far (got near 0.5, far 0.1)"),
+])
+def test_bad_camera(master, camera_xml, message):
+    code, err = run_node(master, urdf=camera_urdf(camera_xml), world_file=FLAT_WORLD)
+    assert code != 0
+    assert error_line(err) == f"/robot_description:7: plugin 'cam_controller' (libgazebo_ros_camera.so): {message}"
+
+
+def test_unknown_camera_element(master):
+    code, err = run_node(master, urdf=camera_urdf("<camera><lense>fisheye</lense></camera>"), world_file=FLAT_WORLD)
+    assert code != 0
+    assert error_line(err) == "/robot_description:6: sensor 'cam' (camera): unknown element <camera/lense>"
+
+
+def test_camera_runs_with_good_parameters(master):
+    urdf = camera_urdf("<update_rate>30</update_rate><camera><horizontal_fov>1.0</horizontal_fov>"
+                       "<image><width>64</width><height>48</height></image></camera>",
+                       "<cameraName>cam</cameraName><frameName>base_optical</frameName>")
+    code, err = run_node(master, urdf=urdf, world_file=FLAT_WORLD, real_time_factor=0, max_sim_time_s=0.2)
+    assert code == 0, err

@@ -21,6 +21,8 @@ const std::map<std::string, PluginFactory>& pluginRegistry() {
       {"libgazebo_ros_joint_state_publisher.so", makeJointStatePublisherPlugin},
       {"libgazebo_ros_p3d.so", makeGroundTruthPlugin},
       {"libgazebo_ros_imu_sensor.so", makeImuSensorPlugin},
+      {"libgazebo_ros_camera.so", makeCameraPlugin},
+      {"libgazebo_ros_video.so", makeVideoPlugin},
   };
   return registry;
 }

@@ -30,6 +30,7 @@
 
 #include "conde_sim/plugin_loader.h"
 #include "conde_sim/simulation.h"
+#include "conde_sim/world_displays.h"
 #include "conde_sim/world_markers.h"
 
 namespace conde_sim {
@@ -91,6 +92,7 @@ class SimNode {
       ctx.static_tf = &static_tf_;
       for (auto& plugin : loadRobotPlugins(ctx)) plugins_.push_back(std::move(plugin));
     }
+    world_displays_ = std::make_unique<WorldDisplays>(nh_, *sim_);
     clock_period_steps_ = updatePeriodSteps(clock_rate_hz_, sim_->stepS());
 
     clock_pub_ = nh_.advertise<rosgraph_msgs::Clock>("/clock", 10);
@@ -123,11 +125,14 @@ class SimNode {
     const double run_start_sim_s = sim_->timeS();
     auto wall_start = std::chrono::steady_clock::now();
     double sim_start_s = sim_->timeS();
+    double paused_wall_s = 0.0;  // not counted in the real-time factor reported at the end
     auto& queue = *ros::getGlobalCallbackQueue();
     while (ros::ok()) {
       handleRequests();
       if (paused_ && pending_steps_ == 0) {
+        const auto pause_start = std::chrono::steady_clock::now();
         queue.callAvailable(ros::WallDuration(0.005));
+        paused_wall_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - pause_start).count();
         wall_start = std::chrono::steady_clock::now();
         sim_start_s = sim_->timeS();
         continue;
@@ -146,10 +151,12 @@ class SimNode {
       }
     }
     service_spinner_->stop();
-    const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - run_start).count();
+    const double wall_s =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - run_start).count() - paused_wall_s;
     rusage usage{};
     getrusage(RUSAGE_SELF, &usage);
-    ROS_INFO("conde_sim: simulated %.3f s in %.3f s of wall time (real-time factor %.1f), peak RSS %.1f MB",
+    ROS_INFO("conde_sim: simulated %.3f s in %.3f s of wall time, pauses not counted (real-time factor %.1f), "
+             "peak RSS %.1f MB",
              sim_->timeS() - run_start_sim_s, wall_s, (sim_->timeS() - run_start_sim_s) / std::max(wall_s, 1e-9),
              usage.ru_maxrss / 1024.0);
   }
@@ -294,6 +301,7 @@ class SimNode {
   tf2_ros::TransformBroadcaster tf_;
   tf2_ros::StaticTransformBroadcaster static_tf_;
   std::unique_ptr<Simulation> sim_;
+  std::unique_ptr<WorldDisplays> world_displays_;
   std::vector<std::unique_ptr<SimPlugin>> plugins_;
   std::string engine_name_;
   double real_time_factor_ = 1.0, clock_rate_hz_ = 1000.0, max_sim_time_s_ = 0.0;

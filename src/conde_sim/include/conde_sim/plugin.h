@@ -60,5 +60,7 @@ std::unique_ptr<SimPlugin> makeDiffDrivePlugin();
 std::unique_ptr<SimPlugin> makeJointStatePublisherPlugin();
 std::unique_ptr<SimPlugin> makeGroundTruthPlugin();
 std::unique_ptr<SimPlugin> makeImuSensorPlugin();
+std::unique_ptr<SimPlugin> makeCameraPlugin();
+std::unique_ptr<SimPlugin> makeVideoPlugin();
 
 }  // namespace conde_sim

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "conde_physics/camera_renderer.h"
 #include "conde_physics/physics_engine.h"
 #include "conde_physics/resource_path.h"
 #include "conde_physics/world_file.h"
@@ -57,15 +58,37 @@ class Simulation {
   // Velocity of that link's origin and the angular velocity, world coordinates.
   conde_physics::Twist linkTwist(int robot, const std::string& link) const;
 
+  // What cameras see: the world's ground and objects (object i of the world file is scene
+  // object i) and every robot's collision shapes (group = robot index; meshes as their bounding
+  // boxes). Built on first use; poses follow the physics, synced at most once per step.
+  conde_physics::RenderScene& renderScene();
+  // Scene objects drawn for one link of a robot (its body's shapes), for display panels.
+  std::vector<int> renderObjectsOfLink(int robot, const std::string& link);
+
  private:
+  struct RenderedShape {
+    int robot = -1;        // -1: a dynamic world object (model = object_model_ids_[object])
+    int body = 0;
+    int world_object = -1;
+    conde_physics::Pose pose_in_body;
+    int scene_index = -1;
+  };
   void buildWorld();
+  void addRobotToScene(int robot);
+  void syncRenderScene();
 
   conde_physics::WorldDescription world_;
   std::string engine_name_;
   conde_physics::PackageResolver packages_;
   std::unique_ptr<conde_physics::PhysicsEngine> engine_;
   std::vector<Robot> robots_;
+  std::vector<conde_physics::ModelId> object_model_ids_;  // per world object; -1 = static
   std::uint64_t step_count_ = 0;
+
+  std::unique_ptr<conde_physics::RenderScene> render_scene_;
+  std::vector<RenderedShape> rendered_shapes_;  // those that move
+  bool render_scene_synced_ = false;
+  std::uint64_t render_scene_step_ = 0;
 };
 
 // Number of physics steps between updates for a rate [Hz]; 0 Hz means every step.

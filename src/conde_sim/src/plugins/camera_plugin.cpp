@@ -1,0 +1,315 @@
+// libgazebo_ros_camera.so: a pinhole camera rendered on the CPU (conde_physics::CameraRenderer).
+//
+//   <gazebo reference="camera_link">
+//     <sensor type="camera" name="camera1">
+//       <update_rate>30</update_rate>
+//       <camera>
+//         <horizontal_fov>1.0865</horizontal_fov>
+//         <image><width>160</width><height>120</height><format>R8G8B8</format></image>
+//         <clip><near>0.001</near><far>50</far></clip>
+//         <distortion><k1>-0.25</k1><k2>0.05</k2><k3>0</k3><p1>0.005</p1><p2>0.001</p2></distortion>
+//         <noise><type>gaussian</type><mean>0</mean><stddev>0.007</stddev></noise>
+//       </camera>
+//       <plugin name="camera_controller" filename="libgazebo_ros_camera.so">
+//         <cameraName>camera1</cameraName> <imageTopicName>image_raw</imageTopicName>
+//         <cameraInfoTopicName>camera_info</cameraInfoTopicName> <frameName>camera_link_optical</frameName>
+//       </plugin>
+//     </sensor>
+//   </gazebo>
+//
+// As in Gazebo the camera looks along the +x axis of its link (+y = image left, +z = image up),
+// offset by the sensor's <pose>. Differences from gazebo_ros_camera, on purpose:
+// - Images are stamped in an optical frame (REP 103: z forward, x right, y down). <frameName>
+//   defaults to "<link>_optical"; when that frame is not a link of the URDF the plugin publishes
+//   it on /tf_static, and when it is, its pose must be the camera's optical frame (else an error).
+// - Distortion is applied to the pixels, from <camera><distortion> or, for Gazebo-ready URDFs
+//   that only set them, from the plugin's distortionK1..K3 / distortionT1..T2 (both given and
+//   different is an error). CameraInfo reports exactly the numbers used.
+// - The principal point defaults to the image centre, ((W-1)/2, (H-1)/2) in OpenCV's convention,
+//   where the image really is centred; <Cx>/<Cy>/<focalLength> move the rendering with them.
+// - Nothing is rendered while nobody subscribes to the image.
+#include <sensor_msgs/CameraInfo.h>
+#include <sensor_msgs/Image.h>
+#include <sensor_msgs/image_encodings.h>
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <random>
+#include <sstream>
+
+#include "conde_sim/plugin.h"
+
+namespace conde_sim {
+namespace {
+
+namespace cp = conde_physics;
+
+// The camera link's frame (x forward, z up) -> its optical frame (z forward, x right, y down).
+const cp::Quat kLinkToOptical = cp::Quat::fromRpy(-M_PI / 2, 0.0, -M_PI / 2);
+
+// Sensor <pose>: "x y z roll pitch yaw".
+cp::Pose parsePose(PluginParams& params, const std::string& text) {
+  std::istringstream in(text);
+  double v[6];
+  std::string rest;
+  for (double& x : v) {
+    if (!(in >> x)) throw params.error("pose", "expected six numbers 'x y z roll pitch yaw', got '" + text + "'");
+  }
+  if (in >> rest) throw params.error("pose", "expected six numbers 'x y z roll pitch yaw', got '" + text + "'");
+  return cp::Pose::fromXyzRpy(v[0], v[1], v[2], v[3], v[4], v[5]);
+}
+
+bool samePose(const cp::Pose& a, const cp::Pose& b) {
+  const cp::Quat d = a.orientation.conjugate() * b.orientation;
+  return (a.position - b.position).norm() < 1e-6 && std::abs(std::abs(d.w) - 1.0) < 1e-9;
+}
+
+class CameraPlugin : public SimPlugin {
+ public:
+  void load(PluginContext& ctx, PluginParams& params) override {
+    ctx_ = ctx;
+    link_ = params.referenceLink();
+    if (!params.inSensor() || params.sensorType() != "camera" || link_.empty()) {
+      throw PluginError(params.where() +
+                        ": must sit in a <sensor type=\"camera\"> inside <gazebo reference=\"link\">");
+    }
+    const auto& robot = ctx.sim->robot(ctx.robot);
+    if (robot.model.bodyIndex(link_) < 0) {
+      throw PluginError(params.where() + ": robot '" + robot.spec.name + "' has no link '" + link_ + "'");
+    }
+
+    // <sensor> and <camera>: size, field of view, clip, format, noise, distortion.
+    const double width = params.sensorDouble("camera/image/width", 320);
+    const double height = params.sensorDouble("camera/image/height", 240);
+    if (width <= 0 || height <= 0 || width != std::floor(width) || height != std::floor(height)) {
+      throw params.error("camera/image", "image size must be a positive whole number of pixels (got " +
+                                             number(width) + "x" + number(height) + ")");
+    }
+    const double hfov_rad = params.sensorDouble("camera/horizontal_fov", 1.047);
+    if (!(hfov_rad > 0 && hfov_rad < M_PI)) {
+      throw params.error("camera/horizontal_fov", "must be in (0, pi) rad (got " + number(hfov_rad) + ")");
+    }
+    const std::string format = params.sensorString("camera/image/format", "R8G8B8");
+    if (format == "R8G8B8" || format == "RGB_INT8") {
+      encoding_ = sensor_msgs::image_encodings::RGB8;
+    } else if (format == "B8G8R8" || format == "BGR_INT8") {
+      encoding_ = sensor_msgs::image_encodings::BGR8;
+    } else if (format == "L8" || format == "L_INT8") {
+      encoding_ = sensor_msgs::image_encodings::MONO8;
+    } else {
+      throw params.error("camera/image/format", "unknown image format '" + format +
+                                                    "' (expected R8G8B8, B8G8R8 or L8)");
+    }
+    cp::CameraModel model = cp::CameraModel::fromHorizontalFov(int(width), int(height), hfov_rad);
+    model.near_clip_m = params.sensorDouble("camera/clip/near", 0.1);
+    model.far_clip_m = params.sensorDouble("camera/clip/far", 100.0);
+    if (!(model.near_clip_m > 0 && model.far_clip_m > model.near_clip_m)) {
+      throw params.error("camera/clip", "needs 0 < near < far (got near " + number(model.near_clip_m) + ", far " +
+                                            number(model.far_clip_m) + ")");
+    }
+    readNoise(params, model);
+    readDistortion(params, model);
+
+    // Plugin: intrinsics overrides, topics, frame, rate.
+    const double focal_px = params.getDouble("focalLength", 0.0);
+    if (focal_px < 0) throw params.error("focalLength", "must not be negative (0 = from horizontal_fov)");
+    if (focal_px > 0) model.fx_px = model.fy_px = focal_px;
+    const double cx_px = params.getDouble("Cx", 0.0), cy_px = params.getDouble("Cy", 0.0);
+    if (cx_px > 0) model.cx_px = cx_px;
+    if (cy_px > 0) model.cy_px = cy_px;
+    baseline_m_ = params.getDouble("hackBaseline", 0.0);
+    params.getDouble("CxPrime", 0.0);
+    const std::string camera_name = params.getString("cameraName", "camera");
+    const std::string image_topic = params.getString("imageTopicName", "image_raw");
+    const std::string info_topic = params.getString("cameraInfoTopicName", "camera_info");
+    const double sensor_rate_hz = params.sensorDouble("update_rate", 0.0);
+    double rate_hz = params.getDouble("updateRate", 0.0);
+    if (rate_hz < 0) throw params.error("updateRate", "must not be negative");
+    if (rate_hz == 0) rate_hz = sensor_rate_hz;  // as in Gazebo: 0 = the sensor's rate
+    if (rate_hz <= 0) rate_hz = 30.0;            // Gazebo renders unbounded; here a camera needs a rate
+    // Frame k is captured at step round(k * steps_per_frame): exactly rate_hz frames per
+    // simulated second even when the period is not a whole number of steps (30 Hz at 1 kHz).
+    steps_per_frame_ = std::max(1.0, 1.0 / (rate_hz * ctx.sim->stepS()));
+    while (frameStep(frame_index_) <= ctx.sim->stepCount()) ++frame_index_;
+    next_frame_step_ = frameStep(frame_index_);
+    params.getBool("alwaysOn", true);
+    params.sensorBool("always_on", true);
+    params.ignore({"visualize", "borderCrop", "autoDistortion", "camera_info_topic", "topic"});
+    params.sensorString("camera/save", "");  // accepted, unused
+
+    // Where the camera sits and which frame its images carry.
+    const cp::Pose sensor_pose = params.sensorHas("pose") ? parsePose(params, params.sensorString("pose", "")) : cp::Pose();
+    link_T_optical_ = sensor_pose * cp::Pose(cp::Vec3(), kLinkToOptical);
+    const std::string frame_name = params.getString("frameName", link_ + "_optical");
+    frame_ = ctx.frame(frame_name);
+    int frame_body = -1;
+    cp::Pose frame_in_body, link_in_body;
+    if (robot.model.linkInBody(frame_name, frame_body, frame_in_body)) {
+      int link_body = -1;
+      robot.model.linkInBody(link_, link_body, link_in_body);
+      const cp::Pose expected = link_in_body * link_T_optical_;
+      if (frame_body != link_body || !samePose(frame_in_body, expected)) {
+        throw params.error("frameName", "link '" + frame_name + "' is not the optical frame of the camera on link '" +
+                                            link_ + "' (REP 103: z forward, x right, y down; expected rpy -pi/2 0 "
+                                            "-pi/2 from the camera link)");
+      }
+    } else if (ctx.static_tf) {
+      geometry_msgs::TransformStamped t;
+      t.header.stamp = ctx.now();
+      t.header.frame_id = ctx.frame(link_);
+      t.child_frame_id = frame_;
+      t.transform.translation.x = link_T_optical_.position.x;
+      t.transform.translation.y = link_T_optical_.position.y;
+      t.transform.translation.z = link_T_optical_.position.z;
+      t.transform.rotation.w = link_T_optical_.orientation.w;
+      t.transform.rotation.x = link_T_optical_.orientation.x;
+      t.transform.rotation.y = link_T_optical_.orientation.y;
+      t.transform.rotation.z = link_T_optical_.orientation.z;
+      ctx.static_tf->sendTransform(t);
+    }
+
+    try {
+      renderer_ = std::make_unique<cp::CameraRenderer>(model);
+    } catch (const std::invalid_argument& e) {
+      throw params.error("camera", e.what());
+    }
+    rng_.seed(std::hash<std::string>()(robot.spec.name + "/" + link_));
+
+    ros::NodeHandle nh(ctx.nodeHandle(params), camera_name);
+    image_pub_ = nh.advertise<sensor_msgs::Image>(image_topic, 2);
+    info_pub_ = nh.advertise<sensor_msgs::CameraInfo>(info_topic, 2);
+    fillCameraInfo(model);
+    ROS_INFO("%s: camera on link %s: %dx%d, hfov %.4f rad (fx %.2f px), %s distortion, %.1f Hz, %s + %s in frame %s",
+             robot.spec.name.c_str(), link_.c_str(), model.width_px, model.height_px, hfov_rad, model.fx_px,
+             model.distortion.isZero() ? "no" : "plumb_bob", rate_hz, image_pub_.getTopic().c_str(),
+             info_pub_.getTopic().c_str(), frame_.c_str());
+  }
+
+  void afterStep() override {
+    const std::uint64_t step = ctx_.sim->stepCount();
+    if (step < next_frame_step_) return;
+    while (frameStep(frame_index_) <= step) ++frame_index_;
+    next_frame_step_ = frameStep(frame_index_);
+    const bool want_image = image_pub_.getNumSubscribers() > 0;
+    if (!want_image && info_pub_.getNumSubscribers() == 0) return;
+    const ros::Time stamp = ctx_.now();
+    if (want_image) {
+      cp::RenderScene& scene = ctx_.sim->renderScene();
+      const cp::Pose world_T_optical = ctx_.sim->linkPose(ctx_.robot, link_) * link_T_optical_;
+      renderer_->render(scene, world_T_optical, ctx_.robot, &rng_, image_);
+      sensor_msgs::Image msg;
+      msg.header.stamp = stamp;
+      msg.header.frame_id = frame_;
+      msg.width = image_.width;
+      msg.height = image_.height;
+      msg.encoding = encoding_;
+      toEncoding(msg);
+      image_pub_.publish(msg);
+    }
+    info_.header.stamp = stamp;
+    info_pub_.publish(info_);
+  }
+
+ private:
+  std::uint64_t frameStep(std::uint64_t frame) const {
+    return static_cast<std::uint64_t>(std::llround(static_cast<double>(frame) * steps_per_frame_));
+  }
+
+  static std::string number(double v) {
+    std::ostringstream out;
+    out << v;
+    return out.str();
+  }
+
+  void readNoise(PluginParams& params, cp::CameraModel& model) {
+    if (!params.sensorHas("camera/noise")) return;
+    const std::string type = params.sensorString("camera/noise/type", "gaussian");
+    if (type != "gaussian" && type != "none") {
+      throw params.error("camera/noise/type", "unsupported noise type '" + type + "' (expected gaussian or none)");
+    }
+    const double mean = params.sensorDouble("camera/noise/mean", 0.0);
+    const double stddev = params.sensorDouble("camera/noise/stddev", 0.0);
+    if (mean != 0.0) throw params.error("camera/noise/mean", "only zero-mean noise is supported");
+    if (stddev < 0) throw params.error("camera/noise/stddev", "must not be negative");
+    if (type == "gaussian") model.noise_stddev = stddev;
+  }
+
+  void readDistortion(PluginParams& params, cp::CameraModel& model) {
+    cp::LensDistortion sensor, plugin;
+    const bool in_sensor = params.sensorHas("camera/distortion");
+    sensor.k1 = params.sensorDouble("camera/distortion/k1", 0.0);
+    sensor.k2 = params.sensorDouble("camera/distortion/k2", 0.0);
+    sensor.k3 = params.sensorDouble("camera/distortion/k3", 0.0);
+    sensor.p1 = params.sensorDouble("camera/distortion/p1", 0.0);
+    sensor.p2 = params.sensorDouble("camera/distortion/p2", 0.0);
+    const std::string center = params.sensorString("camera/distortion/center", "0.5 0.5");
+    if (center != "0.5 0.5") {
+      throw params.error("camera/distortion/center", "only the image centre '0.5 0.5' is supported (got '" + center +
+                                                         "'); move the principal point with <Cx>/<Cy>");
+    }
+    plugin.k1 = params.getDouble("distortionK1", 0.0);
+    plugin.k2 = params.getDouble("distortionK2", 0.0);
+    plugin.k3 = params.getDouble("distortionK3", 0.0);
+    plugin.p1 = params.getDouble("distortionT1", 0.0);
+    plugin.p2 = params.getDouble("distortionT2", 0.0);
+    if (in_sensor && !plugin.isZero() &&
+        (plugin.k1 != sensor.k1 || plugin.k2 != sensor.k2 || plugin.k3 != sensor.k3 || plugin.p1 != sensor.p1 ||
+         plugin.p2 != sensor.p2)) {
+      throw params.error("distortionK1", "differs from <camera><distortion>: give the coefficients once");
+    }
+    model.distortion = in_sensor ? sensor : plugin;
+  }
+
+  void fillCameraInfo(const cp::CameraModel& model) {
+    info_.header.frame_id = frame_;
+    info_.width = model.width_px;
+    info_.height = model.height_px;
+    info_.distortion_model = "plumb_bob";
+    const cp::LensDistortion& d = model.distortion;
+    info_.D = {d.k1, d.k2, d.p1, d.p2, d.k3};
+    info_.K = {model.fx_px, 0, model.cx_px, 0, model.fy_px, model.cy_px, 0, 0, 1};
+    info_.R = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+    info_.P = {model.fx_px, 0, model.cx_px, -model.fx_px * baseline_m_, 0, model.fy_px, model.cy_px, 0, 0, 0, 1, 0};
+  }
+
+  // Moves the rendered RGB pixels into the message in its encoding.
+  void toEncoding(sensor_msgs::Image& msg) {
+    const size_t pixels = static_cast<size_t>(image_.width) * image_.height;
+    if (encoding_ == sensor_msgs::image_encodings::RGB8) {
+      msg.step = image_.width * 3;
+      msg.data.swap(image_.data);
+      return;
+    }
+    if (encoding_ == sensor_msgs::image_encodings::BGR8) {
+      msg.step = image_.width * 3;
+      msg.data.swap(image_.data);
+      for (size_t i = 0; i < pixels; ++i) std::swap(msg.data[3 * i], msg.data[3 * i + 2]);
+      return;
+    }
+    msg.step = image_.width;
+    msg.data.resize(pixels);
+    for (size_t i = 0; i < pixels; ++i) {
+      const std::uint8_t* p = &image_.data[3 * i];
+      msg.data[i] = static_cast<std::uint8_t>((299 * p[0] + 587 * p[1] + 114 * p[2] + 500) / 1000);
+    }
+  }
+
+  PluginContext ctx_;
+  std::string link_, frame_, encoding_;
+  cp::Pose link_T_optical_;
+  double baseline_m_ = 0.0;
+  double steps_per_frame_ = 1.0;
+  std::uint64_t frame_index_ = 0, next_frame_step_ = 0;
+  std::unique_ptr<cp::CameraRenderer> renderer_;
+  std::mt19937 rng_;
+  cp::RgbImage image_;
+  sensor_msgs::CameraInfo info_;
+  ros::Publisher image_pub_, info_pub_;
+};
+
+}  // namespace
+
+std::unique_ptr<SimPlugin> makeCameraPlugin() { return std::make_unique<CameraPlugin>(); }
+
+}  // namespace conde_sim
