@@ -1,0 +1,1 @@
+"""Signalling-panel controller of conde_sim: panel pictures, signal names, schedules."""
