@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <fstream>
 #include <limits>
 #include <sstream>
 #include <stdexcept>
@@ -384,6 +385,8 @@ bool hitObject(const ObjectInView& view, const Vec3& ray_optical, double t_near,
 // --- Images ------------------------------------------------------------------------------------
 
 RgbImage loadRgbImage(const std::string& path) {
+  // A file that does not open gets the same message, without OpenCV's warning on stderr.
+  if (!std::ifstream(path).good()) throw std::runtime_error("cannot decode image '" + path + "'");
   cv::Mat bgr = cv::imread(path, cv::IMREAD_COLOR);
   if (bgr.empty()) throw std::runtime_error("cannot decode image '" + path + "'");
   cv::Mat rgb;
