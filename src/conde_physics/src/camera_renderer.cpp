@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <fstream>
 #include <limits>
 #include <sstream>
 #include <stdexcept>
@@ -56,6 +57,12 @@ void checkImage(const RgbImage& image, const std::string& what) {
       image.data.size() != static_cast<size_t>(image.width) * image.height * 3)
     throw std::invalid_argument(what + ": image data size " + std::to_string(image.data.size()) + " does not match " +
                                 std::to_string(image.width) + "x" + std::to_string(image.height) + " RGB");
+}
+
+void checkImageSize(int width_px, int height_px) {
+  if (width_px <= 0 || height_px <= 0)
+    throw std::invalid_argument("camera image size must be positive (got " + std::to_string(width_px) + "x" +
+                                std::to_string(height_px) + ")");
 }
 
 void checkIndex(int index, int count) {
@@ -384,6 +391,8 @@ bool hitObject(const ObjectInView& view, const Vec3& ray_optical, double t_near,
 // --- Images ------------------------------------------------------------------------------------
 
 RgbImage loadRgbImage(const std::string& path) {
+  // A file that does not open gets the same message, without OpenCV's warning on stderr.
+  if (!std::ifstream(path).good()) throw std::runtime_error("cannot decode image '" + path + "'");
   cv::Mat bgr = cv::imread(path, cv::IMREAD_COLOR);
   if (bgr.empty()) throw std::runtime_error("cannot decode image '" + path + "'");
   cv::Mat rgb;
@@ -397,9 +406,7 @@ RgbImage loadRgbImage(const std::string& path) {
 // --- Camera model ------------------------------------------------------------------------------
 
 CameraModel CameraModel::fromHorizontalFov(int width_px, int height_px, double horizontal_fov_rad) {
-  if (width_px <= 0 || height_px <= 0)
-    throw std::invalid_argument("camera image size must be positive (got " + std::to_string(width_px) + "x" +
-                                std::to_string(height_px) + ")");
+  checkImageSize(width_px, height_px);
   if (!(horizontal_fov_rad > 0.0 && horizontal_fov_rad < kPi))
     throw std::invalid_argument("camera horizontal_fov must be in (0, pi) rad (got " + text(horizontal_fov_rad) + ")");
   CameraModel model;
@@ -432,42 +439,39 @@ void RenderScene::setGround(const RgbImage& texture, double x_min_m, double x_ma
   ground_levels_.clear();
   ground_texels_.clear();
   if (texture.width > 0 && texture.height > 0) {
-    // Level 0, then each level from the previous one by 2x2 averages (rounded).
-    auto texelCount = [](int w, int h) { return static_cast<size_t>(w + 1) * (h + 1); };
-    size_t total = 0;
+    size_t texel_count = 0;
     for (int w = texture.width, h = texture.height;; w = (w + 1) / 2, h = (h + 1) / 2) {
-      ground_levels_.push_back({w, h, total});
-      total += texelCount(w, h);
+      ground_levels_.push_back({w, h, texel_count});
+      texel_count += static_cast<size_t>(w + 1) * (h + 1);
       if (w == 1 && h == 1) break;
     }
-    ground_texels_.resize(total);
-    const TextureLevel& base = ground_levels_[0];
-    for (int v = 0; v <= base.height_px; ++v) {
-      for (int u = 0; u <= base.width_px; ++u) {
-        const std::uint8_t* p = texture.pixel(std::min(u, base.width_px - 1), std::min(v, base.height_px - 1));
-        ground_texels_[base.first_texel + static_cast<size_t>(v) * (base.width_px + 1) + u] =
-            p[0] | (static_cast<std::uint32_t>(p[1]) << 8) | (static_cast<std::uint32_t>(p[2]) << 16);
-      }
-    }
-    for (size_t l = 1; l < ground_levels_.size(); ++l) {
-      const TextureLevel& fine = ground_levels_[l - 1];
-      const TextureLevel& coarse = ground_levels_[l];
-      // The repeated column and row of `fine` stand in for the missing texels of odd sizes.
-      auto fineTexel = [&](int u, int v) {
-        return ground_texels_[fine.first_texel + static_cast<size_t>(v) * (fine.width_px + 1) + u];
-      };
-      for (int v = 0; v <= coarse.height_px; ++v) {
-        for (int u = 0; u <= coarse.width_px; ++u) {
-          const int cu = std::min(u, coarse.width_px - 1), cv = std::min(v, coarse.height_px - 1);
-          const std::uint32_t q[4] = {fineTexel(2 * cu, 2 * cv), fineTexel(2 * cu + 1, 2 * cv),
-                                      fineTexel(2 * cu, 2 * cv + 1), fineTexel(2 * cu + 1, 2 * cv + 1)};
+    ground_texels_.resize(texel_count);
+    auto texel = [this](const TextureLevel& level, int u, int v) -> std::uint32_t& {
+      return ground_texels_[level.first_texel + static_cast<size_t>(v) * (level.width_px + 1) + u];
+    };
+    // Level 0 from the image, each further level from the one before by rounded 2x2 averages
+    // (where a size is odd, the repeated column or row of the finer level stands in).
+    for (size_t l = 0; l < ground_levels_.size(); ++l) {
+      const TextureLevel& level = ground_levels_[l];
+      for (int v = 0; v <= level.height_px; ++v) {
+        for (int u = 0; u <= level.width_px; ++u) {
+          const int iu = std::min(u, level.width_px - 1), iv = std::min(v, level.height_px - 1);
           std::uint32_t packed = 0;
           for (int c = 0; c < 3; ++c) {
-            std::uint32_t sum = 2;
-            for (std::uint32_t t : q) sum += (t >> (8 * c)) & 0xFFu;
-            packed |= (sum / 4) << (8 * c);
+            std::uint32_t value;
+            if (l == 0) {
+              value = texture.pixel(iu, iv)[c];
+            } else {
+              const TextureLevel& fine = ground_levels_[l - 1];
+              value = 2;
+              for (const std::uint32_t t : {texel(fine, 2 * iu, 2 * iv), texel(fine, 2 * iu + 1, 2 * iv),
+                                            texel(fine, 2 * iu, 2 * iv + 1), texel(fine, 2 * iu + 1, 2 * iv + 1)})
+                value += (t >> (8 * c)) & 0xFFu;
+              value /= 4;
+            }
+            packed |= value << (8 * c);
           }
-          ground_texels_[coarse.first_texel + static_cast<size_t>(v) * (coarse.width_px + 1) + u] = packed;
+          texel(level, u, v) = packed;
         }
       }
     }
@@ -553,9 +557,7 @@ RenderScene renderSceneFromWorld(const WorldDescription& world) {
 
 CameraRenderer::CameraRenderer(const CameraModel& model) : model_(model) {
   const int w = model.width_px, h = model.height_px;
-  if (w <= 0 || h <= 0)
-    throw std::invalid_argument("camera image size must be positive (got " + std::to_string(w) + "x" +
-                                std::to_string(h) + ")");
+  checkImageSize(w, h);
   if (!(model.fx_px > 0.0 && model.fy_px > 0.0 && std::isfinite(model.fx_px) && std::isfinite(model.fy_px)))
     throw std::invalid_argument("camera focal length must be positive (got fx " + text(model.fx_px) + " px, fy " +
                                 text(model.fy_px) + " px)");

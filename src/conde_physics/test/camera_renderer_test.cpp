@@ -225,6 +225,29 @@ TEST(CameraRendererTest, GroundTextureKeepsItsColoursAndSkyIsAboveTheHorizon) {
   EXPECT_EQ(plain[2], 153);
 }
 
+// A 1-texel checkerboard seen from so high that a pixel covers ~14 x 14 texels: the pixels show
+// its average grey (read from a coarse mipmap level), not a random mix of black and white.
+TEST(CameraRendererTest, FarGroundIsAveragedNotAliased) {
+  cp::RgbImage texture = solid(401, 399, 0, 0, 0);  // odd sizes: the mipmap's repeated edges
+  for (int v = 0; v < texture.height; ++v)
+    for (int u = 0; u < texture.width; ++u)
+      if ((u + v) % 2 == 0) fill(texture, u, v, u + 1, v + 1, 255, 255, 255);
+  cp::RenderScene scene;
+  scene.setGround(texture, -2.005, 2.005, -1.995, 1.995, {0, 0, 1});
+  const cp::CameraModel model = cp::CameraModel::fromHorizontalFov(160, 120, 1.0);
+  const cp::CameraRenderer camera(model);
+  cp::RgbImage image;
+  camera.render(scene, lookAt({0, 0, 20}, {0, 0, 0}, {1, 0, 0}), -1, nullptr, image);
+  // The texture spans about +-14 px around the image centre.
+  for (int v = 50; v < 70; ++v) {
+    for (int u = 70; u < 90; ++u) {
+      EXPECT_NEAR(image.pixel(u, v)[0], 128, 12) << "pixel (" << u << ", " << v << ")";
+      EXPECT_EQ(image.pixel(u, v)[0], image.pixel(u, v)[2]);
+    }
+  }
+  EXPECT_EQ(image.pixel(5, 5)[2], 255);  // plain ground colour outside the texture
+}
+
 // --- Depth order ---------------------------------------------------------------------------------
 
 TEST(CameraRendererTest, NearerBoxWinsWhicheverWasAddedFirst) {
@@ -463,9 +486,10 @@ void boardSpans(const std::vector<cv::Point2f>& c, const Board& board, double& h
 
 }  // namespace
 
-// A chessboard at a known distance straight in front of each of Conde's cameras (distortion
-// off): its size in pixels, measured with OpenCV's corner finder, is the pinhole prediction
-// f * size / distance within half a pixel. Prints the table.
+// The same chessboard at a known distance straight in front of each of Conde's cameras
+// (distortion off): its size in pixels, measured with OpenCV's corner finder, is the pinhole
+// prediction f * size / distance within half a pixel (the two tracking cameras' predictions
+// differ by 0.7 px). Prints the table.
 TEST(CameraRendererTest, FieldOfViewMatchesThePinholePrediction) {
   struct Camera {
     const char* name;
@@ -475,15 +499,15 @@ TEST(CameraRendererTest, FieldOfViewMatchesThePinholePrediction) {
   const Camera cameras[] = {{"tracking_left", 160, 120, 1.0865},
                             {"tracking_right", 160, 120, 1.0965},
                             {"signalling_panel", 320, 240, 1.5707963}};
-  const double distance_m = 1.0;
+  // One board (5 cm squares) at 0.7 m for all three, as a printed board in front of each camera.
+  const double distance_m = 0.7;
   std::printf("\n| camera | image | hfov [rad] | fx [px] | board span H predicted / measured [px] | "
               "V predicted / measured [px] |\n|---|---|---|---|---|---|\n");
   for (const Camera& c : cameras) {
     SCOPED_TRACE(c.name);
     const cp::CameraModel model = cp::CameraModel::fromHorizontalFov(c.width, c.height, c.hfov_rad);
     Board board;
-    // The whole face about 70 % of the image width.
-    board.square_m = 0.7 * c.width / model.fx_px * distance_m / board.facesX();
+    board.square_m = 0.05;
     cp::Pose camera_pose, face_pose;
     const cp::RgbImage image = renderBoard(model, board, distance_m, camera_pose, face_pose);
     const std::vector<cv::Point2f> corners = findCorners(image, board);
@@ -626,28 +650,29 @@ TEST(CameraRendererTest, RoundShapesAreDrawnWhereProjectionPutsThem) {
   const double f = model.fx_px, d = 3.0, r = 0.3, length = 0.8;
   const cp::Pose camera_pose = lookAt({0, 0, 5}, {1, 0, 5});
   const cp::Vec3 centre(d, 0, 5);
+  auto shape = [&](cp::RenderShape kind, const cp::Quat& orientation) {
+    cp::RenderObject o;
+    o.shape = kind;
+    o.radius_m = r;
+    o.length_m = kind == cp::RenderShape::kSphere ? 0.0 : length;
+    o.pose = cp::Pose(centre, orientation);
+    return silhouetteOf(renderAlone(model, camera_pose, o));
+  };
+  // Seen from the camera, a sphere or a vertical cylinder / cone base of radius r at distance d
+  // subtends a half-width f r / sqrt(d^2 - r^2) (tangent rays).
+  const double half_width_px = f * r / std::sqrt(d * d - r * r);
   {
     SCOPED_TRACE("sphere");
-    cp::RenderObject sphere;
-    sphere.shape = cp::RenderShape::kSphere;
-    sphere.radius_m = r;
-    sphere.pose = cp::Pose(centre, cp::Quat());
-    const Silhouette s = silhouetteOf(renderAlone(model, camera_pose, sphere));
-    const double radius_px = f * r / std::sqrt(d * d - r * r);  // a sphere on the axis images as a circle
+    const Silhouette s = shape(cp::RenderShape::kSphere, cp::Quat());
+    // A sphere on the axis images as a circle.
     EXPECT_NEAR(s.u_centroid, model.cx_px, 0.25);
     EXPECT_NEAR(s.v_centroid, model.cy_px, 0.25);
-    EXPECT_NEAR(s.pixels, kPi * radius_px * radius_px, 0.03 * kPi * radius_px * radius_px);
-    EXPECT_NEAR((s.u_max - s.u_min) / 2.0, radius_px, 1.0);
+    EXPECT_NEAR(s.pixels, kPi * half_width_px * half_width_px, 0.03 * kPi * half_width_px * half_width_px);
+    EXPECT_NEAR((s.u_max - s.u_min) / 2.0, half_width_px, 1.0);
   }
   {
-    SCOPED_TRACE("cylinder");
-    cp::RenderObject cylinder;
-    cylinder.shape = cp::RenderShape::kCylinder;
-    cylinder.radius_m = r;
-    cylinder.length_m = length;
-    cylinder.pose = cp::Pose(centre, cp::Quat());  // axis vertical
-    const Silhouette s = silhouetteOf(renderAlone(model, camera_pose, cylinder));
-    const double half_width_px = f * r / std::sqrt(d * d - r * r);
+    SCOPED_TRACE("cylinder, axis vertical");
+    const Silhouette s = shape(cp::RenderShape::kCylinder, cp::Quat());
     const double half_height_px = f * (length / 2) / (d - r);  // the nearest points of the caps' rims
     EXPECT_NEAR(s.u_centroid, model.cx_px, 0.25);
     EXPECT_NEAR(s.v_centroid, model.cy_px, 0.25);
@@ -655,29 +680,19 @@ TEST(CameraRendererTest, RoundShapesAreDrawnWhereProjectionPutsThem) {
     EXPECT_NEAR((s.v_max - s.v_min) / 2.0, half_height_px, 1.0);
   }
   {
-    SCOPED_TRACE("cone");
-    cp::RenderObject cone;
-    cone.shape = cp::RenderShape::kCone;
-    cone.radius_m = r;
-    cone.length_m = length;
-    cone.pose = cp::Pose(centre, cp::Quat());  // apex up
-    const Silhouette s = silhouetteOf(renderAlone(model, camera_pose, cone));
-    const double apex_v = model.cy_px - f * (length / 2) / d;      // apex on the axis
+    SCOPED_TRACE("cone, apex up");
+    const Silhouette s = shape(cp::RenderShape::kCone, cp::Quat());
+    const double apex_v = model.cy_px - f * (length / 2) / d;        // apex on the axis
     const double base_v = model.cy_px + f * (length / 2) / (d - r);  // nearest point of the base rim
     EXPECT_NEAR(s.v_min, apex_v, 2.0);  // the tip is thinner than a pixel
     EXPECT_NEAR(s.v_max, base_v, 1.0);
     EXPECT_NEAR(s.u_centroid, model.cx_px, 0.25);
     EXPECT_GT(s.v_centroid, model.cy_px + 5) << "the wide base must be at the bottom";
-    EXPECT_NEAR((s.u_max - s.u_min) / 2.0, f * r / std::sqrt(d * d - r * r), 1.0);  // base rim
+    EXPECT_NEAR((s.u_max - s.u_min) / 2.0, half_width_px, 1.0);  // base rim
   }
   {
     SCOPED_TRACE("cone lying along +y (apex to the image's left)");
-    cp::RenderObject cone;
-    cone.shape = cp::RenderShape::kCone;
-    cone.radius_m = r;
-    cone.length_m = length;
-    cone.pose = cp::Pose(centre, cp::Quat::fromRpy(-kPi / 2, 0, 0));  // local z -> world +y
-    const Silhouette s = silhouetteOf(renderAlone(model, camera_pose, cone));
+    const Silhouette s = shape(cp::RenderShape::kCone, cp::Quat::fromRpy(-kPi / 2, 0, 0));  // local z = world +y
     const cv::Point2d apex = pixelOf(model, camera_pose, centre + cp::Vec3(0, length / 2, 0));
     EXPECT_NEAR(s.u_min, apex.x, 2.0);
     EXPECT_GT(s.u_centroid, model.cx_px + 5) << "the wide base must be on the right";
