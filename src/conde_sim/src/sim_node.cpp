@@ -13,6 +13,7 @@
 //   ~spawn             name of a world spawn pose, or "x y yaw"       [first spawn in the world]
 // Services: ~pause_physics, ~unpause_physics, ~reset_world (std_srvs/Empty),
 //           ~step (conde_msgs/StepSimulation).
+#include <conde_msgs/SetStartPose.h>
 #include <conde_msgs/StepSimulation.h>
 #include <ros/callback_queue.h>
 #include <ros/package.h>
@@ -108,6 +109,7 @@ class SimNode {
     services_.push_back(service_nh_.advertiseService("pause_physics", &SimNode::onPause, this));
     services_.push_back(service_nh_.advertiseService("unpause_physics", &SimNode::onUnpause, this));
     services_.push_back(service_nh_.advertiseService("reset_world", &SimNode::onReset, this));
+    services_.push_back(service_nh_.advertiseService("set_start_pose", &SimNode::onSetStartPose, this));
     services_.push_back(service_nh_.advertiseService("step", &SimNode::onStep, this));
     service_spinner_ = std::make_unique<ros::AsyncSpinner>(1, &service_queue_);
     service_spinner_->start();
@@ -231,6 +233,8 @@ class SimNode {
   void handleRequests() {
     std::lock_guard<std::mutex> lock(mutex_);
     if (reset_requested_) {
+      if (start_pose_robot_ >= 0) sim_->setStartPose(start_pose_robot_, start_pose_);
+      start_pose_robot_ = -1;
       sim_->resetWorld();
       for (auto& p : plugins_) p->reset();
       reset_requested_ = false;
@@ -261,6 +265,28 @@ class SimNode {
   bool onUnpause(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
     std::lock_guard<std::mutex> lock(mutex_);
     requested_paused_ = false;
+    return true;
+  }
+
+  bool onSetStartPose(conde_msgs::SetStartPose::Request& req, conde_msgs::SetStartPose::Response& res) {
+    std::unique_lock<std::mutex> lock(mutex_);
+    const int robot = sim_->findRobot(req.robot);
+    if (robot < 0) {
+      res.success = false;
+      res.message = req.robot.empty() ? "there are several robots: name one" : "no robot named '" + req.robot + "'";
+      return true;
+    }
+    if (!std::isfinite(req.x_m) || !std::isfinite(req.y_m) || !std::isfinite(req.yaw_rad)) {
+      res.success = false;
+      res.message = "x_m, y_m and yaw_rad must be finite";
+      return true;
+    }
+    start_pose_robot_ = robot;  // applied by the step loop, which owns the simulation
+    start_pose_ = cp::Pose::fromXyzRpy(req.x_m, req.y_m, 0.0, 0.0, 0.0, req.yaw_rad);
+    reset_requested_ = true;
+    done_.wait(lock, [this] { return !reset_requested_ || !ros::ok(); });
+    res.success = true;
+    res.message = "robot '" + sim_->robot(robot).spec.name + "' reset to the new start pose";
     return true;
   }
 
@@ -313,6 +339,8 @@ class SimNode {
   std::mutex mutex_;
   std::condition_variable done_;
   bool requested_paused_ = false, reset_requested_ = false, step_request_done_ = false;
+  int start_pose_robot_ = -1;  // with start_pose_: a new start pose to apply at the next reset
+  cp::Pose start_pose_;
   std::uint64_t requested_steps_ = 0;
   double step_done_time_s_ = 0.0;
 

@@ -50,6 +50,14 @@ int Simulation::addRobot(const RobotSpec& spec, std::vector<std::string>* warnin
 
 void Simulation::resetWorld() { buildWorld(); }
 
+int Simulation::findRobot(const std::string& name) const {
+  if (name.empty()) return robotCount() == 1 ? 0 : -1;
+  for (int r = 0; r < robotCount(); ++r) {
+    if (robots_[r].spec.name == name) return r;
+  }
+  return -1;
+}
+
 void Simulation::step() {
   engine_->step();
   ++step_count_;

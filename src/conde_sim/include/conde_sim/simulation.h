@@ -39,6 +39,10 @@ class Simulation {
   int addRobot(const RobotSpec& spec, std::vector<std::string>* warnings = nullptr);
   // Puts every robot and object back to its start; simulated time goes on.
   void resetWorld();
+  // Index of the robot with this name; "" names the only robot. -1 when there is none.
+  int findRobot(const std::string& name) const;
+  // New start pose of a robot (root link pose); takes effect at the next resetWorld().
+  void setStartPose(int robot, const conde_physics::Pose& pose) { robots_.at(robot).spec.spawn_pose = pose; }
   void step();
 
   std::uint64_t stepCount() const { return step_count_; }
