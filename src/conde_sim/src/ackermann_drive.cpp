@@ -176,8 +176,14 @@ AckermannDrive::AckermannDrive(Simulation& sim, int robot, const Config& config)
     signs_[i] = along > 0 ? 1.0 : -1.0;
   }
   odometry_ = AckermannOdometry(g.wheelbase_m, measured.axle_x_in_base_m, measured.axle_y_in_base_m);
-  steering_pid_[0] = steering_pid_[1] = PidController(config_.steering_pid);
-  for (PidController& pid : wheel_pid_) pid = PidController(config_.wheel_pid);
+  // Efforts stay within the URDF's effort limits too (as ros_control's joint limits do).
+  auto withinJointLimit = [&](PidController::Gains gains, int joint) {
+    const double limit = joint >= 0 ? r.model.joints[joint].effort_limit : 0.0;
+    if (limit > 0.0 && (gains.output_limit <= 0.0 || gains.output_limit > limit)) gains.output_limit = limit;
+    return gains;
+  };
+  for (int s = 0; s < 2; ++s) steering_pid_[s] = PidController(withinJointLimit(config_.steering_pid, joints_[kSteerLeft + s]));
+  for (int w = 0; w < 4; ++w) wheel_pid_[w] = PidController(withinJointLimit(config_.wheel_pid, joints_[kFrontLeft + w]));
   period_steps_ = updatePeriodSteps(config.update_rate_hz, sim.stepS());
   reset();
 }

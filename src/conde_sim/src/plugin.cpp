@@ -21,6 +21,10 @@ const std::map<std::string, PluginFactory>& pluginRegistry() {
       {"libgazebo_ros_joint_state_publisher.so", makeJointStatePublisherPlugin},
       {"libgazebo_ros_p3d.so", makeGroundTruthPlugin},
       {"libgazebo_ros_imu_sensor.so", makeImuSensorPlugin},
+      {"libgazebo_ros_laser.so", makeLaserPlugin},
+      {"libgazebo_ros_gpu_laser.so", makeLaserPlugin},
+      {"libgazebo_ros_control.so", makeRosControlPlugin},
+      {"libconde_ackermann_drive.so", makeAckermannDrivePlugin},
   };
   return registry;
 }

@@ -1,11 +1,10 @@
-// The Ackermann drive on the test car (tests/fixtures/ackermann_car.urdf), in-process, stepped,
+// The Ackermann drive on the test car (tests/fixtures/ackermann_car.urdf.xacro), in-process, stepped,
 // once per physics engine. Paths, angles and speeds are checked against ground truth.
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <fstream>
+#include <cstdio>
 #include <memory>
-#include <sstream>
 #include <vector>
 
 #include "conde_sim/ackermann_drive.h"
@@ -17,12 +16,16 @@ using conde_sim::Simulation;
 
 namespace {
 
+// The test car (tests/fixtures/ackermann_car.urdf.xacro) through xacro, as the launch files load it.
 const std::string& carUrdf() {
   static const std::string urdf = [] {
-    std::ifstream in(std::string(CONDE_REPO_ROOT) + "/tests/fixtures/ackermann_car.urdf");
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
+    const std::string cmd = std::string("xacro ") + CONDE_REPO_ROOT + "/tests/fixtures/ackermann_car.urdf.xacro 2>&1";
+    std::unique_ptr<FILE, decltype(&pclose)> pipe(popen(cmd.c_str(), "r"), pclose);
+    std::string out;
+    char buffer[4096];
+    size_t n;
+    while ((n = fread(buffer, 1, sizeof buffer, pipe.get())) > 0) out.append(buffer, n);
+    return out;
   }();
   return urdf;
 }
@@ -65,7 +68,7 @@ double fitCircle(const std::vector<cp::Vec3>& points, double& cx, double& cy) {
 class AckermannCar : public ::testing::TestWithParam<std::string> {
  protected:
   void SetUp() override {
-    ASSERT_NE(carUrdf().find("<robot"), std::string::npos) << "cannot read the test car";
+    ASSERT_NE(carUrdf().find("<robot"), std::string::npos) << "xacro failed: " << carUrdf();
     sim_ = std::make_unique<Simulation>(flatWorld(), GetParam(), nullptr);
     conde_sim::RobotSpec spec;
     spec.name = "car";

@@ -2,9 +2,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <fstream>
+#include <cstdio>
 #include <memory>
-#include <sstream>
 
 #include "conde_sim/laser_scanner.h"
 #include "conde_sim/simulation.h"
@@ -19,12 +18,16 @@ namespace {
 constexpr double kFrontWallFace_m = 2.0;  // world x of the wall ahead of the car
 constexpr double kLeftWallFace_m = 1.0;   // world y of the wall on the car's left
 
+// The test car (tests/fixtures/ackermann_car.urdf.xacro) through xacro, as the launch files load it.
 const std::string& carUrdf() {
   static const std::string urdf = [] {
-    std::ifstream in(std::string(CONDE_REPO_ROOT) + "/tests/fixtures/ackermann_car.urdf");
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
+    const std::string cmd = std::string("xacro ") + CONDE_REPO_ROOT + "/tests/fixtures/ackermann_car.urdf.xacro 2>&1";
+    std::unique_ptr<FILE, decltype(&pclose)> pipe(popen(cmd.c_str(), "r"), pclose);
+    std::string out;
+    char buffer[4096];
+    size_t n;
+    while ((n = fread(buffer, 1, sizeof buffer, pipe.get())) > 0) out.append(buffer, n);
+    return out;
   }();
   return urdf;
 }
@@ -66,7 +69,7 @@ LaserScanConfig fixtureLidar(double noise_stddev_m) {
 class Lidar : public ::testing::TestWithParam<std::string> {
  protected:
   void build(bool walls) {
-    ASSERT_NE(carUrdf().find("<robot"), std::string::npos);
+    ASSERT_NE(carUrdf().find("<robot"), std::string::npos) << "xacro failed: " << carUrdf();
     sim_ = std::make_unique<Simulation>(world(walls), GetParam(), nullptr);
     conde_sim::RobotSpec spec;
     spec.name = "car";

@@ -60,5 +60,8 @@ std::unique_ptr<SimPlugin> makeDiffDrivePlugin();
 std::unique_ptr<SimPlugin> makeJointStatePublisherPlugin();
 std::unique_ptr<SimPlugin> makeGroundTruthPlugin();
 std::unique_ptr<SimPlugin> makeImuSensorPlugin();
+std::unique_ptr<SimPlugin> makeLaserPlugin();
+std::unique_ptr<SimPlugin> makeRosControlPlugin();
+std::unique_ptr<SimPlugin> makeAckermannDrivePlugin();
 
 }  // namespace conde_sim
