@@ -120,6 +120,26 @@ AckermannDrive::AckermannDrive(Simulation& sim, int robot, const Config& config)
   const MeasuredCarGeometry measured =
       measureCarGeometry(r, config.base_link, config.left_steering_joint, config.right_steering_joint,
                          config.left_rear_wheel_joint, config.right_rear_wheel_joint);
+  // Joint directions: steering about +z of the base (left positive), wheels about +y (forward).
+  const cp::Pose base = baseInModel(r, config.base_link);
+  const char* keys[kJointCount] = {"leftSteeringJoint",   "rightSteeringJoint", "leftFrontWheelJoint",
+                                   "rightFrontWheelJoint", "leftRearWheelJoint", "rightRearWheelJoint"};
+  const std::string* names[kJointCount] = {&config.left_steering_joint,    &config.right_steering_joint,
+                                           &config.left_front_wheel_joint, &config.right_front_wheel_joint,
+                                           &config.left_rear_wheel_joint,  &config.right_rear_wheel_joint};
+  for (int i = 0; i < kJointCount; ++i) {
+    if (names[i]->empty()) continue;
+    joints_[i] = jointOrThrow(r, keys[i], *names[i]);
+    const cp::Vec3 axis = axisInBase(r, base, joints_[i]);
+    const bool steering = i <= kSteerRight;
+    const double along = steering ? axis.z : axis.y;
+    if (std::abs(along) < 0.99) {
+      throw AckermannConfigError(keys[i], "joint '" + *names[i] + "' must turn about the " +
+                                              (steering ? "vertical (z)" : "lateral (y)") + " axis of '" +
+                                              config.base_link + "'");
+    }
+    signs_[i] = along > 0 ? 1.0 : -1.0;
+  }
   AckermannGeometry& g = config_.geometry;
   if (g.wheelbase_m == 0.0) g.wheelbase_m = measured.geometry.wheelbase_m;
   if (g.front_half_track_m == 0.0) g.front_half_track_m = measured.geometry.front_half_track_m;
@@ -155,26 +175,6 @@ AckermannDrive::AckermannDrive(Simulation& sim, int robot, const Config& config)
     throw AckermannConfigError("driveWheels", "driving the front wheels needs leftFrontWheelJoint and rightFrontWheelJoint");
   }
 
-  // Joint directions: steering about +z of the base (left positive), wheels about +y (forward).
-  const cp::Pose base = baseInModel(r, config.base_link);
-  const char* keys[kJointCount] = {"leftSteeringJoint",   "rightSteeringJoint", "leftFrontWheelJoint",
-                                   "rightFrontWheelJoint", "leftRearWheelJoint", "rightRearWheelJoint"};
-  const std::string* names[kJointCount] = {&config.left_steering_joint,    &config.right_steering_joint,
-                                           &config.left_front_wheel_joint, &config.right_front_wheel_joint,
-                                           &config.left_rear_wheel_joint,  &config.right_rear_wheel_joint};
-  for (int i = 0; i < kJointCount; ++i) {
-    if (names[i]->empty()) continue;
-    joints_[i] = jointOrThrow(r, keys[i], *names[i]);
-    const cp::Vec3 axis = axisInBase(r, base, joints_[i]);
-    const bool steering = i <= kSteerRight;
-    const double along = steering ? axis.z : axis.y;
-    if (std::abs(along) < 0.99) {
-      throw AckermannConfigError(keys[i], "joint '" + *names[i] + "' must turn about the " +
-                                              (steering ? "vertical (z)" : "lateral (y)") + " axis of '" +
-                                              config.base_link + "'");
-    }
-    signs_[i] = along > 0 ? 1.0 : -1.0;
-  }
   odometry_ = AckermannOdometry(g.wheelbase_m, measured.axle_x_in_base_m, measured.axle_y_in_base_m);
   // Efforts stay within the URDF's effort limits too (as ros_control's joint limits do).
   auto withinJointLimit = [&](PidController::Gains gains, int joint) {
