@@ -55,6 +55,11 @@ class LaserPlugin : public SimPlugin {
       throw PluginError(params.where() + ": needs a <sensor type=\"ray\"> or \"gpu_ray\", got type '" +
                         params.sensorType() + "'");
     }
+    int body = -1;
+    cp::Pose unused;
+    if (!ctx.sim->robot(ctx.robot).model.linkInBody(link, body, unused)) {
+      throw PluginError(params.where() + ": <gazebo reference=\"" + link + "\"> must name a link to carry the sensor");
+    }
     LaserScanConfig c;
     c.link = link;
     c.sensor_in_link = readPose(params);
