@@ -123,26 +123,26 @@ def camera_urdf(camera_xml, plugin_xml=""):
 
 @pytest.mark.parametrize("camera_xml, message", [
     ("<camera><image><width>0</width><height>120</height></image></camera>",
-     "<camera/image>: image size must be a positive whole number of pixels (got 0x120)"),
+     "<camera><image>: image size must be a positive whole number of pixels (got 0x120)"),
     ("<camera><image><width>160</width><height>-4</height></image></camera>",
-     "<camera/image>: image size must be a positive whole number of pixels (got 160x-4)"),
+     "<camera><image>: image size must be a positive whole number of pixels (got 160x-4)"),
     ("<camera><horizontal_fov>3.1416</horizontal_fov></camera>",
-     "<camera/horizontal_fov>: must be in (0, pi) rad (got 3.1416)"),
+     "<camera><horizontal_fov>: must be in (0, pi) rad (got 3.1416)"),
     ("<camera><image><format>R16G16B16</format></image></camera>",
-     "<camera/image/format>: unknown image format 'R16G16B16' (expected R8G8B8, B8G8R8 or L8)"),
+     "<camera><image><format>: unknown image format 'R16G16B16' (expected R8G8B8, B8G8R8 or L8)"),
     ("<camera><clip><near>0.5</near><far>0.1</far></clip></camera>",
-     "<camera/clip>: needs 0 < near < far (got near 0.5, far 0.1)"),
+     "<camera><clip>: needs 0 < near < far (got near 0.5, far 0.1)"),
 ])
 def test_bad_camera(master, camera_xml, message):
     code, err = run_node(master, urdf=camera_urdf(camera_xml), world_file=FLAT_WORLD)
     assert code != 0
-    assert error_line(err) == f"/robot_description:7: plugin 'cam_controller' (libgazebo_ros_camera.so): {message}"
+    assert error_line(err) == f"/robot_description:6: sensor 'cam' (camera): {message}"
 
 
 def test_unknown_camera_element(master):
     code, err = run_node(master, urdf=camera_urdf("<camera><lense>fisheye</lense></camera>"), world_file=FLAT_WORLD)
     assert code != 0
-    assert error_line(err) == "/robot_description:6: sensor 'cam' (camera): unknown element <camera/lense>"
+    assert error_line(err) == "/robot_description:6: sensor 'cam' (camera): unknown element <camera><lense>"
 
 
 def test_camera_runs_with_good_parameters(master):

@@ -23,6 +23,10 @@ const std::map<std::string, PluginFactory>& pluginRegistry() {
       {"libgazebo_ros_imu_sensor.so", makeImuSensorPlugin},
       {"libgazebo_ros_camera.so", makeCameraPlugin},
       {"libgazebo_ros_video.so", makeVideoPlugin},
+      {"libgazebo_ros_laser.so", makeLaserPlugin},
+      {"libgazebo_ros_gpu_laser.so", makeLaserPlugin},
+      {"libgazebo_ros_control.so", makeRosControlPlugin},
+      {"libconde_ackermann_drive.so", makeAckermannDrivePlugin},
   };
   return registry;
 }

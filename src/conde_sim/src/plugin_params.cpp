@@ -46,19 +46,6 @@ double PluginParams::toDouble(const tinyxml2::XMLElement* e, const std::string& 
   }
 }
 
-const tinyxml2::XMLElement* PluginParams::descendant(const tinyxml2::XMLElement* parent,
-                                                     const std::string& path) const {
-  const tinyxml2::XMLElement* e = parent;
-  size_t start = 0;
-  while (e && start <= path.size()) {
-    const size_t end = path.find('/', start);
-    e = child(e, path.substr(start, end == std::string::npos ? std::string::npos : end - start));
-    if (end == std::string::npos) break;
-    start = end + 1;
-  }
-  return e;
-}
-
 bool PluginParams::has(const std::string& key) const { return child(plugin_, key) != nullptr; }
 
 std::string PluginParams::getString(const std::string& key, const std::string& fallback) {
@@ -116,28 +103,79 @@ std::vector<std::string> PluginParams::getList(const std::string& key) {
   return out;
 }
 
+// Walks "a/b/c" down from the <sensor> element; nullptr when any step is missing.
+const tinyxml2::XMLElement* PluginParams::sensorElement(const std::string& path) const {
+  const tinyxml2::XMLElement* e = sensor_;
+  size_t start = 0;
+  while (e && start <= path.size()) {
+    const size_t slash = path.find('/', start);
+    const std::string name = path.substr(start, slash == std::string::npos ? std::string::npos : slash - start);
+    e = e->FirstChildElement(name.c_str());
+    if (slash == std::string::npos) break;
+    start = slash + 1;
+  }
+  return e;
+}
+
+static std::string xmlPath(const std::string& path) {
+  std::string out = "<";
+  for (char c : path) out += c == '/' ? std::string("><") : std::string(1, c);
+  return out + ">";
+}
+
+PluginError PluginParams::sensorError(const std::string& key, const std::string& what) const {
+  const tinyxml2::XMLElement* e = sensorElement(key);
+  const int line = e ? e->GetLineNum() : (sensor_ ? sensor_->GetLineNum() : plugin_->GetLineNum());
+  return PluginError(source_ + ":" + std::to_string(line) + ": sensor '" + sensorName() + "' (" + sensorType() +
+                     "): " + xmlPath(key) + ": " + what);
+}
+
+bool PluginParams::sensorHas(const std::string& key) const { return sensorElement(key) != nullptr; }
+
 double PluginParams::sensorDouble(const std::string& key, double fallback) {
   sensor_used_.insert(key);
-  const auto* e = descendant(sensor_, key);
-  return e ? toDouble(e, key) : fallback;
+  const auto* e = sensorElement(key);
+  if (!e) return fallback;
+  const std::string t = text(e);
+  try {
+    size_t used = 0;
+    const double v = std::stod(t, &used);
+    if (used != t.size()) throw std::invalid_argument(t);
+    return v;
+  } catch (const std::exception&) {
+    throw sensorError(key, "expected a number, got '" + t + "'");
+  }
 }
 
-std::string PluginParams::sensorString(const std::string& key, const std::string& fallback) {
+long PluginParams::sensorInt(const std::string& key, long fallback) {
   sensor_used_.insert(key);
-  const auto* e = descendant(sensor_, key);
-  return e ? text(e) : fallback;
+  const auto* e = sensorElement(key);
+  if (!e) return fallback;
+  const std::string t = text(e);
+  try {
+    size_t used = 0;
+    const long v = std::stol(t, &used);
+    if (used != t.size()) throw std::invalid_argument(t);
+    return v;
+  } catch (const std::exception&) {
+    throw sensorError(key, "expected an integer, got '" + t + "'");
+  }
 }
-
-bool PluginParams::sensorHas(const std::string& key) const { return descendant(sensor_, key) != nullptr; }
 
 bool PluginParams::sensorBool(const std::string& key, bool fallback) {
   sensor_used_.insert(key);
-  const auto* e = descendant(sensor_, key);
+  const auto* e = sensorElement(key);
   if (!e) return fallback;
   const std::string t = text(e);
   if (t == "true" || t == "1") return true;
   if (t == "false" || t == "0") return false;
-  throw error(key, "expected true, false, 1 or 0, got '" + t + "'");
+  throw sensorError(key, "expected true, false, 1 or 0, got '" + t + "'");
+}
+
+std::string PluginParams::sensorString(const std::string& key, const std::string& fallback) {
+  sensor_used_.insert(key);
+  const auto* e = sensorElement(key);
+  return e ? text(e) : fallback;
 }
 
 std::string PluginParams::sensorType() const {
@@ -162,20 +200,23 @@ void PluginParams::checkAllUsed() const {
                         "): unknown parameter <" + e->Name() + ">");
     }
   }
-  if (!sensor_) return;
-  for (const auto* e = sensor_->FirstChildElement(); e; e = e->NextSiblingElement()) checkSensorElement(e, e->Name());
+  if (sensor_) checkSensorChildren(sensor_, "");
 }
 
-void PluginParams::checkSensorElement(const tinyxml2::XMLElement* e, const std::string& path) const {
-  if (sensor_used_.count(path)) return;
-  const std::string prefix = path + "/";
-  bool read_below = false;
-  for (const auto& used : sensor_used_) read_below = read_below || used.compare(0, prefix.size(), prefix) == 0;
-  if (!read_below) {
+// A child whose path was read (or ignored) is fine with all it holds; a child on the way to a
+// read path is checked in turn; any other child is unknown.
+void PluginParams::checkSensorChildren(const tinyxml2::XMLElement* parent, const std::string& path) const {
+  for (const auto* e = parent->FirstChildElement(); e; e = e->NextSiblingElement()) {
+    const std::string child_path = path.empty() ? e->Name() : path + "/" + e->Name();
+    if (sensor_used_.count(child_path)) continue;
+    const auto next = sensor_used_.lower_bound(child_path + "/");
+    if (next != sensor_used_.end() && next->compare(0, child_path.size() + 1, child_path + "/") == 0) {
+      checkSensorChildren(e, child_path);
+      continue;
+    }
     throw PluginError(source_ + ":" + std::to_string(e->GetLineNum()) + ": sensor '" + sensorName() + "' (" +
-                      sensorType() + "): unknown element <" + path + ">");
+                      sensorType() + "): unknown element " + xmlPath(child_path));
   }
-  for (const auto* c = e->FirstChildElement(); c; c = c->NextSiblingElement()) checkSensorElement(c, prefix + c->Name());
 }
 
 }  // namespace conde_sim

@@ -76,22 +76,30 @@ TEST(PluginParams, SensorKeysAreCheckedToo) {
   }
 }
 
-TEST(PluginParams, NestedSensorKeysAreReadByPathAndChecked) {
-  Parsed p("<sensor name=\"cam\" type=\"camera\"><camera><horizontal_fov>1.5</horizontal_fov>\n"
-           "<image><width>320</width><format>R8G8B8</format>\n<heigth>240</heigth></image></camera>"
-           "<plugin name=\"c\" filename=\"libgazebo_ros_camera.so\"/></sensor>");
-  PluginParams params(p.plugin, p.sensor, "r.urdf", "camera_link");
-  EXPECT_DOUBLE_EQ(params.sensorDouble("camera/horizontal_fov", 0), 1.5);
-  EXPECT_DOUBLE_EQ(params.sensorDouble("camera/image/width", 0), 320);
-  EXPECT_EQ(params.sensorString("camera/image/format", ""), "R8G8B8");
-  EXPECT_DOUBLE_EQ(params.sensorDouble("camera/image/height", 240), 240);  // absent: fallback
-  EXPECT_FALSE(params.sensorHas("camera/image/height"));
+TEST(PluginParams, NestedSensorKeysAreReadAndChecked) {
+  Parsed p("<sensor name=\"laser\" type=\"ray\"><update_rate>40</update_rate>\n<ray><scan><horizontal>\n"
+           "<samples>1081</samples>\n<min_angle>x</min_angle></horizontal></scan>\n<range><mni>0.1</mni></range></ray>"
+           "<plugin name=\"l\" filename=\"libgazebo_ros_laser.so\"/></sensor>");
+  PluginParams params(p.plugin, p.sensor, "r.urdf", "laser");
+  EXPECT_DOUBLE_EQ(params.sensorDouble("update_rate", 0), 40.0);
+  EXPECT_EQ(params.sensorInt("ray/scan/horizontal/samples", 1), 1081);
+  EXPECT_TRUE(params.sensorHas("ray/scan/horizontal"));
+  EXPECT_FALSE(params.sensorHas("ray/range/min"));
+  EXPECT_DOUBLE_EQ(params.sensorDouble("ray/range/min", 0.5), 0.5);
+  try {
+    params.sensorDouble("ray/scan/horizontal/min_angle", 0.0);
+    FAIL();
+  } catch (const PluginError& e) {
+    EXPECT_STREQ(e.what(), "r.urdf:4: sensor 'laser' (ray): <ray><scan><horizontal><min_angle>: expected a number, got 'x'");
+  }
   try {
     params.checkAllUsed();
     FAIL();
-  } catch (const PluginError& e) {
-    EXPECT_STREQ(e.what(), "r.urdf:3: sensor 'cam' (camera): unknown element <camera/image/heigth>");
+  } catch (const PluginError& e) {  // <min_angle> was read (if badly); <mni> never was
+    EXPECT_STREQ(e.what(), "r.urdf:5: sensor 'laser' (ray): unknown element <ray><range><mni>");
   }
+  params.ignore({"ray/range"});
+  EXPECT_NO_THROW(params.checkAllUsed());
 }
 
 }  // namespace

@@ -62,5 +62,8 @@ std::unique_ptr<SimPlugin> makeGroundTruthPlugin();
 std::unique_ptr<SimPlugin> makeImuSensorPlugin();
 std::unique_ptr<SimPlugin> makeCameraPlugin();
 std::unique_ptr<SimPlugin> makeVideoPlugin();
+std::unique_ptr<SimPlugin> makeLaserPlugin();
+std::unique_ptr<SimPlugin> makeRosControlPlugin();
+std::unique_ptr<SimPlugin> makeAckermannDrivePlugin();
 
 }  // namespace conde_sim

@@ -42,18 +42,23 @@ class PluginParams {
   std::vector<std::string> getList(const std::string& key);
 
   // Keys of the enclosing <sensor> element (update_rate, always_on, ...). A key may be a path
-  // into nested elements, e.g. "camera/image/width"; elements under a path nobody read are
-  // reported by checkAllUsed() with their whole path.
+  // into nested elements, "ray/scan/horizontal/samples" for <ray><scan><horizontal><samples>.
+  bool sensorHas(const std::string& key) const;
   double sensorDouble(const std::string& key, double fallback);
+  long sensorInt(const std::string& key, long fallback);
   bool sensorBool(const std::string& key, bool fallback);
   std::string sensorString(const std::string& key, const std::string& fallback);
-  bool sensorHas(const std::string& key) const;
+  // "r.urdf:57: sensor 'laser' (ray): <ray><scan><horizontal><samples>: <what>", with the line
+  // of that element (of the <sensor> when it is absent).
+  PluginError sensorError(const std::string& key, const std::string& what) const;
   std::string sensorType() const;
   std::string sensorName() const;
 
-  // Keys that Gazebo reads but that have no effect here; accepted silently.
+  // Keys that Gazebo reads but that have no effect here; accepted silently (a sensor path
+  // accepts everything below it).
   void ignore(const std::vector<std::string>& keys);
-  // Throws PluginError for the first key of <plugin> (and <sensor>) that was never read.
+  // Throws PluginError for the first key of <plugin> (and, at any depth, of <sensor>) that was
+  // never read.
   void checkAllUsed() const;
 
   // "robot.urdf:42: plugin 'diff_drive' (libgazebo_ros_diff_drive.so)"
@@ -62,11 +67,10 @@ class PluginParams {
 
  private:
   const tinyxml2::XMLElement* child(const tinyxml2::XMLElement* parent, const std::string& key) const;
-  // The element at a '/'-separated path below `parent`, or nullptr.
-  const tinyxml2::XMLElement* descendant(const tinyxml2::XMLElement* parent, const std::string& path) const;
-  void checkSensorElement(const tinyxml2::XMLElement* e, const std::string& path) const;
   std::string text(const tinyxml2::XMLElement* e) const;
   double toDouble(const tinyxml2::XMLElement* e, const std::string& key) const;
+  const tinyxml2::XMLElement* sensorElement(const std::string& path) const;
+  void checkSensorChildren(const tinyxml2::XMLElement* parent, const std::string& path) const;
 
   const tinyxml2::XMLElement* plugin_;
   const tinyxml2::XMLElement* sensor_;

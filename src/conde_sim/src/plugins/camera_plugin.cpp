@@ -54,9 +54,9 @@ cp::Pose parsePose(PluginParams& params, const std::string& text) {
   double v[6];
   std::string rest;
   for (double& x : v) {
-    if (!(in >> x)) throw params.error("pose", "expected six numbers 'x y z roll pitch yaw', got '" + text + "'");
+    if (!(in >> x)) throw params.sensorError("pose", "expected six numbers 'x y z roll pitch yaw', got '" + text + "'");
   }
-  if (in >> rest) throw params.error("pose", "expected six numbers 'x y z roll pitch yaw', got '" + text + "'");
+  if (in >> rest) throw params.sensorError("pose", "expected six numbers 'x y z roll pitch yaw', got '" + text + "'");
   return cp::Pose::fromXyzRpy(v[0], v[1], v[2], v[3], v[4], v[5]);
 }
 
@@ -83,12 +83,12 @@ class CameraPlugin : public SimPlugin {
     const double width = params.sensorDouble("camera/image/width", 320);
     const double height = params.sensorDouble("camera/image/height", 240);
     if (width <= 0 || height <= 0 || width != std::floor(width) || height != std::floor(height)) {
-      throw params.error("camera/image", "image size must be a positive whole number of pixels (got " +
+      throw params.sensorError("camera/image", "image size must be a positive whole number of pixels (got " +
                                              number(width) + "x" + number(height) + ")");
     }
     const double hfov_rad = params.sensorDouble("camera/horizontal_fov", 1.047);
     if (!(hfov_rad > 0 && hfov_rad < M_PI)) {
-      throw params.error("camera/horizontal_fov", "must be in (0, pi) rad (got " + number(hfov_rad) + ")");
+      throw params.sensorError("camera/horizontal_fov", "must be in (0, pi) rad (got " + number(hfov_rad) + ")");
     }
     const std::string format = params.sensorString("camera/image/format", "R8G8B8");
     if (format == "R8G8B8" || format == "RGB_INT8") {
@@ -98,14 +98,14 @@ class CameraPlugin : public SimPlugin {
     } else if (format == "L8" || format == "L_INT8") {
       encoding_ = sensor_msgs::image_encodings::MONO8;
     } else {
-      throw params.error("camera/image/format", "unknown image format '" + format +
+      throw params.sensorError("camera/image/format", "unknown image format '" + format +
                                                     "' (expected R8G8B8, B8G8R8 or L8)");
     }
     cp::CameraModel model = cp::CameraModel::fromHorizontalFov(int(width), int(height), hfov_rad);
     model.near_clip_m = params.sensorDouble("camera/clip/near", 0.1);
     model.far_clip_m = params.sensorDouble("camera/clip/far", 100.0);
     if (!(model.near_clip_m > 0 && model.far_clip_m > model.near_clip_m)) {
-      throw params.error("camera/clip", "needs 0 < near < far (got near " + number(model.near_clip_m) + ", far " +
+      throw params.sensorError("camera/clip", "needs 0 < near < far (got near " + number(model.near_clip_m) + ", far " +
                                             number(model.far_clip_m) + ")");
     }
     readNoise(params, model);
@@ -172,7 +172,7 @@ class CameraPlugin : public SimPlugin {
     try {
       renderer_ = std::make_unique<cp::CameraRenderer>(model);
     } catch (const std::invalid_argument& e) {
-      throw params.error("camera", e.what());
+      throw params.sensorError("camera", e.what());
     }
     rng_.seed(std::hash<std::string>()(robot.spec.name + "/" + link_));
 
@@ -226,12 +226,12 @@ class CameraPlugin : public SimPlugin {
     if (!params.sensorHas("camera/noise")) return;
     const std::string type = params.sensorString("camera/noise/type", "gaussian");
     if (type != "gaussian" && type != "none") {
-      throw params.error("camera/noise/type", "unsupported noise type '" + type + "' (expected gaussian or none)");
+      throw params.sensorError("camera/noise/type", "unsupported noise type '" + type + "' (expected gaussian or none)");
     }
     const double mean = params.sensorDouble("camera/noise/mean", 0.0);
     const double stddev = params.sensorDouble("camera/noise/stddev", 0.0);
-    if (mean != 0.0) throw params.error("camera/noise/mean", "only zero-mean noise is supported");
-    if (stddev < 0) throw params.error("camera/noise/stddev", "must not be negative");
+    if (mean != 0.0) throw params.sensorError("camera/noise/mean", "only zero-mean noise is supported");
+    if (stddev < 0) throw params.sensorError("camera/noise/stddev", "must not be negative");
     if (type == "gaussian") model.noise_stddev = stddev;
   }
 
@@ -245,7 +245,7 @@ class CameraPlugin : public SimPlugin {
     sensor.p2 = params.sensorDouble("camera/distortion/p2", 0.0);
     const std::string center = params.sensorString("camera/distortion/center", "0.5 0.5");
     if (center != "0.5 0.5") {
-      throw params.error("camera/distortion/center", "only the image centre '0.5 0.5' is supported (got '" + center +
+      throw params.sensorError("camera/distortion/center", "only the image centre '0.5 0.5' is supported (got '" + center +
                                                          "'); move the principal point with <Cx>/<Cy>");
     }
     plugin.k1 = params.getDouble("distortionK1", 0.0);

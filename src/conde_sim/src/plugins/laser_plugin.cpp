@@ -1,0 +1,181 @@
+// libgazebo_ros_laser.so (and libgazebo_ros_gpu_laser.so): sensor_msgs/LaserScan from a 2D
+// <sensor type="ray"> (or "gpu_ray") on a link, cast on the CPU through the physics engine.
+//
+//   <gazebo reference="laser"><sensor type="ray" name="lidar">
+//     <pose>0 0 0 0 0 0</pose> <update_rate>40</update_rate> <visualize>false</visualize>
+//     <ray>
+//       <scan><horizontal><samples>1081</samples> <resolution>1</resolution>
+//         <min_angle>-2.356</min_angle> <max_angle>2.356</max_angle></horizontal></scan>
+//       <range><min>0.06</min> <max>10.0</max> <resolution>0.01</resolution></range>
+//       <noise><type>gaussian</type> <mean>0.0</mean> <stddev>0.01</stddev></noise>
+//     </ray>
+//     <plugin name="lidar" filename="libgazebo_ros_laser.so">
+//       <topicName>scan</topicName> <frameName>laser</frameName>
+//     </plugin></sensor></gazebo>
+//
+// As Gazebo: samples x resolution beams from min_angle to max_angle (angle_increment = span /
+// (beams - 1)), rays start at <range><min>, update_rate 0 = every physics step, the scan is
+// taken from <pose> in the link but stamped in <frameName>. <range><resolution> is accepted and
+// not applied (Gazebo does not apply it either); <vertical> must have 1 sample (2D only).
+// Differences: the defaults of topicName / frameName are `scan` / the sensor's link (Gazebo:
+// `/world` for both); no return within range is +inf (REP 117); <gaussianNoise> in the plugin
+// (from gazebo_ros_block_laser) adds zero-mean noise of that standard deviation to the
+// sensor's own <noise>; the frame gets the robot's frame prefix; nothing is cast while nobody
+// subscribes. The stamp is the simulated time of the scan.
+#include <sensor_msgs/LaserScan.h>
+
+#include <cmath>
+#include <functional>
+#include <sstream>
+
+#include "conde_sim/laser_scanner.h"
+#include "conde_sim/plugin.h"
+
+namespace conde_sim {
+namespace {
+
+namespace cp = conde_physics;
+
+std::string number(double v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
+
+class LaserPlugin : public SimPlugin {
+ public:
+  void load(PluginContext& ctx, PluginParams& params) override {
+    ctx_ = ctx;
+    ros::NodeHandle nh = ctx.nodeHandle(params);
+    const std::string link = params.referenceLink();
+    if (!params.inSensor() || link.empty()) {
+      throw PluginError(params.where() + ": must sit in a <sensor type=\"ray\"> inside <gazebo reference=\"link\">");
+    }
+    if (params.sensorType() != "ray" && params.sensorType() != "gpu_ray") {
+      throw PluginError(params.where() + ": needs a <sensor type=\"ray\"> or \"gpu_ray\", got type '" +
+                        params.sensorType() + "'");
+    }
+    int body = -1;
+    cp::Pose unused;
+    if (!ctx.sim->robot(ctx.robot).model.linkInBody(link, body, unused)) {
+      throw PluginError(params.where() + ": <gazebo reference=\"" + link + "\"> must name a link to carry the sensor");
+    }
+    LaserScanConfig c;
+    c.link = link;
+    c.sensor_in_link = readPose(params);
+    const double rate_hz = params.sensorDouble("update_rate", 0.0);
+    if (rate_hz < 0) throw params.sensorError("update_rate", "must not be negative, got " + number(rate_hz));
+    period_steps_ = updatePeriodSteps(rate_hz, ctx.sim->stepS());
+    params.sensorBool("always_on", true);
+
+    const long samples = params.sensorInt("ray/scan/horizontal/samples", 640);
+    if (samples < 1) throw params.sensorError("ray/scan/horizontal/samples", "must be at least 1, got " + std::to_string(samples));
+    const double resolution = params.sensorDouble("ray/scan/horizontal/resolution", 1.0);
+    if (!(resolution > 0)) {
+      throw params.sensorError("ray/scan/horizontal/resolution", "must be positive, got " + number(resolution));
+    }
+    c.beam_count = static_cast<int>(std::max(1.0, std::round(samples * resolution)));
+    c.min_angle_rad = params.sensorDouble("ray/scan/horizontal/min_angle", 0.0);
+    c.max_angle_rad = params.sensorDouble("ray/scan/horizontal/max_angle", 0.0);
+    if (c.beam_count > 1 && !(c.min_angle_rad < c.max_angle_rad)) {
+      throw params.sensorError("ray/scan/horizontal/max_angle", "must be greater than <min_angle> (" +
+                                                                    number(c.min_angle_rad) + "), got " +
+                                                                    number(c.max_angle_rad));
+    }
+    const long vertical = params.sensorInt("ray/scan/vertical/samples", 1);
+    if (vertical != 1) {
+      throw params.sensorError("ray/scan/vertical/samples", "only 2D scans are supported (1 sample), got " +
+                                                                std::to_string(vertical));
+    }
+    params.ignore({"ray/scan/vertical/resolution", "ray/scan/vertical/min_angle", "ray/scan/vertical/max_angle"});
+    c.min_range_m = params.sensorDouble("ray/range/min", 0.0);
+    c.max_range_m = params.sensorDouble("ray/range/max", 0.0);
+    if (c.min_range_m < 0) throw params.sensorError("ray/range/min", "must not be negative, got " + number(c.min_range_m));
+    if (!(c.max_range_m > c.min_range_m)) {
+      throw params.sensorError("ray/range/max", "must be greater than <min> (" + number(c.min_range_m) + "), got " +
+                                                    number(c.max_range_m));
+    }
+    if (params.sensorDouble("ray/range/resolution", 0.0) < 0) {
+      throw params.sensorError("ray/range/resolution", "must not be negative");
+    }
+    readNoise(params, c);
+    // Each sensor its own noise, the same in every run.
+    c.noise_seed = static_cast<std::uint32_t>(
+        std::hash<std::string>()(ctx.sim->robot(ctx.robot).spec.name + "/" + params.sensorName()));
+
+    const std::string topic = params.getString("topicName", "scan");
+    frame_ = ctx.frame(params.getString("frameName", link));
+    if (frame_.size() > 1 && frame_[0] == '/') frame_ = frame_.substr(1);  // tf2 frames have no leading slash
+    params.ignore({"hokuyoMinIntensity", "updateRate", "alwaysOn", "visualize", "topic"});
+    scanner_ = std::make_unique<LaserScanner>(*ctx.sim, ctx.robot, c);
+
+    msg_.header.frame_id = frame_;
+    msg_.angle_min = static_cast<float>(c.min_angle_rad);
+    msg_.angle_max = static_cast<float>(c.beam_count > 1 ? c.max_angle_rad : c.min_angle_rad);
+    msg_.angle_increment = static_cast<float>(scanner_->angleIncrement());
+    msg_.time_increment = 0.0f;  // all beams at once
+    msg_.scan_time = static_cast<float>(period_steps_ * ctx.sim->stepS());
+    msg_.range_min = static_cast<float>(c.min_range_m);
+    msg_.range_max = static_cast<float>(c.max_range_m);
+    msg_.ranges.resize(c.beam_count);
+    pub_ = nh.advertise<sensor_msgs::LaserScan>(topic, 1);
+    ROS_INFO("%s: LiDAR '%s' on link %s: %d beams over [%.4f, %.4f] rad, %.3f..%.3f m, noise %.4f m, %.1f Hz, "
+             "%s in frame %s", ctx.sim->robot(ctx.robot).spec.name.c_str(), params.sensorName().c_str(), link.c_str(),
+             c.beam_count, c.min_angle_rad, c.max_angle_rad, c.min_range_m, c.max_range_m, c.noise_stddev_m,
+             1.0 / (period_steps_ * ctx.sim->stepS()), pub_.getTopic().c_str(), frame_.c_str());
+  }
+
+  void afterStep() override {
+    if (ctx_.sim->stepCount() % period_steps_ != 0 || pub_.getNumSubscribers() == 0) return;
+    const std::vector<float>& ranges = scanner_->scan();
+    std::copy(ranges.begin(), ranges.end(), msg_.ranges.begin());
+    msg_.header.stamp = ctx_.now();
+    pub_.publish(msg_);
+  }
+
+ private:
+  // SDF <pose>: "x y z roll pitch yaw" of the sensor in the link.
+  static cp::Pose readPose(PluginParams& params) {
+    const std::string text = params.sensorString("pose", "0 0 0 0 0 0");
+    std::istringstream in(text);
+    double v[6];
+    std::string rest;
+    for (double& x : v) {
+      if (!(in >> x)) throw params.sensorError("pose", "expected six numbers (x y z roll pitch yaw), got '" + text + "'");
+    }
+    if (in >> rest) throw params.sensorError("pose", "expected six numbers (x y z roll pitch yaw), got '" + text + "'");
+    return cp::Pose::fromXyzRpy(v[0], v[1], v[2], v[3], v[4], v[5]);
+  }
+
+  static void readNoise(PluginParams& params, LaserScanConfig& c) {
+    if (params.sensorHas("ray/noise")) {
+      const std::string type = params.sensorString("ray/noise/type", "gaussian");
+      if (type != "gaussian" && type != "none") {
+        throw params.sensorError("ray/noise/type", "expected 'gaussian' or 'none', got '" + type + "'");
+      }
+      const double mean = params.sensorDouble("ray/noise/mean", 0.0);
+      const double stddev = params.sensorDouble("ray/noise/stddev", 0.0);
+      if (stddev < 0) throw params.sensorError("ray/noise/stddev", "must not be negative, got " + number(stddev));
+      if (type == "gaussian") {
+        c.noise_mean_m = mean;
+        c.noise_stddev_m = stddev;
+      }
+    }
+    const double extra = params.getDouble("gaussianNoise", 0.0);
+    if (extra < 0) throw params.error("gaussianNoise", "must not be negative");
+    c.noise_stddev_m = std::hypot(c.noise_stddev_m, extra);  // independent noises add in variance
+  }
+
+  PluginContext ctx_;
+  std::unique_ptr<LaserScanner> scanner_;
+  std::string frame_;
+  std::uint64_t period_steps_ = 1;
+  sensor_msgs::LaserScan msg_;
+  ros::Publisher pub_;
+};
+
+}  // namespace
+
+std::unique_ptr<SimPlugin> makeLaserPlugin() { return std::make_unique<LaserPlugin>(); }
+
+}  // namespace conde_sim

@@ -1,0 +1,315 @@
+// libgazebo_ros_control.so: ros_control-style joint controllers configured by the usual
+// controller YAML on the parameter server, each listening on <namespace>/<controller>/command
+// (std_msgs/Float64), so that setups written for gazebo_ros_control + controller_manager run
+// without them (Debian packages neither).
+//
+//   <gazebo><plugin name="gazebo_ros_control" filename="libgazebo_ros_control.so">
+//     <robotNamespace>/</robotNamespace>
+//     <controllers>joint_state_ctrlr left_steering_ctrlr right_steering_ctrlr</controllers>  <!-- optional -->
+//   </plugin></gazebo>
+//
+// and, loaded with <rosparam file="...yaml"/> into the same namespace before the simulator starts:
+//   left_steering_ctrlr:
+//     type: effort_controllers/JointPositionController
+//     joint: left_steering_joint
+//     pid: {p: 4.0, i: 0.0, d: 1.0, i_clamp: 0.0}
+//   joint_state_ctrlr:
+//     type: joint_state_controller/JointStateController
+//     publish_rate: 30
+//
+// Controllers: the names in <controllers> (our extension; in Gazebo setups `controller_manager
+// spawner` names them), or else every `<namespace>/<name>/type` naming a ros_control controller
+// (`package/SomethingController`). Supported types: see joint_controller.h, plus
+// joint_state_controller/JointStateController (all movable joints on <namespace>/joint_states,
+// at publish_rate, efforts = the controllers' outputs). Any other type, an unknown key or an
+// unknown joint stops the simulator with a message naming the controller, the key and the value.
+// pid accepts p, i, d, i_clamp (or i_clamp_min = -i_clamp_max), antiwindup, publish_state.
+//
+// Gazebo keys: <controlPeriod> [s] (default: every physics step), <robotSimType> (only
+// gazebo_ros_control/DefaultRobotHWSim), <eStopTopic> (std_msgs/Bool: while true, no effort,
+// velocity 0, positions held); <robotParam> and <legacyModeNS> are accepted and have no effect
+// (the robot is the URDF this block sits in). Differences: the namespace defaults to the robot's
+// namespace (Gazebo: the model name); controller_manager's services (list_controllers, ...) are
+// not offered, because controller_manager_msgs is not packaged for Debian.
+#include <std_msgs/Bool.h>
+#include <std_msgs/Float64.h>
+#include <sensor_msgs/JointState.h>
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "conde_sim/joint_controller.h"
+#include "conde_sim/plugin.h"
+
+namespace conde_sim {
+namespace {
+
+namespace cp = conde_physics;
+
+constexpr char kJointStateType[] = "joint_state_controller/JointStateController";
+
+std::string supportedTypes() {
+  std::string s;
+  for (auto t : {JointControllerType::kEffortPosition, JointControllerType::kEffortVelocity, JointControllerType::kEffort,
+                 JointControllerType::kVelocity, JointControllerType::kPosition}) {
+    s += std::string(jointControllerTypeName(t)) + ", ";
+  }
+  return s + kJointStateType;
+}
+
+// A ros_control controller type by convention: "package/NameController".
+bool looksLikeControllerType(const std::string& type) {
+  const size_t slash = type.find('/');
+  return slash != std::string::npos && slash > 0 && type.size() > 10 &&
+         type.compare(type.size() - 10, 10, "Controller") == 0;
+}
+
+std::string typeName(XmlRpc::XmlRpcValue::Type t) {
+  switch (t) {
+    case XmlRpc::XmlRpcValue::TypeBoolean: return "a boolean";
+    case XmlRpc::XmlRpcValue::TypeInt: return "an integer";
+    case XmlRpc::XmlRpcValue::TypeDouble: return "a number";
+    case XmlRpc::XmlRpcValue::TypeString: return "a string";
+    case XmlRpc::XmlRpcValue::TypeArray: return "a list";
+    case XmlRpc::XmlRpcValue::TypeStruct: return "a dictionary";
+    default: return "something else";
+  }
+}
+
+class RosControlPlugin : public SimPlugin {
+ public:
+  void load(PluginContext& ctx, PluginParams& params) override {
+    ctx_ = ctx;
+    params_where_ = params.where();
+    nh_ = ctx.nodeHandle(params);
+    const std::string sim_type = params.getString("robotSimType", "gazebo_ros_control/DefaultRobotHWSim");
+    if (sim_type != "gazebo_ros_control/DefaultRobotHWSim") {
+      throw params.error("robotSimType", "only gazebo_ros_control/DefaultRobotHWSim is supported, got '" + sim_type + "'");
+    }
+    const double period_s = params.getDouble("controlPeriod", 0.0);
+    if (period_s < 0) throw params.error("controlPeriod", "must not be negative");
+    period_steps_ = period_s > 0 ? std::max<std::uint64_t>(1, std::llround(period_s / ctx.sim->stepS())) : 1;
+    const std::string estop_topic = params.getString("eStopTopic", "");
+    params.ignore({"robotParam", "legacyModeNS"});
+
+    std::vector<std::string> names = params.getList("controllers");
+    const bool listed = params.has("controllers");
+    if (!listed) names = findControllers();
+    for (const std::string& name : names) loadController(name, listed);
+    if (names.empty()) {
+      ROS_WARN("%s: no controllers found under %s (give <controllers> or load the controller YAML first)",
+               params_where_.c_str(), nh_.getNamespace().c_str());
+    }
+    if (!estop_topic.empty()) estop_sub_ = nh_.subscribe(estop_topic, 1, &RosControlPlugin::onEStop, this);
+    std::string summary;
+    for (const auto& c : controllers_) summary += " " + c.name;
+    if (joint_state_pub_) summary += " " + joint_state_name_;
+    ROS_INFO("%s: ros_control controllers in %s:%s", ctx.sim->robot(ctx.robot).spec.name.c_str(),
+             nh_.getNamespace().c_str(), summary.c_str());
+  }
+
+  void reset() override {
+    for (auto& c : controllers_) c.controller->reset();
+  }
+
+  void beforeStep() override {
+    if (ctx_.sim->stepCount() % period_steps_ == 0) {
+      for (auto& c : controllers_) c.controller->update(period_steps_ * ctx_.sim->stepS());
+    }
+    for (auto& c : controllers_) c.controller->apply();
+  }
+
+  void afterStep() override {
+    if (!joint_state_pub_ || ctx_.sim->stepCount() % joint_state_period_steps_ != 0) return;
+    if (joint_state_pub_.getNumSubscribers() == 0) return;
+    const cp::PhysicsEngine& e = ctx_.sim->engine();
+    const cp::ModelId id = ctx_.sim->robot(ctx_.robot).id;
+    joint_state_.header.stamp = ctx_.now();
+    for (size_t j = 0; j < joint_state_.name.size(); ++j) {
+      joint_state_.position[j] = e.jointPosition(id, static_cast<int>(j));
+      joint_state_.velocity[j] = e.jointVelocity(id, static_cast<int>(j));
+      joint_state_.effort[j] = 0.0;
+    }
+    for (const auto& c : controllers_) joint_state_.effort[c.controller->joint()] = c.controller->effort();
+    joint_state_pub_.publish(joint_state_);
+  }
+
+ private:
+  struct Loaded {
+    std::string name;
+    std::unique_ptr<JointController> controller;
+    ros::Subscriber sub;
+  };
+
+  // Controllers on the parameter server: direct children of the namespace with a `type` key
+  // naming a ros_control controller, in name order.
+  std::vector<std::string> findControllers() const {
+    std::vector<std::string> all, names;
+    ros::param::getParamNames(all);
+    std::string ns = nh_.getNamespace();
+    if (ns.empty() || ns.back() != '/') ns += "/";
+    for (const std::string& key : all) {
+      if (key.compare(0, ns.size(), ns) != 0) continue;
+      const std::string rest = key.substr(ns.size());
+      const size_t slash = rest.find('/');
+      if (slash == std::string::npos || rest.substr(slash) != "/type") continue;
+      std::string type;
+      if (ros::param::get(key, type) && looksLikeControllerType(type)) names.push_back(rest.substr(0, slash));
+    }
+    std::sort(names.begin(), names.end());
+    return names;
+  }
+
+  PluginError controllerError(const std::string& name, const std::string& key, const std::string& what) const {
+    return PluginError(params_where_ + ": controller '" + name + "': parameter " + nh_.resolveName(name + "/" + key) +
+                       ": " + what);
+  }
+
+  void loadController(const std::string& name, bool listed) {
+    XmlRpc::XmlRpcValue config;
+    if (!nh_.getParam(name, config)) {
+      throw controllerError(name, "type", listed ? "not set: load the controller YAML before the simulator starts"
+                                                 : "not set");
+    }
+    if (config.getType() != XmlRpc::XmlRpcValue::TypeStruct) {
+      throw PluginError(params_where_ + ": controller '" + name + "': parameter " + nh_.resolveName(name) +
+                        ": expected a dictionary, got " + typeName(config.getType()));
+    }
+    const std::string type = stringKey(name, config, "type");
+    if (type == kJointStateType) {
+      loadJointStateController(name, config);
+      return;
+    }
+    JointControllerType jtype;
+    if (!parseJointControllerType(type, jtype)) {
+      throw controllerError(name, "type", "unsupported controller type '" + type + "' (supported: " + supportedTypes() + ")");
+    }
+    const std::vector<std::string> allowed = {"type", "joint", "pid"};
+    checkKeys(name, config, "", allowed);
+    const std::string joint = stringKey(name, config, "joint");
+    const int index = ctx_.sim->robot(ctx_.robot).model.jointIndex(joint);
+    if (index < 0) {
+      throw controllerError(name, "joint", "robot '" + ctx_.sim->robot(ctx_.robot).spec.name +
+                                               "' has no movable joint named '" + joint + "'");
+    }
+    for (const auto& c : controllers_) {
+      if (c.controller->joint() == index) {
+        throw controllerError(name, "joint", "joint '" + joint + "' is already controlled by '" + c.name + "'");
+      }
+    }
+    PidController::Gains gains;
+    if (jointControllerUsesPid(jtype)) {
+      if (!config.hasMember("pid")) throw controllerError(name, "pid", "required for " + type + " (p, i, d, i_clamp)");
+      gains = readPid(name, config["pid"]);
+    } else if (config.hasMember("pid")) {
+      throw controllerError(name, "pid", type + " has no PID");
+    }
+    Loaded loaded;
+    loaded.name = name;
+    loaded.controller = std::make_unique<JointController>(*ctx_.sim, ctx_.robot, index, jtype, gains);
+    JointController* controller = loaded.controller.get();
+    const std::string topic = name + "/command";
+    loaded.sub = nh_.subscribe<std_msgs::Float64>(topic, 1, [this, controller, name](const std_msgs::Float64::ConstPtr& m) {
+      if (!controller->setCommand(m->data)) {
+        ROS_WARN_THROTTLE(1.0, "%s: ignoring a non-finite command on %s", name.c_str(),
+                          nh_.resolveName(name + "/command").c_str());
+      }
+    });
+    controllers_.push_back(std::move(loaded));
+  }
+
+  void loadJointStateController(const std::string& name, XmlRpc::XmlRpcValue& config) {
+    checkKeys(name, config, "", {"type", "publish_rate", "extra_joints"});
+    if (config.hasMember("extra_joints")) throw controllerError(name, "extra_joints", "is not supported");
+    if (joint_state_pub_) {
+      throw controllerError(name, "type", "a second " + std::string(kJointStateType) + " (the first is '" +
+                                              joint_state_name_ + "')");
+    }
+    double rate_hz = 50.0;  // joint_state_controller's default
+    if (config.hasMember("publish_rate")) rate_hz = number(name, "publish_rate", config["publish_rate"]);
+    if (rate_hz <= 0) throw controllerError(name, "publish_rate", "must be positive");
+    joint_state_period_steps_ = updatePeriodSteps(rate_hz, ctx_.sim->stepS());
+    joint_state_name_ = name;
+    const cp::ArticulatedModel& model = ctx_.sim->robot(ctx_.robot).model;
+    for (const cp::JointSpec& j : model.joints) joint_state_.name.push_back(j.name);
+    joint_state_.position.resize(model.joints.size());
+    joint_state_.velocity.resize(model.joints.size());
+    joint_state_.effort.resize(model.joints.size());
+    joint_state_pub_ = nh_.advertise<sensor_msgs::JointState>("joint_states", 10);
+  }
+
+  PidController::Gains readPid(const std::string& name, XmlRpc::XmlRpcValue& pid) {
+    if (pid.getType() != XmlRpc::XmlRpcValue::TypeStruct) {
+      throw controllerError(name, "pid", "expected a dictionary (p, i, d, i_clamp), got " + typeName(pid.getType()));
+    }
+    checkKeys(name, pid, "pid/", {"p", "i", "d", "i_clamp", "i_clamp_min", "i_clamp_max", "antiwindup", "publish_state"});
+    PidController::Gains g;
+    auto get = [&](const char* key, double fallback) {
+      return pid.hasMember(key) ? number(name, std::string("pid/") + key, pid[key]) : fallback;
+    };
+    g.p = get("p", 0.0);
+    g.i = get("i", 0.0);
+    g.d = get("d", 0.0);
+    g.i_clamp = std::abs(get("i_clamp", 0.0));
+    if (pid.hasMember("i_clamp_max") || pid.hasMember("i_clamp_min")) {
+      const double hi = get("i_clamp_max", g.i_clamp), lo = get("i_clamp_min", -hi);
+      if (std::abs(lo + hi) > 1e-12) {
+        throw controllerError(name, "pid/i_clamp_min", "must be -i_clamp_max (asymmetric clamps are not supported)");
+      }
+      g.i_clamp = std::abs(hi);
+    }
+    if (g.i != 0.0 && g.i_clamp == 0.0) {
+      // control_toolbox clamps the integral term to [0, 0] when no i_clamp is given: i has no effect.
+      g.i = 0.0;
+      ROS_WARN("%s: controller '%s': pid/i is ignored without pid/i_clamp (as in control_toolbox)",
+               params_where_.c_str(), name.c_str());
+    }
+    return g;
+  }
+
+  void checkKeys(const std::string& name, XmlRpc::XmlRpcValue& config, const std::string& prefix,
+                 const std::vector<std::string>& allowed) {
+    for (auto& kv : config) {
+      if (std::find(allowed.begin(), allowed.end(), kv.first) != allowed.end()) continue;
+      std::string list;
+      for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
+      throw controllerError(name, prefix + kv.first, "unknown key (expected one of: " + list + ")");
+    }
+  }
+
+  std::string stringKey(const std::string& name, XmlRpc::XmlRpcValue& config, const std::string& key) {
+    if (!config.hasMember(key)) throw controllerError(name, key, "required key is missing");
+    if (config[key].getType() != XmlRpc::XmlRpcValue::TypeString) {
+      throw controllerError(name, key, "expected a string, got " + typeName(config[key].getType()));
+    }
+    return static_cast<std::string>(config[key]);
+  }
+
+  double number(const std::string& name, const std::string& key, XmlRpc::XmlRpcValue& v) {
+    if (v.getType() == XmlRpc::XmlRpcValue::TypeDouble) return static_cast<double>(v);
+    if (v.getType() == XmlRpc::XmlRpcValue::TypeInt) return static_cast<int>(v);
+    if (v.getType() == XmlRpc::XmlRpcValue::TypeBoolean) return static_cast<bool>(v) ? 1.0 : 0.0;
+    throw controllerError(name, key, "expected a number, got " + typeName(v.getType()));
+  }
+
+  void onEStop(const std_msgs::Bool::ConstPtr& msg) {
+    for (auto& c : controllers_) c.controller->setStopped(msg->data);
+  }
+
+  PluginContext ctx_;
+  ros::NodeHandle nh_;
+  std::string params_where_;
+  std::uint64_t period_steps_ = 1, joint_state_period_steps_ = 1;
+  std::vector<Loaded> controllers_;
+  std::string joint_state_name_;
+  ros::Publisher joint_state_pub_;
+  sensor_msgs::JointState joint_state_;
+  ros::Subscriber estop_sub_;
+};
+
+}  // namespace
+
+std::unique_ptr<SimPlugin> makeRosControlPlugin() { return std::make_unique<RosControlPlugin>(); }
+
+}  // namespace conde_sim

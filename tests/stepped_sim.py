@@ -1,0 +1,75 @@
+"""Helpers for rostests that drive a paused conde_sim node by its step service (no sleeping on
+the wall clock for simulated time; wall-clock waits only for message delivery)."""
+import time
+
+import rospy
+from conde_msgs.srv import StepSimulation
+
+WALL_TIMEOUT_S = 60.0  # generous: the machine may be slow and busy
+
+
+def wait_for(predicate, what, timeout_s=WALL_TIMEOUT_S):
+    """Polls `predicate` on the wall clock until it holds."""
+    end = time.monotonic() + timeout_s
+    while time.monotonic() < end and not rospy.is_shutdown():
+        if predicate():
+            return
+        time.sleep(0.01)
+    raise AssertionError(f"timed out after {timeout_s} s waiting for {what}")
+
+
+class SteppedSim:
+    """The step service of a node started with ~paused:=true."""
+
+    def __init__(self, node="/conde_sim"):
+        rospy.wait_for_service(node + "/step", timeout=WALL_TIMEOUT_S)
+        self._step = rospy.ServiceProxy(node + "/step", StepSimulation)
+        self.time_s = self._step(0).sim_time_s
+
+    def step(self, steps):
+        """Advances the simulation by `steps` physics steps; returns the simulated time."""
+        response = self._step(steps)
+        assert response.success, response.message
+        self.time_s = response.sim_time_s
+        return self.time_s
+
+    def run(self, seconds, every_s=0.05, before_chunk=None, step_s=0.001):
+        """Steps `seconds` of simulated time in chunks of `every_s`, calling `before_chunk()`
+        before each one (to re-send a command like a driver node at 1 / every_s Hz)."""
+        chunk = max(1, round(every_s / step_s))
+        for _ in range(max(1, round(seconds / every_s))):
+            if before_chunk:
+                before_chunk()
+            self.step(chunk)
+        return self.time_s
+
+
+def connected(publisher_or_subscriber, what):
+    """Waits until the node is connected to a test's publisher or subscriber."""
+    wait_for(lambda: publisher_or_subscriber.get_num_connections() > 0, f"a connection on {what}")
+
+
+def send(publisher, message, what):
+    """Publishes once the node listens, and gives the message time to arrive before stepping."""
+    connected(publisher, what)
+    publisher.publish(message)
+    time.sleep(0.3)
+
+
+class Latest:
+    """Keeps the messages of a topic."""
+
+    def __init__(self, topic, msg_type):
+        self.messages = []
+        self.sub = rospy.Subscriber(topic, msg_type, self.messages.append, queue_size=100)
+        self.topic = topic
+
+    @property
+    def last(self):
+        return self.messages[-1] if self.messages else None
+
+    def wait_until_stamped(self, time_s, period_s):
+        """Waits for the message published at the last update not after `time_s`."""
+        wait_for(lambda: self.messages and self.messages[-1].header.stamp.to_sec() >= time_s - period_s - 1e-6,
+                 f"{self.topic} stamped {time_s:.3f} s")
+        return self.messages[-1]
