@@ -1,0 +1,60 @@
+#!/usr/bin/env python3
+"""The ROS side of test_control_node.py, run as its own process (rospy allows one node per
+process): it owns /clock and advances it one control period at a time, publishes control
+references for a while and then stops, and prints every /cmd_vel (with the clock and the phase)
+as JSON on stdout."""
+
+import json
+import sys
+import time
+
+import rospy
+from conde_msgs.msg import ControlReference
+from geometry_msgs.msg import Twist
+from rosgraph_msgs.msg import Clock
+
+WAIT_S = 60.0  # wall-clock patience (a busy machine)
+PERIOD = rospy.Duration(0, 33333334)  # one period of the node's 30 Hz loop (rounded up)
+
+
+def wait_for(condition, what):
+    deadline = time.monotonic() + WAIT_S
+    while not condition():
+        if time.monotonic() > deadline or rospy.is_shutdown():
+            sys.stderr.write("control_probe: timed out waiting for %s\n" % what)
+            sys.exit(2)
+        time.sleep(0.002)
+
+
+def main():
+    rospy.init_node("control_probe")
+    cmds = []
+    clock_pub = rospy.Publisher("/clock", Clock, queue_size=10)
+    ref_pub = rospy.Publisher("/conde_control_reference", ControlReference, queue_size=10)
+    sub = rospy.Subscriber("/cmd_vel", Twist, cmds.append)
+    wait_for(lambda: clock_pub.get_num_connections() > 0 and ref_pub.get_num_connections() > 0
+             and sub.get_num_connections() > 0, "the connections to conde_control")
+    now = rospy.Time(10, 0)
+    clock_pub.publish(Clock(clock=now))
+
+    log = []
+    for phase, steps in (("follow", 60), ("silent", 60)):
+        for _ in range(steps):
+            if phase == "follow":
+                ref = ControlReference()
+                ref.header.stamp = now
+                ref.lateral_offset_m = 0.1  # left of the lane centre
+                ref.linear_velocity_mps = 0.5
+                ref_pub.publish(ref)
+                time.sleep(0.005)  # let it arrive before the clock moves on
+            count = len(cmds)
+            now += PERIOD
+            clock_pub.publish(Clock(clock=now))
+            wait_for(lambda: len(cmds) > count, "a command after advancing the clock")
+            cmd = cmds[-1]
+            log.append([phase, now.to_sec(), cmd.linear.x, cmd.angular.z])
+    print(json.dumps(log))
+
+
+if __name__ == "__main__":
+    main()

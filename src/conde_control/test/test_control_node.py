@@ -1,0 +1,81 @@
+"""The conde_control node against a real roscore on a free loopback port, on simulated time owned
+by the test: references in, /cmd_vel out at the node's rate within the limits, braking when the
+references stop; a bad configuration stops it with the message and a non-zero exit."""
+
+import json
+import os
+import signal
+import subprocess
+
+import pytest
+
+from control_ros import PYTHON, Roscore
+from conde_control.control_law import ControlConfig
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+LIMITS = ControlConfig()
+PERIOD_S = 1.0 / 30.0
+
+
+@pytest.fixture(scope="module")
+def core():
+    core = Roscore("conde_control")
+    yield core
+    core.stop()
+
+
+def test_reference_in_cmd_vel_out_and_braking_when_stale(core):
+    core.set_params({"/use_sim_time": True}, clear=["/conde_control"])
+    node = subprocess.Popen(["rosrun", "conde_control", "conde_control"], env=core.env, stdout=subprocess.PIPE,
+                            stderr=subprocess.STDOUT, text=True)
+    try:
+        probe = subprocess.run([PYTHON, os.path.join(HERE, "control_probe.py")], env=core.env, capture_output=True,
+                               text=True, timeout=300)
+    finally:
+        node.send_signal(signal.SIGINT)
+        log = node.communicate(timeout=60)[0]
+    assert probe.returncode == 0, probe.stderr + "\nnode log:\n" + log
+    log_rows = json.loads(probe.stdout)
+    follow = [(v, w) for phase, _, v, w in log_rows if phase == "follow"]
+    silent = [(v, w) for phase, _, v, w in log_rows if phase == "silent"]
+    assert len(follow) == 60 and len(silent) == 60
+
+    # Following: speeds up to the reference at the acceleration limit; left of the lane centre,
+    # so it turns right.
+    assert follow[-1][0] == pytest.approx(0.5)
+    assert all(w <= 0.0 for _, w in follow) and follow[-1][1] < -0.5
+    # Stale 0.5 s (15 periods) after the last reference arrived, which was one period before the
+    # silent phase: it keeps going until then ...
+    assert all(v == pytest.approx(0.5) for v, _ in silent[:13]), str(silent[:20])
+    assert silent[13][0] == pytest.approx(0.5 - LIMITS.max_linear_accel_mps2 * PERIOD_S)
+    # ... then brakes to a stand.
+    assert silent[-1] == (0.0, 0.0)
+    assert "no reference on /conde_control_reference for 0.5 s: braking" in log
+
+    # Every limit holds on the published commands (one command per period).
+    cmds = [(0.0, 0.0)] + follow + silent
+    for (v0, w0), (v1, w1) in zip(cmds, cmds[1:]):
+        assert abs(v1) <= LIMITS.max_linear_mps + 1e-9 and abs(w1) <= LIMITS.max_angular_radps + 1e-9
+        assert abs(v1 - v0) <= LIMITS.max_linear_accel_mps2 * PERIOD_S * 1.001
+        assert abs(w1 - w0) <= LIMITS.max_angular_accel_radps2 * PERIOD_S * 1.001
+
+
+def test_bad_config_exits_with_the_message(core, tmp_path):
+    path = tmp_path / "control.yaml"
+    path.write_text("max_linear_mps: 0.5\nmax_speed: 2\n")
+    core.set_params({}, clear=["/conde_control"])
+    proc = subprocess.run(["rosrun", "conde_control", "conde_control", "_config:=%s" % path], env=core.env,
+                          capture_output=True, text=True, timeout=120)
+    assert proc.returncode != 0
+    lines = [l for l in proc.stderr.splitlines() if l.startswith("conde_control: error: ")]
+    assert lines == ["conde_control: error: %s: unknown key 'max_speed' (expected one of: offset_gain_per_m2, "
+                     "heading_gain_per_m, max_linear_mps, max_angular_radps, max_linear_accel_mps2, "
+                     "max_angular_accel_radps2)" % path], proc.stderr
+
+
+def test_bad_rate_exits_with_the_message(core):
+    core.set_params({}, clear=["/conde_control"])
+    proc = subprocess.run(["rosrun", "conde_control", "conde_control", "_rate_hz:=0"], env=core.env,
+                          capture_output=True, text=True, timeout=120)
+    assert proc.returncode != 0
+    assert "conde_control: error: parameter /conde_control/rate_hz: must be > 0, got 0" in proc.stderr.splitlines()

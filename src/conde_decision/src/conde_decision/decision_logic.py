@@ -1,0 +1,310 @@
+"""The decision logic of the Conde driving stack: lane measurements and panel signals in,
+control reference and state out.  Pure Python, no ROS.
+
+It turns its inputs into the events of state_machine.EVENTS, feeds them to the state machine
+loaded from YAML, and turns the current state's command into the fields of
+conde_msgs/ControlReference.  What it knows about the track (defaults in DecisionConfig, from
+worlds/tracks/competition_track.geometry.yaml):
+
+* The robot starts standing at the crosswalk (start zone), northbound in the east lane of the
+  central straight.  Lap after lap it passes the crosswalk alternately northbound and southbound
+  (the two loops of the "8" are driven in opposite senses), so one lap of the track is
+  `crossings_per_lap` = 2 crossings.  A crossing is counted when the robot reaches the crosswalk
+  after having left it; the start does not count.  Laps are counted at the end of a crossing's
+  approach (the robot arriving at the crosswalk), so the last lap is complete when the robot
+  stops there on "end of trial".
+* `fork_distance_m` after the crosswalk's far edge the road forks; the branch opens on the west
+  side: to the left after a northbound crossing, to the right after a southbound one
+  (`fork_sides`, taken in turn from the start).  The last direction signal (forward / left /
+  right) seen before the fork chooses: fork_left / fork_right when it names the side the fork
+  opens to, fork_straight otherwise (a "left" at a right-opening fork cannot be obeyed).  The
+  order is used up at the fork.
+
+Where the robot is along the road is dead-reckoned from the speed it is commanded (this module
+ramps its own speed at speed_ramp_mps2, the acceleration limit of conde_control, so that the
+commanded speed is what the robot drives) and corrected by every crosswalk sighting of
+conde_tracking (crosswalk_distance_m).  Sightings are ignored from the moment the robot is at the
+crosswalk until it has driven crosswalk_rearm_m past it (the stripes under and behind the robot
+are not a new crosswalk).
+
+Commands (the state's `command` in the YAML):
+
+* speed ``cruise``: cruise_speed_mps; ``stop``: 0; ``stop_at_crosswalk``: cruise, braking at
+  brake_decel_mps2 so as to stand stop_margin_m before the near edge of the crosswalk ahead
+  (if the state begins while the robot is already on a crosswalk, at the next one);
+* branch ``left`` / ``right``: a bias of the references toward the branch, for a short while:
+  the lateral offset reference becomes +-branch_offset_m times a trapezoid of the distance driven
+  in the state (rising over the first quarter of the state's distance_m, full until half-way,
+  back to 0 at the end; full all along without distance_m), the heading reference likewise with
+  branch_heading_rad.  The robot swerves toward the branch where it diverges and is back on its
+  lane's centre when the state ends.  This is a simplification: it works if conde_tracking
+  measures the robot against the lane it is in (the lane it leaves, then the branch);
+* distance_m: the event distance_elapsed fires after that distance in the state (used by the
+  turns and by go_to_parking, which simply drives on for its distance_m and then stops: a
+  stand-in for real parking).
+
+Safety: when the lane confidence is below min_lane_confidence the measured offset and heading
+are replaced by their references (the robot holds its course, e.g. over the crosswalk stripes);
+after lane_lost_timeout_s without a confident lane the speed goes to 0 until the lane is back.
+"""
+
+import math
+from dataclasses import dataclass, field, fields
+from typing import List, Optional, Tuple
+
+from conde_decision.state_machine import StateMachine, StateMachineSpec
+
+#: conde_msgs/PanelSignal constants and the event name of each.
+NONE, LEFT, RIGHT, FORWARD, STOP, END_OF_TRIAL, PARKING = range(7)
+SIGNAL_NAMES = {NONE: "none", LEFT: "left", RIGHT: "right", FORWARD: "forward", STOP: "stop",
+                END_OF_TRIAL: "end_of_trial", PARKING: "parking"}
+DIRECTIONS = {FORWARD: "forward", LEFT: "left", RIGHT: "right"}
+
+
+@dataclass(frozen=True)
+class DecisionConfig:
+    """Tuning and track facts.  The initial values are the defaults (node parameters override
+    them by name)."""
+
+    cruise_speed_mps: float = 0.5  # lane-following speed [m/s]
+    speed_ramp_mps2: float = 1.0  # rate of change of the commanded speed [m/s^2] (= conde_control's limit)
+    brake_decel_mps2: float = 0.5  # deceleration when stopping before the crosswalk [m/s^2]
+    # Stand this far before the crosswalk's near edge [m].  The robot follows the commanded speed
+    # about 0.1 s late, so it stops a few cm beyond the dead-reckoned point (3 cm before the edge
+    # with a 0.05 m margin, measured in the simulator): the margin keeps it off the crosswalk.
+    stop_margin_m: float = 0.10
+    crosswalk_zone_m: float = 0.15  # within this distance of the near edge the robot is "at" the crosswalk [m]
+    crosswalk_length_m: float = 0.592  # near edge to far edge along the road [m] (y -0.340 .. 0.252)
+    crosswalk_rearm_m: float = 1.0  # ignore crosswalk sightings for this distance after leaving one [m]
+    start_to_near_edge_m: float = 0.0  # distance from base_footprint to the near edge at the start [m]
+    fork_distance_m: float = 1.8  # crosswalk far edge to the fork [m] (1.82 northbound, 1.73 southbound)
+    fork_sides: Tuple[str, ...] = ("left", "right")  # side the branch opens to at the 1st, 2nd, ... fork (cyclic)
+    crossings_per_lap: int = 2  # crosswalk crossings per lap of the track
+    branch_offset_m: float = 0.2  # peak lateral offset reference while taking a branch [m] (+ = left branch)
+    branch_heading_rad: float = 0.0  # peak heading reference while taking a branch [rad] (+ = left branch)
+    min_signal_confidence: float = 0.5  # panel signals below this confidence are ignored
+    min_lane_confidence: float = 0.3  # lane measurements below this confidence are not used
+    lane_lost_timeout_s: float = 1.0  # stop after this long without a confident lane [s]
+    max_step_s: float = 1.0  # longest time step dead-reckoned at once [s] (gaps in the input)
+
+    def check(self) -> "DecisionConfig":
+        """Returns self if every value is usable, else raises ValueError naming the field."""
+        def need(name, ok, what):
+            if not ok:
+                raise ValueError("%s: %s, got %r" % (name, what, getattr(self, name)))
+
+        for f in fields(self):
+            value = getattr(self, f.name)
+            if f.name == "fork_sides":
+                need(f.name, isinstance(value, (list, tuple)) and len(value) > 0
+                     and all(v in ("left", "right") for v in value), "expected a non-empty list of left/right")
+            elif f.name == "crossings_per_lap":
+                need(f.name, isinstance(value, int) and not isinstance(value, bool) and value >= 1,
+                     "expected an integer >= 1")
+            else:
+                need(f.name, isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value),
+                     "expected a finite number")
+        for name in ("cruise_speed_mps", "speed_ramp_mps2", "brake_decel_mps2", "crosswalk_length_m",
+                     "lane_lost_timeout_s", "max_step_s"):
+            need(name, getattr(self, name) > 0, "must be > 0")
+        for name in ("stop_margin_m", "crosswalk_rearm_m", "fork_distance_m", "branch_offset_m"):
+            need(name, getattr(self, name) >= 0, "must be >= 0")
+        for name in ("min_signal_confidence", "min_lane_confidence"):
+            need(name, 0 <= getattr(self, name) <= 1, "must be in [0, 1]")
+        need("crosswalk_zone_m", self.crosswalk_zone_m >= self.stop_margin_m,
+             "must be >= stop_margin_m (%g), or a robot stopping before the crosswalk never reaches it"
+             % self.stop_margin_m)
+        return self
+
+
+@dataclass(frozen=True)
+class DecisionOutput:
+    """The fields of conde_msgs/ControlReference, the state, and what happened in this step."""
+
+    state: str
+    last_event: str
+    lateral_offset_m: float
+    lateral_offset_ref_m: float
+    heading_error_rad: float
+    heading_ref_rad: float
+    linear_velocity_mps: float
+    transitions: List[Tuple[str, str, str]] = field(default_factory=list)  # (from, event, to) that fired
+    events: List[str] = field(default_factory=list)  # every event produced, fired or ignored
+    lane_lost: bool = False  # the speed is held at 0 because no confident lane was seen for too long
+
+
+def _approach(current: float, target: float, max_step: float) -> float:
+    return current + max(-max_step, min(max_step, target - current))
+
+
+class DecisionLogic:
+    """Call on_signal() for each panel signal and on_lane() for each lane measurement (which
+    returns the control reference).  Attributes worth reading: state, crossings, laps,
+    lap_times_s, notes (human-readable remarks of the last step, e.g. an order that could not
+    be obeyed)."""
+
+    def __init__(self, spec: StateMachineSpec, config: DecisionConfig = DecisionConfig()):
+        self.config = config.check()
+        self.machine = StateMachine(spec)
+        self.v_mps = 0.0  # commanded speed of the last step
+        self.last_time_s: Optional[float] = None
+        self.travelled_m = 0.0  # dead-reckoned distance since the start
+        self.state_entry_m = 0.0  # travelled_m when the current state was entered
+        self.distance_fired = False  # distance_elapsed already fired in this state
+        # Crosswalk: the robot starts standing at one.
+        self.to_near_edge_m: Optional[float] = config.start_to_near_edge_m  # None: no crosswalk ahead known
+        self.at_crosswalk = True  # reached and not yet left
+        self.since_left_m: Optional[float] = None  # distance since the last crosswalk_left
+        self.fork_pending = False
+        self.forks_passed = 0
+        self.stop_latched = False  # stop_at_crosswalk has committed to stopping at this crosswalk
+        self.direction_order = "forward"
+        self.last_signal = NONE
+        self.crossings = 0
+        self.laps = 0
+        self.lap_times_s: List[float] = []
+        self.lap_mark_s: Optional[float] = None  # start of the current lap (first motion)
+        self.lane_bad_since_s: Optional[float] = None
+        self.notes: List[str] = []
+        self._transitions: List[Tuple[str, str, str]] = []
+        self._events: List[str] = []
+
+    @property
+    def state(self) -> str:
+        return self.machine.state
+
+    @property
+    def last_event(self) -> str:
+        return self.machine.last_event
+
+    # --- inputs ---------------------------------------------------------------------------------
+
+    def on_signal(self, signal: int, confidence: float) -> List[Tuple[str, str, str]]:
+        """A panel signal (PanelSignal constant).  NONE and signals below min_signal_confidence
+        produce no event.  Returns the transitions that fired."""
+        if signal not in SIGNAL_NAMES:
+            raise ValueError("unknown panel signal %r (expected 0..6)" % (signal,))
+        self._transitions, self._events, self.notes = [], [], []
+        if signal == NONE or not confidence >= self.config.min_signal_confidence:
+            return []
+        self.last_signal = signal
+        if signal in DIRECTIONS:
+            self.direction_order = DIRECTIONS[signal]
+        self._fire("signal_" + SIGNAL_NAMES[signal])
+        return self._transitions
+
+    def on_lane(self, lane, time_s: float) -> DecisionOutput:
+        """A lane measurement (any object with the fields of conde_msgs/LaneMeasurement) taken at
+        time_s [s]; returns the control reference for it."""
+        c = self.config
+        self._transitions, self._events, self.notes = [], [], []
+        dt_s = 0.0 if self.last_time_s is None else min(max(time_s - self.last_time_s, 0.0), c.max_step_s)
+        self.last_time_s = time_s
+        self._advance(self.v_mps * dt_s)
+        self._update_crosswalk(lane)
+        self._crosswalk_and_fork_events(time_s)
+        command = self.machine.command
+        if (command.distance_m is not None and not self.distance_fired
+                and self.travelled_m - self.state_entry_m >= command.distance_m - 1e-9):
+            self.distance_fired = True
+            self._fire("distance_elapsed")
+        command = self.machine.command
+
+        lane_ok = (math.isfinite(lane.lateral_offset_m) and math.isfinite(lane.heading_error_rad)
+                   and lane.confidence >= c.min_lane_confidence)
+        if lane_ok:
+            self.lane_bad_since_s = None
+        elif self.lane_bad_since_s is None:
+            self.lane_bad_since_s = time_s
+        lane_lost = self.lane_bad_since_s is not None and time_s - self.lane_bad_since_s >= c.lane_lost_timeout_s
+
+        target_mps = 0.0 if lane_lost else self._speed_target(command.speed)
+        self.v_mps = _approach(self.v_mps, target_mps, c.speed_ramp_mps2 * dt_s)
+        if self.v_mps > 0.0 and self.lap_mark_s is None:
+            self.lap_mark_s = time_s
+
+        bias = {"none": 0.0, "left": 1.0, "right": -1.0}[command.branch] * self._branch_shape(command)
+        offset_ref_m = bias * c.branch_offset_m
+        heading_ref_rad = bias * c.branch_heading_rad
+        offset_m = lane.lateral_offset_m if lane_ok else offset_ref_m
+        heading_rad = lane.heading_error_rad if lane_ok else heading_ref_rad
+        return DecisionOutput(self.state, self.last_event, offset_m, offset_ref_m, heading_rad, heading_ref_rad,
+                              self.v_mps, list(self._transitions), list(self._events), lane_lost)
+
+    # --- internals ------------------------------------------------------------------------------
+
+    def _fire(self, event: str) -> None:
+        self._events.append(event)
+        before = self.state
+        if self.machine.handle(event) is not None:
+            self._transitions.append((before, event, self.state))
+            self.state_entry_m = self.travelled_m
+            self.distance_fired = False
+            if self.state != before:
+                self.stop_latched = False
+
+    def _advance(self, step_m: float) -> None:
+        self.travelled_m += step_m
+        if self.to_near_edge_m is not None:
+            self.to_near_edge_m -= step_m
+        if self.since_left_m is not None:
+            self.since_left_m += step_m
+
+    def _update_crosswalk(self, lane) -> None:
+        rearmed = self.since_left_m is None or self.since_left_m >= self.config.crosswalk_rearm_m
+        armed = not self.at_crosswalk and rearmed
+        if armed and lane.crosswalk_seen and math.isfinite(lane.crosswalk_distance_m):
+            self.to_near_edge_m = lane.crosswalk_distance_m
+
+    def _crosswalk_and_fork_events(self, time_s: float) -> None:
+        c = self.config
+        if self.to_near_edge_m is not None and not self.at_crosswalk and self.to_near_edge_m <= c.crosswalk_zone_m:
+            self.at_crosswalk = True
+            self.crossings += 1
+            self._fire("crosswalk_reached")
+            if self.crossings % c.crossings_per_lap == 0:
+                self.laps += 1
+                self.lap_times_s.append(time_s - (self.lap_mark_s if self.lap_mark_s is not None else time_s))
+                self.lap_mark_s = time_s
+                self._fire("lap_completed")
+        if self.at_crosswalk and self.to_near_edge_m is not None and self.to_near_edge_m <= -c.crosswalk_length_m:
+            self.at_crosswalk = False
+            self.since_left_m = -c.crosswalk_length_m - self.to_near_edge_m  # >= 0: how far past the far edge
+            self.to_near_edge_m = None
+            self.fork_pending = True
+            self.stop_latched = False
+            self._fire("crosswalk_left")
+        if self.fork_pending and self.since_left_m >= c.fork_distance_m:
+            self.fork_pending = False
+            side = c.fork_sides[self.forks_passed % len(c.fork_sides)]
+            self.forks_passed += 1
+            order, self.direction_order = self.direction_order, "forward"
+            if order == side:
+                self._fire("fork_" + side)
+            else:
+                if order != "forward":
+                    self.notes.append("the panel ordered %s, but this fork opens to the %s: keeping straight"
+                                      % (order, side))
+                self._fire("fork_straight")
+
+    def _branch_shape(self, command) -> float:
+        """0..1: trapezoid over the state's distance (rise 1/4, hold to 1/2, fall to the end)."""
+        if command.distance_m is None:
+            return 1.0
+        u = (self.travelled_m - self.state_entry_m) / command.distance_m
+        return max(0.0, min(1.0, 4.0 * u, 2.0 * (1.0 - u)))
+
+    def _speed_target(self, speed: str) -> float:
+        c = self.config
+        if speed == "stop":
+            return 0.0
+        if speed == "cruise":
+            return c.cruise_speed_mps
+        # stop_at_crosswalk: a constant-deceleration profile ending stop_margin_m before the near
+        # edge.  Once committed it holds even if dead reckoning overshoots the edge; a state that
+        # begins with the robot already on the crosswalk drives on to the next one.
+        if self.to_near_edge_m is None or (self.to_near_edge_m < 0.0 and not self.stop_latched):
+            return c.cruise_speed_mps
+        self.stop_latched = True
+        room_m = max(0.0, self.to_near_edge_m - c.stop_margin_m)
+        return min(c.cruise_speed_mps, math.sqrt(2.0 * c.brake_decel_mps2 * room_m))

@@ -1,0 +1,245 @@
+"""A state machine described in YAML, validated when it is loaded.  Pure Python, no ROS.
+
+File format (see config/conde_states.yaml):
+
+    initial: wait_for_go              # the state at start-up
+    states:
+      follow_lane:
+        description: free text         # optional
+        command:                       # what the robot does in this state
+          speed: cruise                # cruise | stop | stop_at_crosswalk
+          branch: none                 # none | left | right (optional, default none)
+          distance_m: 2.2              # optional: the event distance_elapsed fires after
+                                       # driving this far [m] in the state
+        on:                            # transitions: event -> next state
+          signal_stop: approach_stop
+
+Validation (a StateMachineError whose message names the file, the state and the key):
+unknown top-level, state or command keys; unknown events (the fixed vocabulary EVENTS);
+unknown target states; a missing or unknown initial state; `distance_elapsed` in a state without
+`command.distance_m`; and states that cannot be reached from the initial state (an error, not a
+warning: in a machine this small an unreachable state is always a typo or a forgotten
+transition).  Duplicate keys in a mapping are errors too (YAML would keep the last silently).
+
+Events not listed in a state's `on` are ignored in that state.  A transition to the state itself
+is allowed (it restarts the state's distance count).
+"""
+
+import re
+from collections import OrderedDict
+from dataclasses import dataclass, field
+from typing import Dict, List, Optional, Tuple
+
+import yaml
+
+#: The events the decision logic (decision_logic.py) produces, with what makes each fire.
+EVENTS = OrderedDict([
+    ("signal_forward", "a panel signal FORWARD was received (every message, confidence high enough)"),
+    ("signal_left", "a panel signal LEFT was received"),
+    ("signal_right", "a panel signal RIGHT was received"),
+    ("signal_stop", "a panel signal STOP was received"),
+    ("signal_end_of_trial", "a panel signal END_OF_TRIAL was received"),
+    ("signal_parking", "a panel signal PARKING was received"),
+    ("crosswalk_reached", "the robot came within crosswalk_zone_m of the near edge of the crosswalk ahead "
+                          "(after having left the crosswalk; the start counts as being at it)"),
+    ("lap_completed", "a crosswalk_reached that completes a lap (every crossings_per_lap-th one)"),
+    ("crosswalk_left", "base_footprint passed the far edge of the crosswalk"),
+    ("fork_left", "the fork after the crosswalk is reached, the panel ordered left and the fork opens left"),
+    ("fork_right", "the fork after the crosswalk is reached, the panel ordered right and the fork opens right"),
+    ("fork_straight", "the fork after the crosswalk is reached and the robot keeps straight"),
+    ("distance_elapsed", "the robot drove the state's command.distance_m since it entered the state"),
+])
+
+SPEEDS = ("cruise", "stop", "stop_at_crosswalk")
+BRANCHES = ("none", "left", "right")
+TOP_KEYS = ("initial", "states")
+STATE_KEYS = ("description", "command", "on")
+COMMAND_KEYS = ("speed", "branch", "distance_m")
+
+
+class StateMachineError(ValueError):
+    """A state-machine description that cannot be used; the message names file, state and key."""
+
+
+@dataclass(frozen=True)
+class Command:
+    """What the robot does in a state."""
+
+    speed: str  # one of SPEEDS
+    branch: str = "none"  # one of BRANCHES
+    distance_m: Optional[float] = None  # distance_elapsed fires after this many metres
+
+
+@dataclass(frozen=True)
+class State:
+    name: str
+    command: Command
+    transitions: Dict[str, str] = field(default_factory=dict)  # event -> next state
+    description: str = ""
+
+
+@dataclass(frozen=True)
+class StateMachineSpec:
+    """A validated description: the initial state and the states by name (file order)."""
+
+    initial: str
+    states: Dict[str, State]
+    source: str = ""
+
+    def transitions(self) -> List[Tuple[str, str, str]]:
+        """Every (state, event, next state) of the description, in file order."""
+        return [(s.name, e, t) for s in self.states.values() for e, t in s.transitions.items()]
+
+
+class _StrictLoader(yaml.SafeLoader):
+    """SafeLoader that rejects duplicate keys in a mapping and, as YAML 1.2 does, reads only
+    true/false as booleans (YAML 1.1 would turn the key `on` into True)."""
+
+
+_BOOL_TAG = "tag:yaml.org,2002:bool"
+_StrictLoader.yaml_implicit_resolvers = {
+    first: [(tag, regexp) for tag, regexp in resolvers if tag != _BOOL_TAG]
+    for first, resolvers in yaml.SafeLoader.yaml_implicit_resolvers.items()}
+_StrictLoader.add_implicit_resolver(_BOOL_TAG, re.compile(r"^(?:true|True|TRUE|false|False|FALSE)$"), list("tTfF"))
+
+
+def _construct_mapping(loader, node, deep=False):
+    loader.flatten_mapping(node)
+    seen = set()
+    for key_node, _ in node.value:
+        key = loader.construct_object(key_node, deep=deep)
+        if key in seen:
+            raise yaml.constructor.ConstructorError(None, None, "duplicate key '%s'" % (key,), key_node.start_mark)
+        seen.add(key)
+    return loader.construct_mapping(node, deep)
+
+
+_StrictLoader.add_constructor(yaml.resolver.BaseResolver.DEFAULT_MAPPING_TAG, _construct_mapping)
+
+
+def load_state_machine(path: str) -> StateMachineSpec:
+    """Reads and validates a state-machine YAML file."""
+    try:
+        with open(path, encoding="utf-8") as f:
+            data = yaml.load(f, Loader=_StrictLoader)
+    except OSError as e:
+        raise StateMachineError("%s: cannot read: %s" % (path, e.strerror or e)) from None
+    except yaml.YAMLError as e:
+        raise StateMachineError("%s: YAML error: %s" % (path, " ".join(str(e).split()))) from None
+    return parse_state_machine(data, path)
+
+
+def parse_state_machine(data, source: str) -> StateMachineSpec:
+    """Validates already parsed data; `source` (the file) starts every error message."""
+
+    def fail(where: str, what: str):
+        raise StateMachineError("%s: %s: %s" % (source, where, what) if where else "%s: %s" % (source, what))
+
+    def expect_keys(mapping, known, where):
+        for key in mapping:
+            if key not in known:
+                fail(where, "unknown key '%s' (expected one of: %s)" % (key, ", ".join(known)))
+
+    if not isinstance(data, dict):
+        fail("", "expected a mapping with keys initial and states, got %s" % type(data).__name__)
+    expect_keys(data, TOP_KEYS, "")
+    for key in TOP_KEYS:
+        if key not in data:
+            fail("", "missing key '%s'" % key)
+    raw_states = data["states"]
+    if not isinstance(raw_states, dict) or not raw_states:
+        fail("states", "expected a non-empty mapping of state names to states")
+
+    states = OrderedDict()
+    for name, raw in raw_states.items():
+        where = "states.%s" % name
+        if not isinstance(name, str) or not name:
+            fail("states", "state names must be non-empty strings, got %r" % (name,))
+        if not isinstance(raw, dict):
+            fail(where, "expected a mapping with keys %s" % ", ".join(STATE_KEYS))
+        expect_keys(raw, STATE_KEYS, where)
+        if "command" not in raw:
+            fail(where, "missing key 'command'")
+        command = _parse_command(raw["command"], where + ".command", fail)
+        description = raw.get("description", "")
+        if not isinstance(description, str):
+            fail(where + ".description", "expected a string")
+        transitions = raw.get("on") or {}
+        if not isinstance(transitions, dict):
+            fail(where + ".on", "expected a mapping of events to states")
+        for event, target in transitions.items():
+            if event not in EVENTS:
+                fail("%s.on.%s" % (where, event), "unknown event '%s' (expected one of: %s)"
+                     % (event, ", ".join(EVENTS)))
+            if event == "distance_elapsed" and command.distance_m is None:
+                fail("%s.on.%s" % (where, event), "the state has no command.distance_m, so the event never fires")
+        states[name] = State(name, command, dict(transitions), description)
+
+    for name, state in states.items():
+        for event, target in state.transitions.items():
+            if target not in states:
+                fail("states.%s.on.%s" % (name, event), "unknown target state '%s'" % (target,))
+
+    initial = data["initial"]
+    if initial not in states:
+        fail("initial", "unknown state '%s'" % (initial,))
+
+    reached = {initial}
+    frontier = [initial]
+    while frontier:
+        for target in states[frontier.pop()].transitions.values():
+            if target not in reached:
+                reached.add(target)
+                frontier.append(target)
+    for name in states:
+        if name not in reached:
+            fail("states.%s" % name, "unreachable from the initial state '%s'" % initial)
+
+    return StateMachineSpec(initial, dict(states), source)
+
+
+def _parse_command(raw, where, fail) -> Command:
+    if not isinstance(raw, dict):
+        fail(where, "expected a mapping with keys %s" % ", ".join(COMMAND_KEYS))
+    for key in raw:
+        if key not in COMMAND_KEYS:
+            fail(where, "unknown key '%s' (expected one of: %s)" % (key, ", ".join(COMMAND_KEYS)))
+    if "speed" not in raw:
+        fail(where, "missing key 'speed'")
+    speed = raw["speed"]
+    if speed not in SPEEDS:
+        fail(where + ".speed", "unknown speed '%s' (expected one of: %s)" % (speed, ", ".join(SPEEDS)))
+    branch = raw.get("branch", "none")
+    if branch not in BRANCHES:
+        fail(where + ".branch", "unknown branch '%s' (expected one of: %s)" % (branch, ", ".join(BRANCHES)))
+    distance_m = raw.get("distance_m")
+    if distance_m is not None:
+        if isinstance(distance_m, bool) or not isinstance(distance_m, (int, float)) or not distance_m > 0:
+            fail(where + ".distance_m", "expected a distance > 0 [m], got %r" % (distance_m,))
+        distance_m = float(distance_m)
+    return Command(speed, branch, distance_m)
+
+
+class StateMachine:
+    """The running machine: the current state and the event that led to it."""
+
+    def __init__(self, spec: StateMachineSpec):
+        self.spec = spec
+        self.state = spec.initial
+        self.last_event = ""
+
+    @property
+    def command(self) -> Command:
+        return self.spec.states[self.state].command
+
+    def handle(self, event: str) -> Optional[str]:
+        """Applies one event; returns the new state if a transition fired (possibly the same
+        state again), None if the current state ignores the event."""
+        if event not in EVENTS:
+            raise ValueError("unknown event '%s'" % event)
+        target = self.spec.states[self.state].transitions.get(event)
+        if target is None:
+            return None
+        self.state = target
+        self.last_event = event
+        return target

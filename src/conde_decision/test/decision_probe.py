@@ -1,0 +1,86 @@
+#!/usr/bin/env python3
+"""The ROS side of test_decision_node.py, run as its own process (rospy allows one node per
+process): it owns /clock, feeds conde_decision lane measurements and panel signals, and prints
+what came out as one JSON object on stdout."""
+
+import json
+import sys
+import time
+
+import rospy
+from conde_msgs.msg import ControlReference, DecisionState, LaneMeasurement, PanelSignal
+from rosgraph_msgs.msg import Clock
+from visualization_msgs.msg import Marker
+
+WAIT_S = 60.0  # wall-clock patience for anything to arrive (a busy machine)
+
+
+def wait_for(condition, what):
+    deadline = time.monotonic() + WAIT_S
+    while not condition():
+        if time.monotonic() > deadline or rospy.is_shutdown():
+            sys.stderr.write("decision_probe: timed out waiting for %s\n" % what)
+            sys.exit(2)
+        time.sleep(0.005)
+
+
+def main():
+    rospy.init_node("decision_probe")
+    refs, states, markers = [], [], []
+    clock_pub = rospy.Publisher("/clock", Clock, queue_size=10)
+    lane_pub = rospy.Publisher("/conde_lane", LaneMeasurement, queue_size=100)
+    signal_pub = rospy.Publisher("/conde_signal", PanelSignal, queue_size=10)
+    subs = [rospy.Subscriber("/conde_control_reference", ControlReference, refs.append),
+            rospy.Subscriber("/conde_decision/state", DecisionState, states.append),
+            rospy.Subscriber("/conde_decision/marker", Marker, markers.append)]
+    now = rospy.Time(1, 0)
+
+    def set_clock(t):
+        clock_pub.publish(Clock(clock=t))
+
+    wait_for(lambda: clock_pub.get_num_connections() > 0 and lane_pub.get_num_connections() > 0
+             and signal_pub.get_num_connections() > 0 and all(s.get_num_connections() > 0 for s in subs),
+             "the connections to conde_decision")
+    set_clock(now)
+    wait_for(lambda: states and markers, "the latched state and marker")
+
+    def lane_step(t):
+        msg = LaneMeasurement()
+        msg.header.stamp = t
+        msg.header.frame_id = "base_footprint"
+        msg.lateral_offset_m = 0.05
+        msg.heading_error_rad = 0.02
+        msg.confidence = 1.0
+        count = len(refs)
+        set_clock(t)
+        lane_pub.publish(msg)
+        wait_for(lambda: len(refs) > count, "a control reference")
+
+    step = rospy.Duration(0, 33333333)
+    for _ in range(10):  # no signal yet: wait at the start
+        now += step
+        lane_step(now)
+    count = len(states)
+    signal_pub.publish(PanelSignal(signal=PanelSignal.FORWARD, confidence=1.0))
+    wait_for(lambda: len(states) > count, "the state after the go signal")
+    for _ in range(30):
+        now += step
+        lane_step(now)
+    # The state again at 1 Hz of ROS time: 3.5 s of clock without any input.
+    count = len(states)
+    for _ in range(35):
+        now += rospy.Duration(0, 100000000)
+        set_clock(now)
+        time.sleep(0.01)
+    wait_for(lambda: len(states) >= count + 3, "the periodic state messages")
+
+    print(json.dumps({
+        "refs": [[r.header.stamp.to_sec(), r.header.frame_id, r.lateral_offset_m, r.lateral_offset_ref_m,
+                  r.heading_error_rad, r.heading_ref_rad, r.linear_velocity_mps] for r in refs],
+        "states": [[s.header.stamp.to_sec(), s.state, s.last_event, s.signal] for s in states],
+        "markers": [[m.header.frame_id, m.type, m.text, m.pose.position.z] for m in markers],
+    }))
+
+
+if __name__ == "__main__":
+    main()

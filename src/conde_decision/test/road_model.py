@@ -1,0 +1,89 @@
+"""A one-dimensional model of the robot on its route, to feed DecisionLogic with the inputs
+conde_tracking would give.  Pure Python; shared by the decision tests.
+
+The robot's position s [m] runs along its lane from the start (s = 0: base_footprint at the
+near edge of the crosswalk, as at the spawn pose).  It meets the near edge of a crosswalk every
+HALF_LAP_M (the lane-centre length of the track between two crossings).  The camera reports a
+crosswalk whose near edge is between VIEW_M[0] and VIEW_M[1] ahead, with its distance.  The robot
+drives at the commanded speed times `speed_scale` (1: exactly as the logic dead-reckons)."""
+
+from dataclasses import dataclass
+
+#: Lane-centre length between two crossings: a lap is 40.66 m (geometry YAML), split 21.5 + 19.1 m
+#: or 19.1 + 21.6 m depending on the route; the model uses the mean.
+HALF_LAP_M = 40.66405 / 2.0
+VIEW_M = (0.15, 1.2)  # [m] range ahead in which the ground cameras see the crosswalk's near edge
+DT_S = 1.0 / 30.0  # camera rate
+
+
+@dataclass
+class Lane:
+    """The fields of conde_msgs/LaneMeasurement."""
+
+    lateral_offset_m: float = 0.0
+    heading_error_rad: float = 0.0
+    crosswalk_seen: bool = False
+    crosswalk_distance_m: float = 0.0
+    confidence: float = 1.0
+
+
+class Road:
+    def __init__(self, logic, speed_scale=1.0, start_s=0.0, t0_s=100.0):
+        self.logic = logic
+        self.s = start_s
+        self.t = t0_s
+        self.speed_scale = speed_scale
+        self.lane_confidence = 1.0
+        self.lateral_offset_m = 0.02
+        self.heading_error_rad = -0.01
+        self.outputs = []  # every DecisionOutput
+        self.positions = []  # s at each output
+
+    def next_near_edge_m(self):
+        """Position of the first crosswalk near edge at least VIEW_M[0] ahead of the robot."""
+        k = int((self.s + VIEW_M[0]) // HALF_LAP_M)
+        edge = k * HALF_LAP_M
+        return edge if edge >= self.s + VIEW_M[0] else edge + HALF_LAP_M
+
+    def lane(self):
+        ahead_m = self.next_near_edge_m() - self.s
+        seen = ahead_m <= VIEW_M[1]
+        return Lane(self.lateral_offset_m, self.heading_error_rad, seen, ahead_m if seen else 0.0,
+                    self.lane_confidence)
+
+    def step(self):
+        out = self.logic.on_lane(self.lane(), self.t)
+        self.outputs.append(out)
+        self.positions.append(self.s)
+        self.s += out.linear_velocity_mps * self.speed_scale * DT_S
+        self.t += DT_S
+        return out
+
+    def run(self, seconds):
+        outs = [self.step() for _ in range(int(round(seconds / DT_S)))]
+        return outs
+
+    def drive_m(self, distance_m, max_s=600.0):
+        """Steps until the robot has moved distance_m (it must be moving)."""
+        goal = self.s + distance_m
+        for _ in range(int(max_s / DT_S)):
+            if self.s >= goal:
+                return
+            self.step()
+        raise AssertionError("the robot did not drive %.2f m (stuck at s = %.2f in %s)"
+                             % (distance_m, self.s, self.logic.state))
+
+    def until(self, event, max_s=600.0):
+        """Steps until `event` is produced; returns that step's output."""
+        for _ in range(int(max_s / DT_S)):
+            out = self.step()
+            if event in out.events:
+                return out
+        raise AssertionError("no %s within %g s (state %s, s = %.2f)" % (event, max_s, self.logic.state, self.s))
+
+    def stand_still_at(self, seconds=3.0):
+        """Runs `seconds`; asserts the robot does not move, returns where it stands."""
+        s0 = self.s
+        self.run(seconds)
+        assert self.s == s0, "robot moved from %.3f to %.3f in %s" % (s0, self.s, self.logic.state)
+        return s0

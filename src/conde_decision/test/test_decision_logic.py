@@ -1,0 +1,378 @@
+"""The decision logic on sequences of inputs (no ROS): the behaviours of issue 4 on a 1-D model of
+the track (road_model.py), and every transition of the default YAML fired from real inputs."""
+
+import math
+import os
+from dataclasses import replace
+
+import pytest
+
+from conde_decision.decision_logic import (END_OF_TRIAL, FORWARD, LEFT, NONE, PARKING, RIGHT, STOP, DecisionConfig,
+                                           DecisionLogic)
+from conde_decision.state_machine import load_state_machine
+from road_model import DT_S, HALF_LAP_M, Lane, Road
+
+PACKAGE_DIR = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+SPEC = load_state_machine(os.path.join(PACKAGE_DIR, "config", "conde_states.yaml"))
+CONFIG = DecisionConfig()
+CRUISE = CONFIG.cruise_speed_mps
+STEP_M = CRUISE * DT_S  # distance of one step at cruise speed
+FORK_S = CONFIG.crosswalk_length_m + CONFIG.fork_distance_m  # first fork, from the start (s = 0)
+
+
+def make(speed_scale=1.0, **config):
+    return Road(DecisionLogic(SPEC, replace(CONFIG, **config)), speed_scale=speed_scale)
+
+
+def signal(road, code, confidence=1.0):
+    return road.logic.on_signal(code, confidence)
+
+
+def event_positions(road, event):
+    return [s for s, out in zip(road.positions, road.outputs) if event in out.events]
+
+
+# --- start ----------------------------------------------------------------------------------------
+
+def test_waits_at_the_start_until_go():
+    road = make()
+    assert road.stand_still_at(2.0) == 0.0
+    assert all(out.state == "wait_for_go" and out.linear_velocity_mps == 0.0 for out in road.outputs)
+    assert signal(road, NONE) == [] and signal(road, STOP) == []  # none or stop: keep waiting
+    assert road.stand_still_at(2.0) == 0.0
+    assert signal(road, FORWARD) == [("wait_for_go", "signal_forward", "follow_lane")]
+    outs = road.run(2.0)
+    speeds = [out.linear_velocity_mps for out in outs]
+    # Ramps up at speed_ramp_mps2 to the cruise speed, never beyond.
+    assert all(b - a <= CONFIG.speed_ramp_mps2 * DT_S + 1e-12 for a, b in zip(speeds, speeds[1:]))
+    assert speeds[0] > 0.0 and max(speeds) == pytest.approx(CRUISE) and speeds[-1] == pytest.approx(CRUISE)
+    # The lane measurement passes through unchanged; no branch bias.
+    assert outs[-1].lateral_offset_m == 0.02 and outs[-1].heading_error_rad == -0.01
+    assert outs[-1].lateral_offset_ref_m == 0.0 and outs[-1].heading_ref_rad == 0.0
+    # It drives off the start crosswalk; that is no crossing.
+    assert event_positions(road, "crosswalk_left") == [pytest.approx(CONFIG.crosswalk_length_m, abs=STEP_M)]
+    assert road.logic.crossings == 0
+
+
+def test_low_confidence_and_none_signals_are_ignored():
+    road = make()
+    assert signal(road, FORWARD, confidence=0.3) == []
+    assert signal(road, NONE) == []
+    assert road.logic.state == "wait_for_go" and road.logic.last_signal == NONE
+    assert road.stand_still_at(1.0) == 0.0
+    with pytest.raises(ValueError, match="unknown panel signal 9"):
+        signal(road, 9)
+
+
+# --- branches -------------------------------------------------------------------------------------
+
+def assert_branch_bias(refs, distances, peak_m, turn_m):
+    """The offset reference over a turn: 0 at the fork, rising over the first quarter of the
+    turn to the peak, held until half-way, back to 0 at the end."""
+    for ref, d in zip(refs, distances):
+        u = d / turn_m
+        assert ref == pytest.approx(peak_m * max(0.0, min(1.0, 4 * u, 2 * (1 - u))), abs=1e-9)
+    assert refs[0] == 0.0 and max(refs, key=abs) == pytest.approx(peak_m)
+    assert abs(refs[-1]) < 0.05 * abs(peak_m)
+
+
+def test_forward_keeps_straight_at_the_fork():
+    road = make()
+    signal(road, FORWARD)
+    out = road.until("fork_straight")
+    assert road.positions[-1] == pytest.approx(FORK_S, abs=STEP_M)
+    assert out.state == "follow_lane" and out.lateral_offset_ref_m == 0.0
+
+
+def test_left_at_the_start_takes_the_left_branch():
+    road = make()
+    assert signal(road, LEFT) == [("wait_for_go", "signal_left", "follow_lane")]
+    out = road.until("fork_left")
+    assert road.positions[-1] == pytest.approx(FORK_S, abs=STEP_M)
+    assert out.transitions == [("follow_lane", "fork_left", "turn_left")]
+    first = len(road.outputs) - 1
+    out = road.until("distance_elapsed")
+    turn_m = SPEC.states["turn_left"].command.distance_m
+    assert road.positions[-1] == pytest.approx(FORK_S + turn_m, abs=2 * STEP_M)
+    assert out.state == "follow_lane" and out.lateral_offset_ref_m == 0.0
+    # While turning: cruise speed, the offset reference biased to the left for a short while.
+    turn = road.outputs[first:-1]
+    assert all(o.state == "turn_left" and o.linear_velocity_mps == pytest.approx(CRUISE) for o in turn)
+    assert all(o.heading_ref_rad == CONFIG.branch_heading_rad * o.lateral_offset_ref_m / CONFIG.branch_offset_m
+               for o in turn)
+    assert_branch_bias([o.lateral_offset_ref_m for o in turn],
+                       [s - road.positions[first] for s in road.positions[first:-1]],
+                       CONFIG.branch_offset_m, turn_m)
+    # The order is used up: the next fork is passed straight.
+    road.until("fork_straight")
+    assert road.logic.state == "follow_lane"
+
+
+def test_right_after_a_southbound_crossing_takes_the_right_branch():
+    road = make()
+    signal(road, FORWARD)
+    road.until("fork_straight")  # first fork (northbound, opens left)
+    road.drive_m(HALF_LAP_M - 6.0)  # approaching the crosswalk southbound: the panel says right
+    signal(road, RIGHT)
+    road.until("crosswalk_reached")
+    out = road.until("fork_right")
+    fork_s = road.positions[-1]
+    assert fork_s == pytest.approx(HALF_LAP_M + FORK_S, abs=0.05)
+    assert out.state == "turn_right"
+    first = len(road.outputs) - 1
+    assert road.until("distance_elapsed").state == "follow_lane"
+    assert_branch_bias([o.lateral_offset_ref_m for o in road.outputs[first:-1]],
+                       [s - fork_s for s in road.positions[first:-1]], -CONFIG.branch_offset_m,
+                       SPEC.states["turn_right"].command.distance_m)
+
+
+def test_an_order_the_fork_cannot_take_keeps_straight():
+    road = make()
+    signal(road, FORWARD)
+    road.until("fork_straight")
+    road.drive_m(HALF_LAP_M - 6.0)
+    signal(road, LEFT)  # southbound, the next fork opens to the right
+    road.until("crosswalk_left")
+    out = road.until("fork_straight")
+    assert out.state == "follow_lane" and out.lateral_offset_ref_m == 0.0
+    assert road.logic.notes == ["the panel ordered left, but this fork opens to the right: keeping straight"]
+
+
+# --- stop -----------------------------------------------------------------------------------------
+
+@pytest.mark.parametrize("speed_scale", [1.0, 0.9, 1.1])  # robot as commanded, slower, faster
+def test_stop_before_the_crosswalk_and_go_on(speed_scale):
+    road = make(speed_scale)
+    signal(road, FORWARD)
+    road.drive_m(HALF_LAP_M - 5.0)  # approaching the crosswalk (southbound)
+    assert signal(road, STOP) == [("follow_lane", "signal_stop", "approach_stop")]
+    out = road.until("crosswalk_reached")
+    assert out.transitions == [("approach_stop", "crosswalk_reached", "stopped")]
+    road.run(2.0)  # come to rest
+    for _ in range(5):  # the panel keeps showing stop: the robot stays
+        assert signal(road, STOP) == []
+        stand_s = road.stand_still_at(1.0)
+    edge = HALF_LAP_M
+    assert edge - CONFIG.crosswalk_zone_m <= stand_s < edge  # just before the near edge
+    assert road.logic.state == "stopped"
+    assert signal(road, FORWARD) == [("stopped", "signal_forward", "follow_lane")]
+    road.until("crosswalk_left")  # dead-reckoned from the last sighting: within 10 % of the way
+    assert road.s == pytest.approx(edge + CONFIG.crosswalk_length_m, abs=0.1)
+    assert road.logic.crossings == 1
+
+
+def test_stop_decelerates_smoothly():
+    road = make()
+    signal(road, FORWARD)
+    road.drive_m(HALF_LAP_M - 5.0)
+    signal(road, STOP)
+    outs = road.run(15.0)
+    speeds = [out.linear_velocity_mps for out in outs]
+    assert speeds[-1] == 0.0
+    assert all(a - b <= CONFIG.speed_ramp_mps2 * DT_S + 1e-12 for a, b in zip(speeds, speeds[1:]))
+    # It brakes only once the crosswalk is seen, not 5 m ahead.
+    assert speeds[int(3.0 / DT_S)] == pytest.approx(CRUISE)
+
+
+def test_stop_shown_too_late_stops_at_the_next_crosswalk():
+    road = make()
+    signal(road, FORWARD)
+    road.drive_m(HALF_LAP_M + 0.2)  # already on the crosswalk
+    signal(road, STOP)
+    assert road.logic.state == "approach_stop"
+    road.until("crosswalk_left")  # drives on over it
+    road.until("crosswalk_reached")
+    road.run(2.0)
+    stand_s = road.stand_still_at(2.0)
+    assert 2 * HALF_LAP_M - CONFIG.crosswalk_zone_m <= stand_s < 2 * HALF_LAP_M
+    assert road.logic.state == "stopped"
+
+
+# --- end of trial, laps ---------------------------------------------------------------------------
+
+def test_two_laps_then_end_of_trial():
+    road = make()
+    signal(road, FORWARD)
+    road.drive_m(4 * HALF_LAP_M - 5.0)
+    assert road.logic.crossings == 3 and road.logic.laps == 1
+    assert signal(road, END_OF_TRIAL) == [("follow_lane", "signal_end_of_trial", "approach_finish")]
+    out = road.until("crosswalk_reached")
+    assert out.events == ["crosswalk_reached", "lap_completed"]
+    assert out.state == "finished" and road.logic.laps == 2
+    road.run(2.0)
+    for code in (FORWARD, LEFT, STOP, PARKING):  # stays stopped whatever the panel shows
+        assert signal(road, code) == []
+        stand_s = road.stand_still_at(1.0)
+    assert 4 * HALF_LAP_M - CONFIG.crosswalk_zone_m <= stand_s < 4 * HALF_LAP_M
+    # Lap 1: one lap at cruise speed (minus the arrival zone), plus 0.25 s lost ramping up.
+    lap1_s = (2 * HALF_LAP_M - CONFIG.crosswalk_zone_m) / CRUISE + CRUISE / (2 * CONFIG.speed_ramp_mps2)
+    assert road.logic.lap_times_s[0] == pytest.approx(lap1_s, abs=2 * DT_S)
+    assert lap1_s < road.logic.lap_times_s[1] < lap1_s + 2.0  # braking at the end costs a little
+
+
+def test_crossings_and_laps_are_counted_on_arrival():
+    road = make()
+    signal(road, FORWARD)
+    road.drive_m(3 * HALF_LAP_M + 1.0)
+    arrivals = event_positions(road, "crosswalk_reached")
+    assert arrivals == [pytest.approx(k * HALF_LAP_M - CONFIG.crosswalk_zone_m, abs=STEP_M) for k in (1, 2, 3)]
+    assert event_positions(road, "lap_completed") == [arrivals[1]]
+    assert len(event_positions(road, "crosswalk_left")) == 4  # the start + 3 crossings
+    assert road.logic.crossings == 3 and road.logic.laps == 1
+
+
+def test_dead_reckoning_is_corrected_by_crosswalk_sightings():
+    road = make(speed_scale=0.8)  # the robot covers only 80 % of what the logic assumes
+    signal(road, FORWARD)
+    road.drive_m(HALF_LAP_M + 0.5)
+    # Without the sightings the logic would have believed it arrived 4 m too early.
+    assert event_positions(road, "crosswalk_reached") == [pytest.approx(HALF_LAP_M - CONFIG.crosswalk_zone_m,
+                                                                        abs=STEP_M)]
+
+
+# --- parking --------------------------------------------------------------------------------------
+
+def test_parking_signal_drives_on_and_stops():
+    road = make()
+    assert signal(road, PARKING) == [("wait_for_go", "signal_parking", "go_to_parking")]
+    out = road.until("distance_elapsed")
+    assert out.state == "parked"
+    distance_m = SPEC.states["go_to_parking"].command.distance_m
+    assert road.positions[-1] == pytest.approx(distance_m, abs=STEP_M)
+    road.run(2.0)
+    stand_s = road.stand_still_at(2.0)
+    # Stops within the braking distance of the speed ramp.
+    assert distance_m < stand_s <= distance_m + CRUISE ** 2 / (2 * CONFIG.speed_ramp_mps2) + STEP_M
+    assert signal(road, FORWARD) == [] and road.logic.state == "parked"
+
+
+def test_parking_while_driving():
+    road = make()
+    signal(road, FORWARD)
+    road.drive_m(5.0)
+    assert signal(road, PARKING) == [("follow_lane", "signal_parking", "go_to_parking")]
+    start_s = road.s
+    road.until("distance_elapsed")
+    assert road.s - start_s == pytest.approx(2.5, abs=STEP_M)
+
+
+# --- lane lost ------------------------------------------------------------------------------------
+
+def test_lost_lane_holds_course_then_stops_then_resumes():
+    road = make()
+    signal(road, FORWARD)
+    road.drive_m(3.0)
+    road.lane_confidence = 0.0
+    outs = road.run(CONFIG.lane_lost_timeout_s - 0.1)
+    # Not confident: no correction (measured = reference), speed kept for a while.
+    assert all(o.lateral_offset_m == o.lateral_offset_ref_m and o.heading_error_rad == o.heading_ref_rad for o in outs)
+    assert outs[-1].linear_velocity_mps == pytest.approx(CRUISE) and not outs[-1].lane_lost
+    outs = road.run(2.0)
+    assert outs[-1].lane_lost and outs[-1].linear_velocity_mps == 0.0
+    road.lane_confidence = 1.0
+    outs = road.run(1.0)
+    assert not outs[-1].lane_lost and outs[-1].linear_velocity_mps == pytest.approx(CRUISE)
+    assert outs[-1].lateral_offset_m == 0.02
+    assert road.logic.state == "follow_lane"
+
+
+def test_non_finite_measurement_is_not_used():
+    logic = DecisionLogic(SPEC)
+    logic.on_signal(FORWARD, 1.0)
+    out = logic.on_lane(Lane(lateral_offset_m=float("nan")), 1.0)
+    assert out.lateral_offset_m == 0.0 and math.isfinite(out.heading_error_rad)
+
+
+def test_time_gaps_are_capped():
+    logic = DecisionLogic(SPEC)
+    logic.on_signal(FORWARD, 1.0)
+    logic.on_lane(Lane(), 0.0)
+    for k in range(1, 31):
+        logic.on_lane(Lane(), k * DT_S)
+    travelled = logic.travelled_m
+    logic.on_lane(Lane(), 1000.0)  # e.g. the tracker paused
+    assert logic.travelled_m - travelled == pytest.approx(CRUISE * CONFIG.max_step_s)
+    logic.on_lane(Lane(), 10.0)  # time went backwards: no motion
+    assert logic.travelled_m - travelled == pytest.approx(CRUISE * CONFIG.max_step_s)
+
+
+# --- configuration --------------------------------------------------------------------------------
+
+@pytest.mark.parametrize("change, message", [
+    ({"cruise_speed_mps": -0.5}, "cruise_speed_mps: must be > 0, got -0.5"),
+    ({"fork_distance_m": float("inf")}, "fork_distance_m: expected a finite number, got inf"),
+    ({"crosswalk_zone_m": 0.01}, "crosswalk_zone_m: must be >= stop_margin_m (0.1), or a robot stopping before the "
+                                 "crosswalk never reaches it, got 0.01"),
+    ({"fork_sides": ("left", "up")}, "fork_sides: expected a non-empty list of left/right, got ('left', 'up')"),
+    ({"crossings_per_lap": 0}, "crossings_per_lap: expected an integer >= 1, got 0"),
+    ({"min_signal_confidence": 1.5}, "min_signal_confidence: must be in [0, 1], got 1.5"),
+    ({"cruise_speed_mps": "fast"}, "cruise_speed_mps: expected a finite number, got 'fast'"),
+])
+def test_config_errors(change, message):
+    with pytest.raises(ValueError) as info:
+        replace(CONFIG, **change).check()
+    assert str(info.value) == message
+
+
+# --- every transition of the default YAML, from real inputs ---------------------------------------
+
+CODES = {"signal_forward": FORWARD, "signal_left": LEFT, "signal_right": RIGHT, "signal_stop": STOP,
+         "signal_end_of_trial": END_OF_TRIAL, "signal_parking": PARKING}
+ENTRY_SIGNAL = {"approach_stop": STOP, "approach_finish": END_OF_TRIAL}
+
+
+def reach(road, state):
+    """Brings the logic into `state` of the default YAML through inputs only, with the robot
+    (where the state lets it move) driving along the road away from the crosswalk."""
+    if state == "wait_for_go":
+        return
+    if state == "go_to_parking":
+        signal(road, PARKING)
+        return
+    if state == "turn_left":
+        signal(road, LEFT)
+        road.until("fork_left")
+        return
+    signal(road, FORWARD)
+    road.drive_m(FORK_S + 1.0)
+    if state == "turn_right":
+        road.drive_m(HALF_LAP_M - FORK_S - 6.0)
+        signal(road, RIGHT)
+        road.until("fork_right")
+    elif state in ENTRY_SIGNAL:
+        signal(road, ENTRY_SIGNAL[state])
+    elif state == "stopped":
+        signal(road, STOP)
+        road.until("crosswalk_reached")
+    else:
+        assert state == "follow_lane", "no recipe to reach %s" % state
+
+
+def reach_before_fork(road, state, side):
+    """`state` entered with the robot on a crosswalk whose fork opens to `side`, after the panel
+    ordered `side`."""
+    signal(road, FORWARD)
+    if side == "right":  # the second fork: after the southbound crossing
+        road.drive_m(HALF_LAP_M - 3.0)
+    signal(road, LEFT if side == "left" else RIGHT)
+    road.drive_m(0.3 if side == "left" else 3.3)  # now 0.3 m onto the crosswalk
+    if state in ENTRY_SIGNAL:
+        signal(road, ENTRY_SIGNAL[state])
+    assert road.logic.state == state
+
+
+@pytest.mark.parametrize("source, event, target", SPEC.transitions(),
+                         ids=["%s-%s" % (s, e) for s, e, _ in SPEC.transitions()])
+def test_every_transition_fires_from_inputs(source, event, target):
+    road = make()
+    if event in ("fork_left", "fork_right"):
+        reach_before_fork(road, source, event[len("fork_"):])
+    else:
+        reach(road, source)
+    assert road.logic.state == source
+    if event in CODES:
+        fired = signal(road, CODES[event])
+    else:
+        fired = road.until(event).transitions
+    assert fired[0] == (source, event, target)
+    assert road.logic.last_event == fired[-1][1]

@@ -1,0 +1,96 @@
+"""The conde_decision node against a real roscore on a free loopback port: lane measurements and
+panel signals in, control reference, state and marker out, on simulated time owned by the test;
+bad input stops it with the message and a non-zero exit."""
+
+import json
+import os
+import signal
+import subprocess
+
+import pytest
+
+from decision_ros import PYTHON, Roscore
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+FIXTURES = os.path.join(HERE, "fixtures")
+
+
+@pytest.fixture(scope="module")
+def core():
+    core = Roscore("conde_decision")
+    yield core
+    core.stop()
+
+
+def run_node(core, **params):
+    """Runs conde_decision until it exits by itself; returns (exit code, stderr)."""
+    core.set_params({}, clear=["/conde_decision"])
+    args = ["rosrun", "conde_decision", "conde_decision"] + ["_%s:=%s" % kv for kv in params.items()]
+    proc = subprocess.run(args, env=core.env, capture_output=True, text=True, timeout=120)
+    return proc.returncode, proc.stderr
+
+
+def error_line(stderr):
+    lines = [l for l in stderr.splitlines() if l.startswith("conde_decision: error: ")]
+    assert lines, "no error line in:\n" + stderr
+    return lines[-1][len("conde_decision: error: "):]
+
+
+def test_lane_and_signal_in_reference_and_state_out(core):
+    core.set_params({"/use_sim_time": True}, clear=["/conde_decision"])
+    node = subprocess.Popen(["rosrun", "conde_decision", "conde_decision"], env=core.env, stdout=subprocess.PIPE,
+                            stderr=subprocess.STDOUT, text=True)
+    try:
+        probe = subprocess.run([PYTHON, os.path.join(HERE, "decision_probe.py")], env=core.env, capture_output=True,
+                               text=True, timeout=300)
+    finally:
+        node.send_signal(signal.SIGINT)
+        log = node.communicate(timeout=60)[0]
+    assert probe.returncode == 0, probe.stderr + "\nnode log:\n" + log
+    result = json.loads(probe.stdout)
+    refs, states, markers = result["refs"], result["states"], result["markers"]
+
+    # One reference per lane message, stamped with the measurement's time, measurement passed on.
+    assert len(refs) == 40
+    assert all(r[1] == "base_footprint" and r[2] == 0.05 and r[3] == 0.0 and r[4] == 0.02 and r[5] == 0.0
+               for r in refs)
+    assert refs[0][0] == pytest.approx(1.0 + 1 / 30.0, abs=1e-6)
+    speeds = [r[6] for r in refs]
+    assert speeds[:10] == [0.0] * 10  # waiting for the go signal
+    # After "forward": ramps up at 1 m/s^2 (1/30 m/s per message) and holds 0.5 m/s.
+    assert speeds[10] == pytest.approx(1 / 30.0, abs=1e-6)
+    assert speeds[24:] == [pytest.approx(0.5)] * 16
+
+    # The state: at start, on the change (with the event and the signal), then at 1 Hz.
+    assert states[0][1:] == ["wait_for_go", "", 0]
+    change = [s for s in states if s[1] == "follow_lane"]
+    assert change[0][1:] == ["follow_lane", "signal_forward", 3]
+    assert len(change) >= 4  # the change plus at least 3 periodic messages over 3.5 s
+    periodic_stamps = [s[0] for s in change[1:]]
+    assert all(b - a == pytest.approx(1.0, abs=0.15) for a, b in zip(periodic_stamps, periodic_stamps[1:])), str(states)
+
+    # The marker for rviz: text above the robot.
+    frame, marker_type, text, z = markers[-1]
+    assert frame == "base_footprint" and marker_type == 9 and z > 0.3  # 9 = TEXT_VIEW_FACING
+    assert text.splitlines()[0] == "follow_lane" and "signal forward" in text
+    assert "wait_for_go --signal_forward--> follow_lane" in log
+
+
+def test_unknown_state_exits_with_the_message(core):
+    path = os.path.join(FIXTURES, "unknown_state.yaml")
+    code, err = run_node(core, state_machine=path)
+    assert code != 0
+    assert error_line(err) == f"{path}: states.follow_lane.on.signal_stop: unknown target state 'stoped'"
+
+
+def test_missing_state_machine_file_exits_with_the_message(core):
+    path = os.path.join(FIXTURES, "no_such_states.yaml")
+    code, err = run_node(core, state_machine=path)
+    assert code != 0
+    assert error_line(err) == f"{path}: cannot read: No such file or directory"
+
+
+def test_bad_parameter_exits_with_the_message(core):
+    code, err = run_node(core, cruise_speed_mps=-1.0)
+    assert code != 0
+    assert error_line(err) == "parameter /conde_decision/cruise_speed_mps: must be > 0, got -1.0"

@@ -1,0 +1,221 @@
+"""The YAML state machine: every transition of the default description fires, and each
+validation error has its exact message."""
+
+import os
+from collections import deque
+
+import pytest
+import yaml
+
+from conde_decision.state_machine import EVENTS, StateMachine, StateMachineError, load_state_machine
+
+PACKAGE_DIR = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+DEFAULT_YAML = os.path.join(PACKAGE_DIR, "config", "conde_states.yaml")
+FIXTURES = os.path.join(os.path.dirname(os.path.abspath(__file__)), "fixtures")
+SPEC = load_state_machine(DEFAULT_YAML)
+EVENT_LIST = ", ".join(EVENTS)
+
+
+def path_to(spec, goal):
+    """Shortest list of events that leads from the initial state to `goal`."""
+    queue = deque([(spec.initial, [])])
+    seen = {spec.initial}
+    while queue:
+        state, events = queue.popleft()
+        if state == goal:
+            return events
+        for event, target in spec.states[state].transitions.items():
+            if target not in seen:
+                seen.add(target)
+                queue.append((target, events + [event]))
+    raise AssertionError("no path to %s" % goal)
+
+
+def test_default_description():
+    assert SPEC.initial == "wait_for_go"
+    assert list(SPEC.states) == ["wait_for_go", "follow_lane", "turn_left", "turn_right", "approach_stop", "stopped",
+                                 "approach_finish", "finished", "go_to_parking", "parked"]
+    assert SPEC.states["turn_left"].command.branch == "left"
+    assert SPEC.states["turn_right"].command.branch == "right"
+    assert SPEC.states["go_to_parking"].command.distance_m == 2.5
+    assert SPEC.states["finished"].transitions == {}  # stays stopped
+    for state in ("wait_for_go", "stopped", "finished", "parked"):
+        assert SPEC.states[state].command.speed == "stop"
+
+
+@pytest.mark.parametrize("source, event, target", SPEC.transitions(),
+                         ids=["%s-%s" % (s, e) for s, e, _ in SPEC.transitions()])
+def test_every_transition_fires(source, event, target):
+    machine = StateMachine(SPEC)
+    for e in path_to(SPEC, source):  # reach the source state through the machine itself
+        assert machine.handle(e) is not None
+    assert machine.state == source
+    assert machine.handle(event) == target
+    assert machine.state == target and machine.last_event == event
+
+
+def test_unlisted_events_are_ignored():
+    machine = StateMachine(SPEC)
+    assert machine.handle("signal_stop") is None  # waiting at the start: stop keeps waiting
+    assert machine.handle("crosswalk_left") is None
+    assert machine.state == "wait_for_go" and machine.last_event == ""
+    with pytest.raises(ValueError, match="unknown event 'jump'"):
+        machine.handle("jump")
+
+
+# --- validation: exact messages -------------------------------------------------------------------
+
+def write(tmp_path, data, name="conde_states.yaml"):
+    path = tmp_path / name
+    path.write_text(data if isinstance(data, str) else yaml.safe_dump(data, sort_keys=False))
+    return str(path)
+
+
+def default_data():
+    with open(DEFAULT_YAML) as f:
+        return yaml.load(f, Loader=yaml.BaseLoader)  # strings only: `on` stays a key
+
+
+def error_of(path):
+    with pytest.raises(StateMachineError) as info:
+        load_state_machine(path)
+    return str(info.value)
+
+
+def modified(tmp_path, change):
+    data = default_data()
+    for state in data["states"].values():  # BaseLoader keeps numbers as strings
+        if "distance_m" in state["command"]:
+            state["command"]["distance_m"] = float(state["command"]["distance_m"])
+    change(data)
+    return write(tmp_path, data)
+
+
+def test_unknown_target_state(tmp_path):
+    path = modified(tmp_path, lambda d: d["states"]["follow_lane"]["on"].update(signal_stop="stoped"))
+    assert error_of(path) == f"{path}: states.follow_lane.on.signal_stop: unknown target state 'stoped'"
+
+
+def test_unknown_target_state_fixture():
+    path = os.path.join(FIXTURES, "unknown_state.yaml")
+    assert error_of(path) == f"{path}: states.follow_lane.on.signal_stop: unknown target state 'stoped'"
+
+
+def test_unknown_event(tmp_path):
+    path = modified(tmp_path, lambda d: d["states"]["follow_lane"]["on"].update(see_stop="approach_stop"))
+    assert error_of(path) == (f"{path}: states.follow_lane.on.see_stop: unknown event 'see_stop' "
+                              f"(expected one of: {EVENT_LIST})")
+
+
+def test_unknown_initial_state(tmp_path):
+    path = modified(tmp_path, lambda d: d.update(initial="start"))
+    assert error_of(path) == f"{path}: initial: unknown state 'start'"
+
+
+def test_missing_initial(tmp_path):
+    path = modified(tmp_path, lambda d: d.pop("initial"))
+    assert error_of(path) == f"{path}: missing key 'initial'"
+
+
+def test_unknown_top_level_key(tmp_path):
+    path = modified(tmp_path, lambda d: d.update(version=2))
+    assert error_of(path) == f"{path}: unknown key 'version' (expected one of: initial, states)"
+
+
+def test_unknown_state_key(tmp_path):
+    path = modified(tmp_path, lambda d: d["states"]["stopped"].update(colour="red"))
+    assert error_of(path) == f"{path}: states.stopped: unknown key 'colour' (expected one of: description, command, on)"
+
+
+def test_unknown_command_key(tmp_path):
+    path = modified(tmp_path, lambda d: d["states"]["stopped"]["command"].update(lane="left"))
+    assert error_of(path) == (f"{path}: states.stopped.command: unknown key 'lane' "
+                              "(expected one of: speed, branch, distance_m)")
+
+
+def test_unknown_speed(tmp_path):
+    path = modified(tmp_path, lambda d: d["states"]["follow_lane"]["command"].update(speed="fast"))
+    assert error_of(path) == (f"{path}: states.follow_lane.command.speed: unknown speed 'fast' "
+                              "(expected one of: cruise, stop, stop_at_crosswalk)")
+
+
+def test_missing_speed(tmp_path):
+    path = modified(tmp_path, lambda d: d["states"]["follow_lane"]["command"].pop("speed"))
+    assert error_of(path) == f"{path}: states.follow_lane.command: missing key 'speed'"
+
+
+def test_missing_command(tmp_path):
+    path = modified(tmp_path, lambda d: d["states"]["parked"].pop("command"))
+    assert error_of(path) == f"{path}: states.parked: missing key 'command'"
+
+
+def test_unknown_branch(tmp_path):
+    path = modified(tmp_path, lambda d: d["states"]["turn_left"]["command"].update(branch="up"))
+    assert error_of(path) == (f"{path}: states.turn_left.command.branch: unknown branch 'up' "
+                              "(expected one of: none, left, right)")
+
+
+@pytest.mark.parametrize("value", [0, -1.0, "far"])
+def test_bad_distance(tmp_path, value):
+    path = modified(tmp_path, lambda d: d["states"]["turn_left"]["command"].update(distance_m=value))
+    assert error_of(path) == f"{path}: states.turn_left.command.distance_m: expected a distance > 0 [m], got {value!r}"
+
+
+def test_distance_event_without_distance(tmp_path):
+    path = modified(tmp_path, lambda d: d["states"]["turn_left"]["command"].pop("distance_m"))
+    assert error_of(path) == (f"{path}: states.turn_left.on.distance_elapsed: "
+                              "the state has no command.distance_m, so the event never fires")
+
+
+def test_unreachable_state(tmp_path):
+    def change(d):
+        d["states"]["wait_for_go"]["on"].pop("signal_parking")
+        d["states"]["follow_lane"]["on"].pop("signal_parking")
+        d["states"]["approach_stop"]["on"].pop("signal_parking")
+        d["states"]["stopped"]["on"].pop("signal_parking")
+        d["states"]["approach_finish"]["on"].pop("signal_parking")
+
+    path = modified(tmp_path, change)
+    assert error_of(path) == f"{path}: states.go_to_parking: unreachable from the initial state 'wait_for_go'"
+
+
+def test_duplicate_key(tmp_path):
+    text = open(DEFAULT_YAML).read().replace("      signal_stop: approach_stop\n",
+                                             "      signal_stop: approach_stop\n      signal_stop: stopped\n", 1)
+    path = write(tmp_path, text)
+    line = text.splitlines().index("      signal_stop: stopped") + 1
+    assert error_of(path) == f"{path}: YAML error: duplicate key 'signal_stop' in \"{path}\", line {line}, column 7"
+
+
+def test_transitions_must_be_a_mapping(tmp_path):
+    path = modified(tmp_path, lambda d: d["states"]["stopped"].update(on=["signal_forward"]))
+    assert error_of(path) == f"{path}: states.stopped.on: expected a mapping of events to states"
+
+
+def test_states_must_be_a_non_empty_mapping(tmp_path):
+    path = write(tmp_path, "initial: a\nstates: {}\n")
+    assert error_of(path) == f"{path}: states: expected a non-empty mapping of state names to states"
+
+
+def test_not_a_mapping(tmp_path):
+    path = write(tmp_path, "- initial\n")
+    assert error_of(path) == f"{path}: expected a mapping with keys initial and states, got list"
+
+
+def test_missing_file(tmp_path):
+    path = str(tmp_path / "none.yaml")
+    assert error_of(path) == f"{path}: cannot read: No such file or directory"
+
+
+def test_yaml_syntax_error(tmp_path):
+    path = write(tmp_path, "initial: [a\n")
+    assert error_of(path).startswith(f"{path}: YAML error: ")
+
+
+def test_on_is_a_key_not_a_boolean(tmp_path):
+    # YAML 1.1 reads a bare `on` as True; this loader keeps it a key (and `on` as a value a string).
+    path = write(tmp_path, "initial: a\nstates:\n  a:\n    command: {speed: stop}\n    on: {signal_forward: b}\n"
+                           "  b:\n    description: on\n    command: {speed: cruise}\n")
+    spec = load_state_machine(path)
+    assert spec.states["a"].transitions == {"signal_forward": "b"}
+    assert spec.states["b"].description == "on"
