@@ -1,0 +1,160 @@
+"""Recognises the signal on a signalling-panel monitor in one top-camera image (pure numpy/OpenCV).
+
+The monitor shows flat, fully saturated colours on a black screen (conde_signalling_panel_control's
+pictures): green arrows (left / right / forward), a red X (stop), a yellow P (parking) and a red and
+green 4 x 4 checkerboard (end of trial); a black screen means none. Everything else the top camera
+sees on the track (light-blue sky, grey monitor backs, black floor with white lines) is weakly
+saturated, so the panel content is found as the largest blob of strongly saturated pixels, then
+classified by its colours and, for a green arrow, by where its head is.
+
+Assumptions: the content is seen roughly head-on (the robot faces the monitor within about 10 deg),
+at least MIN_BLOB_AREA_PX pixels large, and the image is RGB (bgr=True for BGR). Brightness
+scaling (0.6..1.4) and Gaussian noise (sigma up to ~0.03 of full scale) are tolerated because
+the tests are on saturation (chroma relative to the brightest channel), not on absolute values.
+"""
+import cv2
+import numpy as np
+
+# Signal names in conde_msgs/PanelSignal code order (NONE=0 .. PARKING=6).
+SIGNAL_NAMES = ("none", "left", "right", "forward", "stop", "end_of_trial", "parking")
+SIGNAL_CODES = {name: code for code, name in enumerate(SIGNAL_NAMES)}
+
+MIN_CHROMA = 60.0          # max - min channel [0..255]; sky is ~50 at most, dimmed green ~150
+MIN_SATURATION = 0.5       # chroma / max channel; sky and grey are below 0.3, the panel near 1
+MIN_BLOB_AREA_PX = 40      # smaller saturated blobs are noise, not a monitor
+MIXED_MIN_FRACTION = 0.15  # the checkerboard has at least this much of both red and green
+YELLOW_MIN_FRACTION = 0.5  # the P is mostly yellow (red/green borders of the checkerboard are not)
+
+
+def classify_panel(image, bgr=False):
+    """(signal name, confidence 0..1) for an RGB uint8 image (H x W x 3); bgr=True for BGR."""
+    image = np.asarray(image)
+    if image.ndim != 3 or image.shape[2] != 3:
+        raise ValueError("expected an H x W x 3 colour image, got shape %s" % (image.shape,))
+    rgb = image[:, :, ::-1] if bgr else image
+    blob = find_panel_blob(rgb)
+    if blob is None:
+        return "none", 1.0
+    mask, colours = blob
+    return classify_blob(mask, colours)
+
+
+def colour_classes(rgb):
+    """Per-pixel class: 0 not saturated, 1 red, 2 green, 3 yellow (uint8, H x W)."""
+    pixels = rgb.astype(np.float32)
+    high = pixels.max(axis=2)
+    low = pixels.min(axis=2)
+    chroma = high - low
+    saturated = (chroma >= MIN_CHROMA) & (chroma >= MIN_SATURATION * high)
+    safe_high = np.maximum(high, 1.0)
+    red = pixels[:, :, 0] / safe_high
+    green = pixels[:, :, 1] / safe_high
+    blue = pixels[:, :, 2] / safe_high
+    classes = np.zeros(high.shape, np.uint8)
+    not_blue = blue < 0.5
+    is_yellow = saturated & not_blue & (red >= 0.6) & (green >= 0.6)
+    classes[saturated & not_blue & (red > green) & ~is_yellow] = 1
+    classes[saturated & not_blue & (green >= red) & ~is_yellow] = 2
+    classes[is_yellow] = 3
+    return classes
+
+
+def find_panel_blob(rgb):
+    """(mask of the panel content, colour classes) of the largest saturated blob, or None.
+
+    Saturated pixels are closed with a 3 x 3 kernel so that the cells of the checkerboard and
+    pixels split by noise join one blob."""
+    classes = colour_classes(rgb)
+    saturated = (classes > 0).astype(np.uint8)
+    closed = cv2.morphologyEx(saturated, cv2.MORPH_CLOSE, np.ones((3, 3), np.uint8))
+    count, labels, stats, _ = cv2.connectedComponentsWithStats(closed, connectivity=8)
+    if count <= 1:
+        return None
+    areas = stats[1:, cv2.CC_STAT_AREA]
+    best = 1 + int(np.argmax(areas))
+    if stats[best, cv2.CC_STAT_AREA] < MIN_BLOB_AREA_PX:
+        return None
+    mask = labels == best
+    return mask, np.where(mask, classes, 0)
+
+
+def classify_blob(mask, colours):
+    """(signal name, confidence) of one blob from its colour fractions and its shape."""
+    coloured = colours[mask]
+    coloured = coloured[coloured > 0]
+    total = max(len(coloured), 1)
+    red = np.count_nonzero(coloured == 1) / total
+    green = np.count_nonzero(coloured == 2) / total
+    yellow = np.count_nonzero(coloured == 3) / total
+    if yellow >= YELLOW_MIN_FRACTION:
+        return "parking", yellow
+    if min(red, green) >= MIXED_MIN_FRACTION:
+        # Both colours in comparable amounts: the closer to half and half, the surer.
+        return "end_of_trial", min(1.0, 2.0 * min(red, green) / (red + green) + 0.5)
+    if red > green:
+        return "stop", red / (red + green + yellow)
+    direction, margin = arrow_direction(mask)
+    return direction, (green / (red + green + yellow)) * margin
+
+
+def arrow_direction(mask):
+    """("left" | "right" | "forward", confidence) of an arrow-shaped mask.
+
+    The head of an arrow is much wider across the arrow than its shaft, so the widest cross
+    section in the outer third at the head end is about three times that at the tail end, while
+    across the arrow the profile is symmetric. Compares both axes and takes the more lopsided."""
+    ys, xs = np.nonzero(mask)
+    column_widths = _outer_third_widths(xs)  # (left third, right third): pixels per column
+    row_widths = _outer_third_widths(ys)     # (top third, bottom third): pixels per row
+    horizontal = np.log(column_widths[1] / column_widths[0])  # > 0: head on the right
+    vertical = np.log(row_widths[0] / row_widths[1])          # > 0: head on top
+    if abs(horizontal) >= abs(vertical):
+        direction, strength, other = ("right" if horizontal > 0 else "left"), abs(horizontal), abs(vertical)
+    elif vertical > 0:
+        direction, strength, other = "forward", vertical, abs(horizontal)
+    else:
+        return "forward", 0.0  # a downward arrow is no signal of the panel: no confidence
+    # A real arrow gives a log ratio near 1 on its axis and near 0 across it.
+    confidence = float(np.clip((strength - other) / 0.5, 0.0, 1.0))
+    return direction, confidence
+
+
+def _outer_third_widths(along):
+    """Widest cross section (90th percentile of the pixel count per line across the axis) in the
+    first and in the last third of the blob's range along the axis (pixel coordinates `along`)."""
+    low, high = along.min(), along.max()
+    third = (high - low + 1) / 3.0
+    widths = []
+    for selected in (along < low + third, along > high - third):
+        positions = along[selected]
+        if len(positions) == 0:
+            widths.append(1.0)
+            continue
+        counts = np.bincount(positions - low)
+        widths.append(max(float(np.percentile(counts[counts > 0], 90)), 1.0))
+    return widths
+
+
+class Debouncer:
+    """Reports a signal only once it was seen in `frames_required` consecutive frames.
+
+    update() returns the debounced (signal, confidence): the last signal that was stable long
+    enough (with the mean confidence over its stable run), or None before any signal was."""
+
+    def __init__(self, frames_required=3):
+        if isinstance(frames_required, bool) or not isinstance(frames_required, (int, np.integer)) \
+                or frames_required < 1:
+            raise ValueError("frames_required must be an integer >= 1, got %r" % (frames_required,))
+        self.frames_required = int(frames_required)
+        self.candidate = None
+        self.run_confidences = []
+        self.reported = None
+
+    def update(self, signal, confidence=1.0):
+        if signal != self.candidate:
+            self.candidate = signal
+            self.run_confidences = []
+        self.run_confidences = (self.run_confidences + [float(confidence)])[-self.frames_required:]
+        if len(self.run_confidences) >= self.frames_required:
+            self.reported = (signal, sum(self.run_confidences) / len(self.run_confidences))
+        return self.reported

@@ -1,0 +1,179 @@
+"""The conde_semaphore node against a real roscore on a free loopback port: rendered top-camera
+images in, debounced /conde_signal out (rgb8 and bgr8, stamps passed through), the warning for
+an unsupported encoding and the "waiting for images" log, both read from /rosout.
+
+Needs the built workspace: `source devel/setup.bash` (the node is started with rosrun)."""
+import os
+import signal
+import socket
+import subprocess
+import threading
+import time
+
+import cv2
+import pytest
+
+try:
+    import rospy
+    from conde_msgs.msg import PanelSignal
+    from rosgraph_msgs.msg import Log
+    from sensor_msgs.msg import Image
+except ImportError as error:
+    raise ImportError("%s: build the workspace and source devel/setup.bash first" % error) from None
+
+from conde_semaphore.panel_classifier import SIGNAL_CODES
+
+IMAGES_DIR = os.path.join(os.path.dirname(os.path.abspath(__file__)), "images")
+IMAGE_TOPIC = "/conde_camera_signalling_panel/image_raw"
+TIMEOUT_S = 60.0  # generous: the machine may be busy
+
+
+def free_port():
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def wait_until(condition, what, timeout_s=TIMEOUT_S):
+    deadline = time.monotonic() + timeout_s
+    while not condition():
+        assert time.monotonic() < deadline, "timed out waiting for " + what
+        time.sleep(0.05)
+
+
+class Collector:
+    def __init__(self, topic, message_type):
+        self.lock = threading.Lock()
+        self.messages = []
+        self.subscriber = rospy.Subscriber(topic, message_type, self.on_message, queue_size=100)
+
+    def on_message(self, msg):
+        with self.lock:
+            self.messages.append(msg)
+
+    def snapshot(self):
+        with self.lock:
+            return list(self.messages)
+
+
+@pytest.fixture(scope="module")
+def ros():
+    """roscore on a free port, this process as a ROS node, and conde_semaphore started by rosrun;
+    yields (image publisher, /conde_signal collector, /rosout collector)."""
+    port = free_port()
+    uri = "http://127.0.0.1:%d" % port
+    env = dict(os.environ, ROS_MASTER_URI=uri, ROS_IP="127.0.0.1")
+    env.pop("ROS_HOSTNAME", None)
+    core = subprocess.Popen(["roscore", "-p", str(port)], env=env, stdout=subprocess.DEVNULL,
+                            stderr=subprocess.DEVNULL, start_new_session=True)
+    node = None
+    try:
+        wait_until(lambda: subprocess.run(["rosparam", "list"], env=env, capture_output=True).returncode == 0,
+                   "roscore to come up")
+        os.environ.update(ROS_MASTER_URI=uri, ROS_IP="127.0.0.1")
+        os.environ.pop("ROS_HOSTNAME", None)
+        rospy.init_node("conde_semaphore_test", anonymous=True, disable_signals=True)
+        rosout = Collector("/rosout", Log)
+        signals = Collector("/conde_signal", PanelSignal)
+        publisher = rospy.Publisher(IMAGE_TOPIC, Image, queue_size=10)
+        node = subprocess.Popen(["rosrun", "conde_semaphore", "conde_semaphore"], env=env,
+                                stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True)
+        wait_until(lambda: publisher.get_num_connections() > 0 and signals.subscriber.get_num_connections() > 0,
+                   "conde_semaphore to connect")
+        yield publisher, signals, rosout
+    finally:
+        for process in (node, core):
+            if process is None:
+                continue
+            os.killpg(process.pid, signal.SIGINT)
+            try:
+                process.wait(timeout=30)
+            except subprocess.TimeoutExpired:
+                os.killpg(process.pid, signal.SIGKILL)
+                process.wait()
+        rospy.signal_shutdown("tests done")
+
+
+def image_message(file_name, encoding, stamp_s):
+    bgr = cv2.imread(os.path.join(IMAGES_DIR, file_name), cv2.IMREAD_COLOR)
+    assert bgr is not None, file_name
+    pixels = cv2.cvtColor(bgr, cv2.COLOR_BGR2RGB) if encoding == "rgb8" else bgr
+    msg = Image(height=pixels.shape[0], width=pixels.shape[1], encoding=encoding, step=pixels.shape[1] * 3,
+                data=pixels.tobytes())
+    msg.header.stamp = rospy.Time.from_sec(stamp_s)
+    msg.header.frame_id = "camera_signalling_panel_optical"
+    return msg
+
+
+def publish_until(publisher, signals, msg_for_stamp, expected_code, first_stamp_s):
+    """Publishes images (stamps first_stamp_s + k) until /conde_signal carries expected_code for one
+    of them; returns (that message, {stamp: index} of the images sent)."""
+    sent = {}
+    deadline = time.monotonic() + TIMEOUT_S
+    k = 0
+    while time.monotonic() < deadline:
+        stamp_s = first_stamp_s + k
+        publisher.publish(msg_for_stamp(stamp_s))
+        sent[round(stamp_s, 3)] = k
+        k += 1
+        time.sleep(0.1)
+        for msg in signals.snapshot():
+            if msg.signal == expected_code and round(msg.header.stamp.to_sec(), 3) in sent:
+                return msg, sent
+    raise AssertionError("no /conde_signal %d after %d images" % (expected_code, k))
+
+
+def test_waiting_for_images_is_logged(ros):
+    _, _, rosout = ros
+    wait_until(lambda: any(m.name == "/conde_semaphore" and m.msg == "conde_semaphore: waiting for images on "
+                           + IMAGE_TOPIC for m in rosout.snapshot()), "the waiting message on /rosout")
+
+
+@pytest.mark.parametrize("signal_name, encoding", [
+    ("stop", "rgb8"), ("left", "bgr8"), ("right", "rgb8"), ("forward", "rgb8"),
+    ("end_of_trial", "bgr8"), ("parking", "rgb8"), ("none", "rgb8")])
+def test_rendered_images_give_the_signal(ros, signal_name, encoding):
+    publisher, signals, rosout = ros
+    first_stamp_s = 1000.0 * (1 + list(SIGNAL_CODES).index(signal_name)) + (0.5 if encoding == "bgr8" else 0.0)
+    msg, sent = publish_until(publisher, signals, lambda s: image_message(signal_name + "_1.png", encoding, s),
+                              SIGNAL_CODES[signal_name], first_stamp_s)
+    # Debounced: the first image of the new signal cannot have been reported yet.
+    assert sent[round(msg.header.stamp.to_sec(), 3)] >= 2
+    assert msg.header.frame_id == "camera_signalling_panel_optical"
+    assert 0.5 <= msg.confidence <= 1.0
+    wait_until(lambda: any(m.name == "/conde_semaphore" and "-> %s (confidence" % signal_name in m.msg
+                           for m in rosout.snapshot()), "the change to be logged")
+
+
+def test_unsupported_encoding_is_ignored_with_a_warning(ros):
+    publisher, signals, rosout = ros
+    # Establish a known signal first, then send mono8 images: they change nothing.
+    publish_until(publisher, signals, lambda s: image_message("parking_0.png", "rgb8", s),
+                  SIGNAL_CODES["parking"], 9000.0)
+    count_before = len(signals.snapshot())
+    for k in range(5):
+        msg = Image(height=240, width=320, encoding="mono8", step=320, data=bytes(320 * 240))
+        msg.header.stamp = rospy.Time.from_sec(9500.0 + k)
+        publisher.publish(msg)
+        time.sleep(0.1)
+    expected = ("conde_semaphore: ignoring images on %s: encoding 'mono8' is not supported "
+                "(expected rgb8 or bgr8)" % IMAGE_TOPIC)
+    wait_until(lambda: any(m.level == Log.WARN and m.msg == expected for m in rosout.snapshot()),
+               "the encoding warning on /rosout")
+    assert all(m.header.stamp.to_sec() < 9500.0 for m in signals.snapshot()[count_before:])
+
+
+def test_truncated_image_is_ignored_with_a_warning(ros):
+    publisher, _, rosout = ros
+    msg = Image(height=240, width=320, encoding="rgb8", step=960, data=bytes(960 * 100))
+    for _ in range(3):
+        publisher.publish(msg)
+        time.sleep(0.1)
+    expected = ("conde_semaphore: ignoring images on %s: size does not match the data: 320 x 240 px, "
+                "step 960, 96000 bytes" % IMAGE_TOPIC)
+    # The warning is throttled (5 s): the mono8 one may hide this one for that long.
+    deadline = time.monotonic() + TIMEOUT_S
+    while not any(m.msg == expected for m in rosout.snapshot()):
+        assert time.monotonic() < deadline, "timed out waiting for the size warning on /rosout"
+        publisher.publish(msg)
+        time.sleep(0.5)
