@@ -1,0 +1,216 @@
+"""Lane measurement from Conde's two ground cameras.  Pure numpy, no ROS.
+
+Pipeline per image pair:
+  1. white pixels (every channel >= white_threshold) of both images -> ground points in
+     base_footprint through each camera's GroundMap (ipm.py);
+  2. the lane centre ahead is modelled as y = c0 + c1 x + c2 x^2 in base_footprint (x forward,
+     y left); its right line (solid edge line) lies right_line_offset_m and its left line (the
+     dashed centre line) left_line_offset_m from it, measured along the normal.  Without a
+     prior fit a coarse grid search picks the model that puts most white points on the two
+     lines; then a few rounds of windowed least squares refine it with both lines together;
+  3. lateral offset = signed distance from base_footprint to the centre curve (+ = robot left
+     of it), heading error = -atan(c1) (+ = robot points left of the lane);
+  4. crosswalk: along the lane, in its interior (between the lines), the share of white
+     pixels per distance bin: a bar across the whole lane (share >= bar_share) followed by
+     the stripes (share >= stripe_share), with observed black lane before the bar, is a
+     crosswalk; its distance is the near edge of the bar.
+
+Assumptions: flat ground; the robot drives in the right lane of a two-lane road (traffic on the
+right); the lane bends slowly enough over the fitted range (fit_range_m) for a parabola.
+Lane dimensions default to the competition track (worlds/tracks/competition_track.geometry.yaml:
+lane_offset_m 0.391 = distance from the road's centre line to a lane centre, line_spacing_m
+0.8065 = distance from the road's centre line to an edge line).
+"""
+import math
+from dataclasses import dataclass, field
+from typing import Optional, Sequence
+
+import numpy as np
+
+from conde_tracking.ipm import GroundMap
+
+
+@dataclass
+class LaneConfig:
+    right_line_offset_m: float = -(0.8065 - 0.391)  # centre of the solid edge line from the lane centre (+ = left)
+    left_line_offset_m: float = 0.391  # centre of the dashed centre line from the lane centre
+    white_threshold: int = 140  # [0..255] every RGB channel at least this
+    fit_range_m: Sequence[float] = (0.0, 1.3)  # x range [m] of the points used for the lane fit
+    max_abs_y_m: float = 1.3  # points farther to the side are ignored [m]
+    line_window_m: float = 0.06  # half width of the band around a predicted line centre [m]
+    min_line_points: int = 25  # white pixels for a line to count as found
+    min_line_extent_m: float = 0.15  # ... spread over at least this distance along x [m]
+    search_points: int = 300  # points used by the coarse grid search (subsampled)
+    crosswalk_range_m: Sequence[float] = (0.0, 1.6)  # x range [m] searched for the crosswalk
+    crosswalk_bin_m: float = 0.02
+    crosswalk_half_width_m: float = 0.25  # half width of the lane interior used [m]
+    bar_share: float = 0.6  # share of white pixels in a bin across a bar
+    min_bar_m: float = 0.04  # shortest bar thickness accepted [m]
+    stripe_share: float = 0.1  # mean share of white behind the bar (the stripes)
+    stripes_m: float = 0.2  # length behind the bar where the stripes are looked for [m]
+    min_black_before_m: float = 0.06  # observed black lane before the bar [m]
+
+
+@dataclass
+class LaneFit:
+    """Lane centre y = c[0] + c[1] x + c[2] x^2 in base_footprint [m], and which lines supported it."""
+    coeffs: np.ndarray
+    right_found: bool
+    left_found: bool
+
+
+@dataclass
+class LaneResult:
+    lateral_offset_m: float = float("nan")
+    heading_error_rad: float = float("nan")
+    confidence: float = 0.0
+    crosswalk_seen: bool = False
+    crosswalk_distance_m: float = float("nan")
+    fit: Optional[LaneFit] = None
+    right_points: np.ndarray = field(default_factory=lambda: np.zeros((0, 2)))
+    left_points: np.ndarray = field(default_factory=lambda: np.zeros((0, 2)))
+
+
+def white_mask(image, threshold):
+    """Boolean (H, W) mask of white pixels: every channel >= threshold (mono images: the value)."""
+    img = np.asarray(image)
+    if img.ndim == 2:
+        return img >= threshold
+    return np.all(img >= threshold, axis=2)
+
+
+def _line_positions(coeffs, x, offset_m):
+    """y of the line offset_m (along the normal) from the centre curve, at the points' x.
+
+    Uses the normal at x: the point at normal distance `offset` from (x, yc) lies at
+    x - offset sin(a), yc + offset cos(a); evaluated at x to first order in the slope."""
+    slope = coeffs[1] + 2.0 * coeffs[2] * x
+    return coeffs[0] + coeffs[1] * x + coeffs[2] * x * x + offset_m * np.sqrt(1.0 + slope * slope)
+
+
+class LaneMeasurement:
+    """Measures the lane from image pairs of two calibrated cameras (ground maps computed once)."""
+
+    def __init__(self, ground_maps: Sequence[GroundMap], config: LaneConfig = LaneConfig()):
+        self.ground_maps = list(ground_maps)
+        self.config = config
+        self._grid = self._search_grid()
+
+    @staticmethod
+    def _search_grid():
+        # lateral [m] x heading x curvature/2 [1/m]; steps well inside line_window_m
+        c0 = np.arange(-0.30, 0.301, 0.03)
+        c1 = np.tan(np.radians(np.arange(-40.0, 40.1, 4.0)))
+        c2 = np.array([-0.8, -0.4, -0.2, 0.0, 0.2, 0.4, 0.8])
+        g = np.stack(np.meshgrid(c0, c1, c2, indexing="ij"), axis=-1).reshape(-1, 3)
+        return g
+
+    def ground_white(self, images):
+        """White ground points (N, 2) [m] of all images together, and all ground points (M, 2) with a
+        white flag (M,) for the crosswalk search."""
+        c = self.config
+        white, everything, flags = [], [], []
+        for gm, img in zip(self.ground_maps, images):
+            mask = white_mask(img, c.white_threshold)
+            xy = gm.xy_m.reshape(-1, 2)
+            ok = np.isfinite(xy[:, 0])
+            everything.append(xy[ok])
+            flags.append(mask.reshape(-1)[ok])
+        everything = np.concatenate(everything)
+        flags = np.concatenate(flags)
+        return everything[flags], everything, flags
+
+    def _coarse_search(self, pts):
+        c = self.config
+        if len(pts) > c.search_points:
+            pts = pts[np.linspace(0, len(pts) - 1, c.search_points).astype(int)]
+        g = self._grid
+        x, y = pts[:, 0][None, :], pts[:, 1][None, :]
+        yc = g[:, 0:1] + g[:, 1:2] * x + g[:, 2:3] * x * x
+        k = np.sqrt(1.0 + (g[:, 1:2] + 2 * g[:, 2:3] * x) ** 2)
+        d = y - yc
+        score = (np.abs(d - c.right_line_offset_m * k) < c.line_window_m).sum(1) + \
+            (np.abs(d - c.left_line_offset_m * k) < c.line_window_m).sum(1)
+        return g[int(np.argmax(score))].copy()
+
+    def _line_found(self, pts):
+        c = self.config
+        return len(pts) >= c.min_line_points and np.ptp(pts[:, 0]) >= c.min_line_extent_m
+
+    def fit_lane(self, pts, prior: Optional[np.ndarray] = None):
+        """LaneFit from white ground points (N, 2), starting from prior coefficients or a grid search.
+        Returns (fit or None, right-line points, left-line points)."""
+        c = self.config
+        sel = (pts[:, 0] >= c.fit_range_m[0]) & (pts[:, 0] <= c.fit_range_m[1]) & (np.abs(pts[:, 1]) <= c.max_abs_y_m)
+        pts = pts[sel]
+        empty = np.zeros((0, 2))
+        if len(pts) < c.min_line_points:
+            return None, empty, empty
+        coeffs = np.asarray(prior, float).copy() if prior is not None else self._coarse_search(pts)
+        x, y = pts[:, 0], pts[:, 1]
+        right = left = np.zeros(len(pts), bool)
+        for window in (c.line_window_m, c.line_window_m, 0.75 * c.line_window_m, 0.75 * c.line_window_m):
+            right = np.abs(y - _line_positions(coeffs, x, c.right_line_offset_m)) < window
+            left = np.abs(y - _line_positions(coeffs, x, c.left_line_offset_m)) < window
+            found_r, found_l = self._line_found(pts[right]), self._line_found(pts[left])
+            use = (right & found_r) | (left & found_l)
+            if not use.any():
+                return None, empty, empty
+            slope = coeffs[1] + 2 * coeffs[2] * x[use]
+            offs = np.where(right[use], c.right_line_offset_m, c.left_line_offset_m)
+            target = y[use] - offs * np.sqrt(1.0 + slope * slope)  # centre-line y implied by each point
+            xu = x[use]
+            # one line only, or a short x extent: a parabola is not determined well; keep it straight
+            degree = 2 if (found_r and found_l and np.ptp(xu) > 0.6) else 1
+            A = np.column_stack([np.ones_like(xu), xu, xu * xu][:degree + 1])
+            sol = np.linalg.lstsq(A, target, rcond=None)[0]
+            coeffs = np.zeros(3)
+            coeffs[:degree + 1] = sol
+        return LaneFit(coeffs, bool(found_r), bool(found_l)), pts[right], pts[left]
+
+    def find_crosswalk(self, coeffs, everything, flags):
+        """(seen, distance_m to the near edge of the crosswalk's first bar) along the fitted lane."""
+        c = self.config
+        x, y = everything[:, 0], everything[:, 1]
+        d = y - (coeffs[0] + coeffs[1] * x + coeffs[2] * x * x)
+        sel = (np.abs(d) < c.crosswalk_half_width_m) & (x >= c.crosswalk_range_m[0]) & (x < c.crosswalk_range_m[1])
+        edges = np.arange(c.crosswalk_range_m[0], c.crosswalk_range_m[1] + 1e-9, c.crosswalk_bin_m)
+        total, _ = np.histogram(x[sel], edges)
+        white, _ = np.histogram(x[sel & flags], edges)
+        seen_bin = total >= 3
+        share = np.where(seen_bin, white / np.maximum(total, 1), np.nan)
+        is_bar = share >= c.bar_share
+        n_bar = max(1, int(round(c.min_bar_m / c.crosswalk_bin_m)))
+        n_black = max(1, int(round(c.min_black_before_m / c.crosswalk_bin_m)))
+        n_stripes = max(1, int(round(c.stripes_m / c.crosswalk_bin_m)))
+        i = 0
+        while i < len(share):
+            if not is_bar[i]:
+                i += 1
+                continue
+            j = i
+            while j < len(share) and is_bar[j]:
+                j += 1
+            before = share[max(0, i - n_black):i]
+            behind = share[j:j + n_stripes]
+            if (j - i >= n_bar and len(before) == n_black and np.all(before < c.stripe_share)
+                    and len(behind) > n_stripes // 2 and np.nanmean(behind) >= c.stripe_share):
+                # near edge: the nearest white interior pixels of the bar (pixel centres)
+                in_bar = sel & flags & (x >= edges[max(0, i - 1)]) & (x < edges[j])
+                return True, float(np.percentile(x[in_bar], 2)) if in_bar.any() else float(edges[i])
+            i = j
+        return False, float("nan")
+
+    def measure(self, images, prior: Optional[np.ndarray] = None) -> LaneResult:
+        """LaneResult from one image per ground map (same order), optionally starting from the
+        previous fit's coefficients."""
+        pts, everything, flags = self.ground_white(images)
+        fit, rpts, lpts = self.fit_lane(pts, prior)
+        if fit is None:
+            return LaneResult()
+        c0, c1 = fit.coeffs[0], fit.coeffs[1]
+        heading = -math.atan(c1)
+        lateral = -c0 * math.cos(heading)
+        seen, dist = self.find_crosswalk(fit.coeffs, everything, flags)
+        conf = 0.5 * fit.right_found + 0.5 * fit.left_found
+        return LaneResult(lateral, heading, conf, seen, dist, fit, rpts, lpts)
