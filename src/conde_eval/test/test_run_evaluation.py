@@ -27,12 +27,14 @@ def drive(timer, xy, speed_mps=0.5, t0_s=0.0):
 def test_two_laps_of_the_lane_centre_are_two_laps_of_the_route_length(lane):
     start = np.array([[2.169, -0.33]])
     path = np.vstack([start, lane, lane, lane[:10]])  # the route starts at y = 0 going north
+    # Laps: from the first motion to the line 0.21 m before the crosswalk, then line to line.
     timer = run_evaluation.LapTimer()
     drive(timer, path)
     route_length_m = tg.build_track().lane_centres()["north_ccw"]["length"]
     assert len(timer.laps_s) == 2
     for lap in timer.laps_s:
         assert lap == pytest.approx(route_length_m / 0.5, rel=0.01)
+    assert timer.motion_start_s == 0.0 and len(timer.crossings_s) == 2
     assert timer.top_speed_mps == pytest.approx(0.5, rel=1e-6)
 
 

@@ -8,9 +8,12 @@ import numpy as np
 
 from conde_worlds import track_geometry as tg
 
-#: Laps start and end where the robot crosses this line (y = 0, the middle of the crosswalk)
-#: northbound in the east lane, as it does right after the start.
-START_LINE_Y_M = 0.0
+#: Laps end where the robot crosses this line northbound in the east lane: 0.21 m before the
+#: crosswalk's near edge (y = -0.34), behind the start pose (y = -0.33) and the spot where the
+#: robot stops before the crosswalk at the end of the trial.  The first lap starts when the robot
+#: first moves.
+START_LINE_Y_M = -0.55
+MOTION_M = 0.02  # the robot has started once it is this far from where it stood [m]
 #: Half of the clear lane width: the robot's base_footprint stays in its lane while its distance
 #: to the nearest lane centre is below this.
 LANE_HALF_WIDTH_M = tg.LANE_WIDTH / 2.0
@@ -21,10 +24,16 @@ class LapTimer:
 
     def __init__(self):
         self.crossings_s = []   # sim times of northbound crossings of the start line, east lane
+        self.motion_start_s = None  # when the robot first moved
+        self._first = None      # (x, y) where it stood
         self._last = None       # (t, x, y)
         self.top_speed_mps = 0.0
 
     def feed(self, t_s, x_m, y_m):
+        if self._first is None:
+            self._first = (x_m, y_m)
+        if self.motion_start_s is None and math.hypot(x_m - self._first[0], y_m - self._first[1]) > MOTION_M:
+            self.motion_start_s = self._last[0] if self._last is not None else t_s
         if self._last is not None:
             t0, x0, y0 = self._last
             if t_s > t0:
@@ -36,8 +45,12 @@ class LapTimer:
 
     @property
     def laps_s(self):
-        """Duration of each completed lap."""
-        return [b - a for a, b in zip(self.crossings_s, self.crossings_s[1:])]
+        """Duration of each completed lap: the first from the first motion (unless the robot
+        started behind the line and crossed it within a second), then line to line."""
+        marks = list(self.crossings_s)
+        if self.motion_start_s is not None and not (marks and marks[0] - self.motion_start_s < 1.0):
+            marks.insert(0, self.motion_start_s)
+        return [b - a for a, b in zip(marks, marks[1:])]
 
 
 def lane_keeping(xy):
