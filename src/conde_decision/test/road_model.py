@@ -40,7 +40,7 @@ class Lane:
 
 
 class Road:
-    def __init__(self, logic, speed_scale=1.0, start_s=0.0, t0_s=100.0):
+    def __init__(self, logic, speed_scale=1.0, start_s=0.0, t0_s=100.0, odometry_distance=True):
         self.logic = logic
         self.s = start_s
         self.t = t0_s
@@ -51,6 +51,7 @@ class Road:
         self.outputs = []  # every DecisionOutput
         self.positions = []  # s at each output
         self.yaw_rad = 0.5 * math.pi
+        self.odometry_distance = odometry_distance  # odometry reports the path length (s) too
         self.forks = 0  # forks passed
         self.loop = None  # (arc start s, arc end s, signed curvature) of the loop being driven
 
@@ -67,7 +68,7 @@ class Road:
                     self.lane_confidence)
 
     def step(self):
-        self.logic.on_odometry(self.yaw_rad)
+        self.logic.on_odometry(self.yaw_rad, self.s if self.odometry_distance else None)
         out = self.logic.on_lane(self.lane(), self.t)
         self.outputs.append(out)
         self.positions.append(self.s)

@@ -20,8 +20,9 @@ STEP_M = CRUISE * DT_S  # distance of one step at cruise speed
 FORK_S = CONFIG.crosswalk_length_m + CONFIG.fork_distance_m  # first fork, from the start (s = 0)
 
 
-def make(speed_scale=1.0, **config):
-    return Road(DecisionLogic(SPEC, replace(CONFIG, **config)), speed_scale=speed_scale)
+def make(speed_scale=1.0, odometry_distance=True, **config):
+    return Road(DecisionLogic(SPEC, replace(CONFIG, **config)), speed_scale=speed_scale,
+                odometry_distance=odometry_distance)
 
 
 def signal(road, code, confidence=1.0):
@@ -135,6 +136,21 @@ def test_forward_takes_the_default_lap():
     assert not any("merge_left" in o.events for o in road.outputs)
 
 
+@pytest.mark.parametrize("speed_scale", [0.8, 1.25])
+def test_odometry_places_the_fork_when_the_robot_lags_its_commands(speed_scale):
+    """With the path length from odometry, the fork fires where it is even when the robot drives
+    slower or faster than commanded; dead reckoning from the command would miss it by 20 %."""
+    for odometry in (True, False):
+        road = make(speed_scale, odometry_distance=odometry)
+        signal(road, FORWARD)
+        road.until("fork_straight")
+        error_m = road.positions[-1] - FORK_S
+        if odometry:
+            assert abs(error_m) <= 2 * STEP_M * speed_scale
+        else:
+            assert abs(error_m) > 0.15 * CONFIG.fork_distance_m
+
+
 def test_forward_keeps_straight_at_the_fork():
     road = make()
     signal(road, FORWARD)
@@ -195,7 +211,7 @@ def test_an_order_the_fork_cannot_take_keeps_straight():
 
 @pytest.mark.parametrize("speed_scale", [1.0, 0.9, 1.1])  # robot as commanded, slower, faster
 def test_stop_before_the_crosswalk_and_go_on(speed_scale):
-    road = make(speed_scale)
+    road = make(speed_scale, odometry_distance=False)  # dead reckoning from the commanded speed
     signal(road, FORWARD)
     road.drive_m(HALF_LAP_M - 5.0)  # approaching the crosswalk (southbound)
     assert signal(road, STOP) == [("follow_lane", "signal_stop", "approach_stop")]

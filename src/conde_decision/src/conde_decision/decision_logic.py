@@ -32,10 +32,10 @@ worlds/tracks/competition_track.geometry.yaml):
   starts `loop_exit_m` further on, and merge_right / merge_left fires.  Without odometry the
   merges never fire.
 
-Where the robot is along the road is dead-reckoned from the speed it is commanded (this module
-ramps its own speed at speed_ramp_mps2, the acceleration limit of conde_control, so that the
-commanded speed is what the robot drives) and corrected by every crosswalk sighting of
-conde_tracking (crosswalk_distance_m).  Sightings are ignored from the moment the robot is at the
+Where the robot is along the road is measured by odometry (the path length on_odometry is given)
+or, without it, dead-reckoned from the speed it is commanded (this module ramps its own speed at
+speed_ramp_mps2, the acceleration limit of conde_control, so that the commanded speed is what the
+robot drives), and corrected by every crosswalk sighting of conde_tracking (crosswalk_distance_m).  Sightings are ignored from the moment the robot is at the
 crosswalk until it has driven crosswalk_rearm_m past it (the stripes under and behind the robot
 are not a new crosswalk).
 
@@ -188,6 +188,8 @@ class DecisionLogic:
         self.fork_pending = False
         self.forks_passed = 0
         self.yaw_rad: Optional[float] = None  # unwrapped heading from odometry
+        self.odom_travelled_m: Optional[float] = None  # path length by odometry, latest
+        self.odom_used_m = 0.0  # ... as far as on_lane has advanced along the road
         self.loop: Optional[dict] = None  # the loop being driven after a fork_straight (see _loop_events)
         self.stop_latched = False  # stop_at_crosswalk has committed to stopping at this crosswalk
         self.direction_order = "forward"
@@ -225,10 +227,17 @@ class DecisionLogic:
         self._fire("signal_" + SIGNAL_NAMES[signal])
         return self._transitions
 
-    def on_odometry(self, yaw_rad: float) -> None:
-        """The robot's heading [rad] (any branch of the angle; unwrapped here)."""
+    def on_odometry(self, yaw_rad: float, travelled_m: Optional[float] = None) -> None:
+        """The robot's heading [rad] (any branch of the angle; unwrapped here) and, if known, the
+        length of the path it has driven so far by odometry [m]: distances along the road are
+        then measured rather than dead-reckoned from the commanded speed (which a robot that
+        lags behind its commands, e.g. on a busy machine, does not drive)."""
         if not math.isfinite(yaw_rad):
             return
+        if travelled_m is not None and math.isfinite(travelled_m):
+            if self.odom_travelled_m is None:
+                self.odom_used_m = travelled_m
+            self.odom_travelled_m = travelled_m
         if self.yaw_rad is None:
             self.yaw_rad = yaw_rad
         else:
@@ -241,7 +250,11 @@ class DecisionLogic:
         self._transitions, self._events, self.notes = [], [], []
         dt_s = 0.0 if self.last_time_s is None else min(max(time_s - self.last_time_s, 0.0), c.max_step_s)
         self.last_time_s = time_s
-        self._advance(self.v_mps * dt_s)
+        if self.odom_travelled_m is not None:
+            self._advance(max(0.0, self.odom_travelled_m - self.odom_used_m))
+            self.odom_used_m = self.odom_travelled_m
+        else:
+            self._advance(self.v_mps * dt_s)
         self._update_crosswalk(lane)
         self._crosswalk_and_fork_events(time_s)
         self._loop_events()
