@@ -376,6 +376,13 @@ def test_time_gaps_are_capped():
     ({"crossings_per_lap": 0}, "crossings_per_lap: expected an integer >= 1, got 0"),
     ({"min_signal_confidence": 1.5}, "min_signal_confidence: must be in [0, 1], got 1.5"),
     ({"cruise_speed_mps": "fast"}, "cruise_speed_mps: expected a finite number, got 'fast'"),
+    ({"fork_forward": ("straight",)},
+     "fork_forward: expected straight or branch for each entry of fork_sides, got ('straight',)"),
+    ({"fork_forward": ("straight", "left")},
+     "fork_forward: expected straight or branch for each entry of fork_sides, got ('straight', 'left')"),
+    ({"loop_lane_radii_m": (2.5, -1.0)},
+     "loop_lane_radii_m: expected one radius > 0 per entry of fork_sides, got (2.5, -1.0)"),
+    ({"loop_exit_m": -0.1}, "loop_exit_m: must be >= 0, got -0.1"),
 ])
 def test_config_errors(change, message):
     with pytest.raises(ValueError) as info:
