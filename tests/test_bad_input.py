@@ -113,9 +113,9 @@ def test_good_input_runs_to_max_sim_time(master):
     assert code == 0, err
 
 
-def camera_urdf(camera_xml, plugin_xml=""):
+def camera_urdf(camera_xml, plugin_xml="", sensor_type="camera"):
     """GOOD_URDF with a camera on its link: <sensor> on line 5, the camera on 6, <plugin> on 7."""
-    return GOOD_URDF.replace("</robot>", '<gazebo reference="base">\n<sensor type="camera" name="cam">\n'
+    return GOOD_URDF.replace("</robot>", f'<gazebo reference="base">\n<sensor type="{sensor_type}" name="cam">\n'
                              f"{camera_xml}\n"
                              f'<plugin name="cam_controller" filename="libgazebo_ros_camera.so">{plugin_xml}</plugin>\n'
                              "</sensor>\n</gazebo>\n</robot>")
@@ -143,6 +143,43 @@ def test_unknown_camera_element(master):
     code, err = run_node(master, urdf=camera_urdf("<camera><lense>fisheye</lense></camera>"), world_file=FLAT_WORLD)
     assert code != 0
     assert error_line(err) == "/robot_description:6: sensor 'cam' (camera): unknown element <camera><lense>"
+
+
+@pytest.mark.parametrize("sensor_type, camera_xml, message", [
+    ("wideanglecamera", "<camera><lens><type>fisheye</type></lens></camera>",
+     "<camera><lens>: unknown lens type 'fisheye' (expected gnomonical, stereographic, equidistant, "
+     "equisolid_angle, orthographic or custom)"),
+    ("wideanglecamera", "<camera><lens><type>custom</type></lens></camera>",
+     "<camera><lens><type>: lens type 'custom' needs a <custom_function>"),
+    ("wideanglecamera", "<camera><lens><type>custom</type><custom_function><fun>cos</fun></custom_function></lens>"
+     "</camera>",
+     "<camera><lens>: unknown lens function 'cos' (expected tan, sin or id)"),
+    ("wideanglecamera", "<camera><horizontal_fov>7</horizontal_fov></camera>",
+     "<camera><horizontal_fov>: must be in (0, 2 pi] rad (got 7)"),
+    ("wideanglecamera", "<camera><horizontal_fov>3.2</horizontal_fov><lens><type>gnomonical</type></lens></camera>",
+     "<camera><lens>: lens cannot show half the horizontal_fov (1.6 rad) at the image edge: its radius there is 0"),
+    ("camera", "<camera><lens><type>stereographic</type></lens></camera>",
+     "<camera><lens><type>: lens 'stereographic' needs <sensor type=\"wideanglecamera\"> (a \"camera\" sensor "
+     "is a pinhole, i.e. gnomonical)"),
+    ("camera", "<camera><distortion><k1>-0.1</k1><center>0.5</center></distortion></camera>",
+     "<camera><distortion><center>: expected two fractions of the image size in (0, 1), e.g. '0.5 0.5' "
+     "(got '0.5')"),
+])
+def test_bad_wide_angle_camera(master, sensor_type, camera_xml, message):
+    code, err = run_node(master, urdf=camera_urdf(camera_xml, sensor_type=sensor_type), world_file=FLAT_WORLD)
+    assert code != 0
+    assert error_line(err) == f"/robot_description:6: sensor 'cam' ({sensor_type}): {message}"
+
+
+def test_wide_angle_camera_runs_with_good_parameters(master):
+    urdf = camera_urdf("<update_rate>30</update_rate><camera><horizontal_fov>2.6</horizontal_fov>"
+                       "<image><width>64</width><height>48</height></image>"
+                       "<distortion><k1>-0.2673</k1><k2>0.0629</k2><center>0.502 0.4586</center></distortion>"
+                       "<lens><type>stereographic</type><scale_to_hfov>true</scale_to_hfov>"
+                       "<cutoff_angle>1.5707</cutoff_angle><env_texture_size>256</env_texture_size></lens></camera>",
+                       "<cameraName>cam</cameraName>", sensor_type="wideanglecamera")
+    code, err = run_node(master, urdf=urdf, world_file=FLAT_WORLD, real_time_factor=0, max_sim_time_s=0.2)
+    assert code == 0, err
 
 
 def test_camera_runs_with_good_parameters(master):

@@ -405,6 +405,74 @@ RgbImage loadRgbImage(const std::string& path) {
 
 // --- Camera model ------------------------------------------------------------------------------
 
+// --- Wide-angle lens ---------------------------------------------------------------------------
+
+LensMapping LensMapping::ofType(const std::string& type) {
+  // c1, c2, fun of Gazebo's named lenses (c3 = 0, f = 1).
+  if (type == "gnomonical") return custom(1.0, 1.0, 0.0, "tan");
+  if (type == "stereographic") return custom(2.0, 2.0, 0.0, "tan");
+  if (type == "equidistant") return custom(1.0, 1.0, 0.0, "id");
+  if (type == "equisolid_angle") return custom(2.0, 2.0, 0.0, "sin");
+  if (type == "orthographic") return custom(1.0, 1.0, 0.0, "sin");
+  throw std::invalid_argument("unknown lens type '" + type +
+                              "' (expected gnomonical, stereographic, equidistant, equisolid_angle, orthographic "
+                              "or custom)");
+}
+
+LensMapping LensMapping::custom(double c1, double c2, double c3, const std::string& fun) {
+  if (!(c1 != 0.0 && c2 != 0.0 && std::isfinite(c1) && std::isfinite(c2) && std::isfinite(c3)))
+    throw std::invalid_argument("lens custom_function needs finite c1, c2, c3 with c1 and c2 not zero (got c1 " +
+                                text(c1) + ", c2 " + text(c2) + ", c3 " + text(c3) + ")");
+  LensMapping lens;
+  lens.pinhole = false;
+  lens.c1 = c1;
+  lens.c2 = c2;
+  lens.c3 = c3;
+  if (fun == "tan") {
+    lens.fun = LensFunction::kTan;
+  } else if (fun == "sin") {
+    lens.fun = LensFunction::kSin;
+  } else if (fun == "id") {
+    lens.fun = LensFunction::kIdentity;
+  } else {
+    throw std::invalid_argument("unknown lens function '" + fun + "' (expected tan, sin or id)");
+  }
+  return lens;
+}
+
+double LensMapping::radius(double theta_rad) const {
+  const double a = theta_rad / c2 + c3;
+  switch (fun) {
+    case LensFunction::kTan: return c1 * std::tan(a);
+    case LensFunction::kSin: return c1 * std::sin(a);
+    case LensFunction::kIdentity: break;
+  }
+  return c1 * a;
+}
+
+bool LensMapping::rayAt(double x, double y, Vec3& ray) const {
+  if (pinhole) {
+    ray = Vec3(x, y, 1.0).normalized();
+    return true;
+  }
+  // Invert r = c1 fun(theta / c2 + c3) on the branch that starts at the axis.
+  const double r = std::hypot(x, y), q = r / c1;
+  double a = 0.0;
+  switch (fun) {
+    case LensFunction::kTan: a = std::atan(q); break;
+    case LensFunction::kSin:
+      if (std::abs(q) > 1.0) return false;
+      a = std::asin(q);
+      break;
+    case LensFunction::kIdentity: a = q; break;
+  }
+  const double theta = c2 * (a - c3);
+  if (!(theta >= 0.0 && theta <= cutoff_angle_rad)) return false;
+  const double s = std::sin(theta);
+  ray = r > 0.0 ? Vec3(s * x / r, s * y / r, std::cos(theta)) : Vec3(0.0, 0.0, 1.0);
+  return true;
+}
+
 CameraModel CameraModel::fromHorizontalFov(int width_px, int height_px, double horizontal_fov_rad) {
   checkImageSize(width_px, height_px);
   if (!(horizontal_fov_rad > 0.0 && horizontal_fov_rad < kPi))
@@ -419,12 +487,62 @@ CameraModel CameraModel::fromHorizontalFov(int width_px, int height_px, double h
   return model;
 }
 
+CameraModel CameraModel::fromWideAngle(int width_px, int height_px, double horizontal_fov_rad, const LensMapping& lens,
+                                       bool scale_to_hfov, double focal_scale) {
+  checkImageSize(width_px, height_px);
+  if (!(horizontal_fov_rad > 0.0 && horizontal_fov_rad <= 2.0 * kPi))
+    throw std::invalid_argument("wide-angle camera horizontal_fov must be in (0, 2 pi] rad (got " +
+                                text(horizontal_fov_rad) + ")");
+  if (!(lens.cutoff_angle_rad > 0.0 && lens.cutoff_angle_rad <= kPi))
+    throw std::invalid_argument("lens cutoff_angle must be in (0, pi] rad (got " + text(lens.cutoff_angle_rad) + ")");
+  double focal = focal_scale;
+  if (scale_to_hfov) {
+    // The lens function must still rise at the image edge (tan below pi/2, sin up to pi/2).
+    const double argument = horizontal_fov_rad / 2.0 / lens.c2 + lens.c3;
+    const bool rising = lens.fun == LensFunction::kIdentity ||
+                        (lens.fun == LensFunction::kTan ? argument < kPi / 2 - 1e-6 : argument <= kPi / 2);
+    const double edge = rising ? lens.radius(horizontal_fov_rad / 2.0) : 0.0;
+    if (!(edge > 0.0 && std::isfinite(edge)))
+      throw std::invalid_argument("lens cannot show half the horizontal_fov (" + text(horizontal_fov_rad / 2.0) +
+                                  " rad) at the image edge: its radius there is " + text(edge));
+    focal = 1.0 / edge;
+  }
+  if (!(focal > 0.0 && std::isfinite(focal)))
+    throw std::invalid_argument("lens focal length f must be positive (got " + text(focal) + ")");
+  CameraModel model = fromHorizontalFov(width_px, height_px, kPi / 2);
+  model.fx_px = model.fy_px = focal * width_px / 2.0;
+  model.lens = lens;
+  model.distortion_in_image_units = true;
+  return model;
+}
+
+void CameraModel::setDistortionCenter(double center_x, double center_y) {
+  cx_px = center_x * width_px - 0.5;
+  cy_px = center_y * height_px - 0.5;
+}
+
 bool CameraModel::project(const Vec3& p, double& u_px, double& v_px) const {
-  if (!(p.z > 0.0)) return false;
+  double x = 0.0, y = 0.0;
+  if (lens.pinhole) {
+    if (!(p.z > 0.0)) return false;
+    x = p.x / p.z;
+    y = p.y / p.z;
+  } else {
+    const double off_axis = std::hypot(p.x, p.y);
+    const double theta = std::atan2(off_axis, p.z);
+    if (!(theta <= lens.cutoff_angle_rad) || p.norm() == 0.0) return false;
+    const double r = lens.radius(theta);
+    if (off_axis > 0.0) {
+      x = r * p.x / off_axis;
+      y = r * p.y / off_axis;
+    }
+  }
+  const double unit_x = distortion_in_image_units ? width_px : fx_px;
+  const double unit_y = distortion_in_image_units ? height_px : fy_px;
   double xd = 0.0, yd = 0.0;
-  distort(distortion, p.x / p.z, p.y / p.z, xd, yd);
-  u_px = fx_px * xd + cx_px;
-  v_px = fy_px * yd + cy_px;
+  distort(distortion, x * fx_px / unit_x, y * fy_px / unit_y, xd, yd);
+  u_px = unit_x * xd + cx_px;
+  v_px = unit_y * yd + cy_px;
   return true;
 }
 
@@ -574,16 +692,22 @@ CameraRenderer::CameraRenderer(const CameraModel& model) : model_(model) {
         std::isfinite(lens.p2)))
     throw std::invalid_argument("camera distortion coefficients must be finite");
 
+  const double unit_x = model.distortion_in_image_units ? w : model.fx_px;
+  const double unit_y = model.distortion_in_image_units ? h : model.fy_px;
   rays_optical_.resize(static_cast<size_t>(w) * h);
   for (int v = 0; v < h; ++v) {
     for (int u = 0; u < w; ++u) {
-      double x = (u - model.cx_px) / model.fx_px, y = (v - model.cy_px) / model.fy_px;
+      double x = (u - model.cx_px) / unit_x, y = (v - model.cy_px) / unit_y;
       if (!lens.isZero() && !undistort(lens, x, y, x, y))
         throw std::invalid_argument("camera distortion (k1 " + text(lens.k1) + ", k2 " + text(lens.k2) + ", k3 " +
                                     text(lens.k3) + ", p1 " + text(lens.p1) + ", p2 " + text(lens.p2) +
                                     ") cannot be inverted at pixel (" + std::to_string(u) + ", " +
                                     std::to_string(v) + "): the lens model folds over inside the image");
-      rays_optical_[static_cast<size_t>(v) * w + u] = Vec3(x, y, 1.0).normalized();
+      Vec3& ray = rays_optical_[static_cast<size_t>(v) * w + u];
+      if (!model.lens.rayAt(x * unit_x / model.fx_px, y * unit_y / model.fy_px, ray)) {
+        unseen_pixels_.push_back(v * w + u);
+        ray = Vec3(0.0, 0.0, 1.0);  // inside every cone; the pixel is painted black after drawing
+      }
     }
   }
 
@@ -825,6 +949,7 @@ void CameraRenderer::render(const RenderScene& scene, const Pose& world_T_optica
     }
   }
 
+  for (int pixel : unseen_pixels_) std::memset(&image.data[static_cast<size_t>(pixel) * 3], 0, 3);
   if (model_.noise_stddev > 0.0 && noise_rng) addNoise(model_.noise_stddev, *noise_rng, image);
 }
 

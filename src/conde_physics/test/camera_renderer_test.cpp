@@ -136,6 +136,168 @@ TEST(CameraModelTest, ProjectMatchesOpenCvPlumbBob) {
   EXPECT_FALSE(model.project(cp::Vec3(0.1, 0.1, 0.0), u, v));
 }
 
+// --- Wide-angle lenses ---------------------------------------------------------------------------
+
+// Major Alvega's cameras (reference §3.2.2): 160 px wide, hfov 2.6 rad, Gazebo's default
+// stereographic lens scaled to the hfov, so a ray at theta lands 2 f tan(theta / 2) from the centre
+// with 2 f = 80 px / tan(0.65) = 105.2 px.
+TEST(WideAngleLensTest, StereographicScaledToHfovAsGazebo) {
+  const cp::CameraModel model =
+      cp::CameraModel::fromWideAngle(160, 120, 2.6, cp::LensMapping::ofType("stereographic"), true);
+  EXPECT_NEAR(2.0 * model.fx_px, 105.2, 0.05);
+  EXPECT_DOUBLE_EQ(model.cx_px, 79.5);
+  for (double theta : {0.1, 0.5, 1.0, 1.3, 1.5}) {
+    for (double phi : {0.0, 0.7, 2.0, -2.5}) {
+      const cp::Vec3 ray(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta));
+      double u = 0.0, v = 0.0;
+      ASSERT_TRUE(model.project(ray * 3.0, u, v)) << theta;
+      const double r_px = 2.0 * model.fx_px * std::tan(theta / 2.0);
+      EXPECT_NEAR(u, model.cx_px + r_px * std::cos(phi), 1e-9);
+      EXPECT_NEAR(v, model.cy_px + r_px * std::sin(phi), 1e-9);
+    }
+  }
+  // The image edge is at hfov / 2.
+  double u = 0.0, v = 0.0;
+  ASSERT_TRUE(model.project(cp::Vec3(std::sin(1.3), 0.0, std::cos(1.3)), u, v));
+  EXPECT_NEAR(u - model.cx_px, 80.0, 1e-9);
+  // Beyond the default cut-off (1.5707 rad), and behind the camera: not seen.
+  EXPECT_FALSE(model.project(cp::Vec3(1.0, 0.0, -0.01), u, v));
+}
+
+TEST(WideAngleLensTest, EveryNamedLensMapsAnglesAsItsFormula) {
+  struct Case {
+    const char* type;
+    double (*radius)(double);
+  };
+  const Case cases[] = {
+      {"gnomonical", [](double t) { return std::tan(t); }},
+      {"stereographic", [](double t) { return 2.0 * std::tan(t / 2.0); }},
+      {"equidistant", [](double t) { return t; }},
+      {"equisolid_angle", [](double t) { return 2.0 * std::sin(t / 2.0); }},
+      {"orthographic", [](double t) { return std::sin(t); }},
+  };
+  for (const Case& c : cases) {
+    const cp::LensMapping lens = cp::LensMapping::ofType(c.type);
+    for (double theta : {0.05, 0.4, 0.9, 1.2}) {
+      EXPECT_NEAR(lens.radius(theta), c.radius(theta), 1e-12) << c.type << " " << theta;
+      // And back: the ray at that radius has that angle.
+      cp::Vec3 ray;
+      ASSERT_TRUE(lens.rayAt(lens.radius(theta) * 0.6, lens.radius(theta) * 0.8, ray)) << c.type;
+      EXPECT_NEAR(std::acos(ray.z), theta, 1e-9) << c.type;
+      EXPECT_NEAR(ray.y / ray.x, 0.8 / 0.6, 1e-9) << c.type;
+    }
+  }
+  // A radius no ray of an orthographic lens reaches (sin > 1).
+  cp::Vec3 ray;
+  EXPECT_FALSE(cp::LensMapping::ofType("orthographic").rayAt(1.2, 0.0, ray));
+}
+
+// The renderer's per-pixel rays and project() agree: a small ball in a known direction is drawn
+// where project() puts it, with the lens alone and with Gazebo-style distortion (in units of the
+// image size, centre off the middle) on top, as Major Alvega's tracking camera has it.
+TEST(WideAngleLensTest, BallsAreDrawnWhereProjectPutsThem) {
+  cp::CameraModel model = cp::CameraModel::fromWideAngle(160, 120, 2.6, cp::LensMapping::ofType("stereographic"), true);
+  for (bool distorted : {false, true}) {
+    if (distorted) {
+      model.distortion.k1 = -0.2673;
+      model.distortion.k2 = 0.0629;
+      model.distortion.k3 = -0.0061;
+      model.distortion.p1 = 0.0012;
+      model.distortion.p2 = -9.1477e-4;
+      model.setDistortionCenter(0.501996094, 0.4585875);
+    }
+    const cp::CameraRenderer renderer(model);
+    // Render a sphere at known directions and find it where project() says.
+    cp::RenderScene scene;
+    scene.setGroundColor({0.0, 0.0, 1.0});
+    scene.setSkyColor({0.0, 0.0, 1.0});
+    for (double theta : {0.0, 0.6, 1.2}) {
+      for (double phi : {0.3, 2.4}) {
+        const cp::Vec3 dir(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta));
+        cp::RenderObject ball;
+        ball.shape = cp::RenderShape::kSphere;
+        ball.radius_m = 0.03;
+        ball.pose.position = dir * 2.0;
+        ball.color_rgb = {1.0, 0.0, 0.0};
+        cp::RenderScene one = scene;
+        one.addObject(ball);
+        cp::RgbImage image;
+        renderer.render(one, cp::Pose(), -1, nullptr, image);
+        double u = 0.0, v = 0.0;
+        ASSERT_TRUE(model.project(dir, u, v));
+        ASSERT_GE(u, 0.0);
+        ASSERT_LT(u, 160.0);
+        ASSERT_GE(v, 0.0);
+        ASSERT_LT(v, 120.0);
+        // Centroid of the red pixels.
+        double su = 0.0, sv = 0.0;
+        int n = 0;
+        for (int pv = 0; pv < 120; ++pv)
+          for (int pu = 0; pu < 160; ++pu)
+            if (isRed(image.pixel(pu, pv))) {
+              su += pu;
+              sv += pv;
+              ++n;
+            }
+        ASSERT_GT(n, 0) << "theta " << theta << " phi " << phi << " distorted " << distorted;
+        EXPECT_NEAR(su / n, u, 0.6) << "theta " << theta << " phi " << phi << " distorted " << distorted;
+        EXPECT_NEAR(sv / n, v, 0.6) << "theta " << theta << " phi " << phi << " distorted " << distorted;
+      }
+    }
+  }
+}
+
+// A fisheye sees what a pinhole cannot: a ball 80 degrees off the axis; pixels beyond the
+// cut-off angle are black.
+TEST(WideAngleLensTest, SeesFarOffAxisAndBlacksOutBeyondTheCutOff) {
+  cp::LensMapping lens = cp::LensMapping::ofType("equidistant");
+  lens.cutoff_angle_rad = 1.2;
+  const cp::CameraModel model = cp::CameraModel::fromWideAngle(160, 120, 3.0, lens, true);
+  const cp::CameraRenderer renderer(model);
+  cp::RenderScene scene;
+  scene.setGroundColor({0.0, 0.0, 1.0});
+  scene.setSkyColor({0.0, 1.0, 0.0});
+  cp::RgbImage image;
+  renderer.render(scene, cp::Pose(), -1, nullptr, image);
+  const double f = model.fx_px;
+  int black = 0, expected_black = 0;
+  for (int v = 0; v < 120; ++v) {
+    for (int u = 0; u < 160; ++u) {
+      const double theta = std::hypot(u - model.cx_px, v - model.cy_px) / f;  // equidistant
+      const std::uint8_t* p = image.pixel(u, v);
+      const bool is_black = p[0] == 0 && p[1] == 0 && p[2] == 0;
+      if (std::abs(theta - 1.2) < 0.02) continue;  // the rim itself
+      EXPECT_EQ(is_black, theta > 1.2) << u << "," << v;
+      black += is_black;
+      expected_black += theta > 1.2;
+    }
+  }
+  EXPECT_GT(expected_black, 1000);
+  EXPECT_EQ(black, expected_black);
+}
+
+TEST(WideAngleLensTest, BadLensesAreNamed) {
+  try {
+    cp::LensMapping::ofType("fisheye");
+    FAIL() << "no exception";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_STREQ(e.what(),
+                 "unknown lens type 'fisheye' (expected gnomonical, stereographic, equidistant, equisolid_angle, "
+                 "orthographic or custom)");
+  }
+  EXPECT_THROW(cp::LensMapping::custom(1.0, 1.0, 0.0, "cos"), std::invalid_argument);
+  EXPECT_THROW(cp::LensMapping::custom(0.0, 1.0, 0.0, "tan"), std::invalid_argument);
+  // A pinhole-like lens cannot spread a 180 degree field over the image.
+  try {
+    cp::CameraModel::fromWideAngle(160, 120, kPi, cp::LensMapping::ofType("gnomonical"), true);
+    FAIL() << "no exception";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("cannot show half the horizontal_fov"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(cp::CameraModel::fromWideAngle(160, 120, 7.0, cp::LensMapping::ofType("equidistant"), true),
+               std::invalid_argument);
+}
+
 // --- Ground --------------------------------------------------------------------------------------
 
 // A bright 4 x 4 cm patch on a dark 2 x 2 m ground (1 cm texels): the centroid of its image is

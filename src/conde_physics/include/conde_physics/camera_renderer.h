@@ -1,5 +1,5 @@
-// CPU camera renderer: draws what a pinhole camera (optionally with plumb_bob lens distortion)
-// sees of the world: the textured ground plane, boxes, cylinders, cones and spheres with flat
+// CPU camera renderer: draws what a pinhole or wide-angle camera (optionally with plumb_bob lens
+// distortion) sees of the world: the textured ground plane, boxes, cylinders, cones and spheres with flat
 // shading, and textured box faces (signs, display panels whose image changes at run time).
 //
 // Usage:
@@ -54,11 +54,43 @@ struct LensDistortion {  // plumb_bob, the ROS / OpenCV order is k1 k2 p1 p2 k3
   bool isZero() const { return k1 == 0.0 && k2 == 0.0 && k3 == 0.0 && p1 == 0.0 && p2 == 0.0; }
 };
 
+// Wide-angle lens of Gazebo's <sensor type="wideanglecamera"> (its <lens> element): a ray at the
+// angle theta from the optical axis lands at the radius r = c1 fun(theta / c2 + c3) from the
+// principal point, in units of the focal length (pixels: r fx). Rays farther than cutoff_angle
+// from the axis are not seen; their pixels are black. The default is the pinhole (gnomonical,
+// r = tan theta); stereographic, Gazebo's default lens, is r = 2 tan(theta / 2).
+// Plumb_bob distortion, when given, acts on the lens's image (in units of the image size, as
+// Gazebo's distortion compositor): pixel -> (undistort) -> radius -> angle.
+enum class LensFunction { kTan, kSin, kIdentity };
+
+struct LensMapping {
+  double c1 = 1.0, c2 = 1.0, c3 = 0.0;
+  LensFunction fun = LensFunction::kTan;
+  double cutoff_angle_rad = 3.14159265358979323846 / 2;
+  bool pinhole = true;  // the plain projection x = X/Z, y = Y/Z (no cut-off beyond z > 0)
+
+  // Gazebo's named types: gnomonical, stereographic, equidistant, equisolid_angle, orthographic.
+  // Throws std::invalid_argument naming the type and the known ones.
+  static LensMapping ofType(const std::string& type);
+  // c1, c2, c3 and fun ("tan", "sin" or "id") of a <custom_function>; throws for another fun.
+  static LensMapping custom(double c1, double c2, double c3, const std::string& fun);
+  // r(theta) in units of the focal length.
+  double radius(double theta_rad) const;
+  // The unit ray (optical frame) of the normalised, undistorted image point (x, y); false when
+  // no ray maps there or it is beyond the cut-off angle.
+  bool rayAt(double x, double y, Vec3& ray) const;
+};
+
 struct CameraModel {
   int width_px = 0;
   int height_px = 0;
   double fx_px = 0.0, fy_px = 0.0, cx_px = 0.0, cy_px = 0.0;
   LensDistortion distortion;
+  LensMapping lens;                // pinhole unless made by fromWideAngle
+  // Units of the distortion's normalised coordinates: the focal length (OpenCV / ROS, what
+  // CameraInfo means: x = (u - cx) / fx) or, as Gazebo's wide-angle camera applies <distortion>
+  // to its lens image, the image size (x = (u - cx) / width, y = (v - cy) / height).
+  bool distortion_in_image_units = false;
   double near_clip_m = 0.1;        // nothing nearer than this (along the ray) is drawn
   double far_clip_m = 100.0;       // nor farther
   double noise_stddev = 0.0;       // Gaussian noise on each channel, in units of full scale (0..1),
@@ -70,7 +102,20 @@ struct CameraModel {
   // Throws std::invalid_argument for a non-positive size or hfov outside (0, pi).
   static CameraModel fromHorizontalFov(int width_px, int height_px, double horizontal_fov_rad);
 
-  // Pixel of a point given in the optical frame (with distortion). False when z <= 0.
+  // Gazebo's wide-angle camera: with scale_to_hfov the horizontal field of view spans the image
+  // width, f = (width / 2) / (c1 fun(hfov / 2 / c2 + c3)); without it f = focal_scale * width / 2
+  // (the <custom_function>'s f). Principal point as above. Throws std::invalid_argument for a
+  // non-positive size, an hfov outside (0, 2 pi], a cut-off angle outside (0, pi], or a lens that
+  // cannot map half the hfov to a positive radius.
+  static CameraModel fromWideAngle(int width_px, int height_px, double horizontal_fov_rad, const LensMapping& lens,
+                                   bool scale_to_hfov, double focal_scale = 1.0);
+
+  // Moves the principal point to where Gazebo's <distortion><center> puts the centre of the
+  // distortion (fractions of the image size, 0.5 0.5 = the middle): cx = center_x width - 0.5.
+  void setDistortionCenter(double center_x, double center_y);
+
+  // Pixel of a point given in the optical frame (lens, then distortion). False when z <= 0 for a
+  // pinhole, or beyond the lens's cut-off angle.
   bool project(const Vec3& point_optical, double& u_px, double& v_px) const;
 };
 
@@ -171,6 +216,7 @@ class CameraRenderer {
   // The rays again as floats in tile order, kTilePixels per tile, row by row inside a tile
   // (rows kTileWidth long; pixels outside a clipped tile repeat its first ray), for the ground pass.
   std::vector<float> tile_ray_x_, tile_ray_y_, tile_ray_z_;
+  std::vector<int> unseen_pixels_;  // beyond a wide-angle lens's cut-off: drawn black
 };
 
 }  // namespace conde_physics

@@ -1,4 +1,6 @@
-// libgazebo_ros_camera.so: a pinhole camera rendered on the CPU (conde_physics::CameraRenderer).
+// libgazebo_ros_camera.so: a pinhole camera (<sensor type="camera">) or a wide-angle one
+// (<sensor type="wideanglecamera"> with Gazebo's <lens> types) rendered on the CPU
+// (conde_physics::CameraRenderer).
 //
 //   <gazebo reference="camera_link">
 //     <sensor type="camera" name="camera1">
@@ -28,6 +30,12 @@
 // - The principal point defaults to the image centre, ((W-1)/2, (H-1)/2) in OpenCV's convention,
 //   where the image really is centred; <Cx>/<Cy>/<focalLength> move the rendering with them.
 // - Nothing is rendered while nobody subscribes to the image.
+// - <distortion><center> is the principal point (Gazebo keeps the pinhole centre in the middle and
+//   moves only the distortion's centre).
+// - A wide-angle camera's CameraInfo gives the lens's focal length (the scale at the image centre)
+//   and the plumb_bob numbers; CameraInfo has no model for stereographic and the other lenses,
+//   and the distortion acts on the lens image in units of the image size (Gazebo's compositor), so
+//   it is exact only near the centre. Pixels beyond <cutoff_angle> are black.
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/Image.h>
 #include <sensor_msgs/image_encodings.h>
@@ -70,9 +78,10 @@ class CameraPlugin : public SimPlugin {
   void load(PluginContext& ctx, PluginParams& params) override {
     ctx_ = ctx;
     link_ = params.referenceLink();
-    if (!params.inSensor() || params.sensorType() != "camera" || link_.empty()) {
-      throw PluginError(params.where() +
-                        ": must sit in a <sensor type=\"camera\"> inside <gazebo reference=\"link\">");
+    const bool wide_angle = params.inSensor() && params.sensorType() == "wideanglecamera";
+    if (!params.inSensor() || (params.sensorType() != "camera" && !wide_angle) || link_.empty()) {
+      throw PluginError(params.where() + ": must sit in a <sensor type=\"camera\"> or <sensor type=\"wideanglecamera\"> "
+                                         "inside <gazebo reference=\"link\">");
     }
     const auto& robot = ctx.sim->robot(ctx.robot);
     if (robot.model.bodyIndex(link_) < 0) {
@@ -87,8 +96,10 @@ class CameraPlugin : public SimPlugin {
                                              number(width) + "x" + number(height) + ")");
     }
     const double hfov_rad = params.sensorDouble("camera/horizontal_fov", 1.047);
-    if (!(hfov_rad > 0 && hfov_rad < M_PI)) {
-      throw params.sensorError("camera/horizontal_fov", "must be in (0, pi) rad (got " + number(hfov_rad) + ")");
+    const double hfov_max_rad = wide_angle ? 2 * M_PI : M_PI;
+    if (!(hfov_rad > 0 && (wide_angle ? hfov_rad <= hfov_max_rad : hfov_rad < hfov_max_rad))) {
+      throw params.sensorError("camera/horizontal_fov", std::string("must be in (0, ") + (wide_angle ? "2 pi]" : "pi)") +
+                                                            " rad (got " + number(hfov_rad) + ")");
     }
     const std::string format = params.sensorString("camera/image/format", "R8G8B8");
     if (format == "R8G8B8" || format == "RGB_INT8") {
@@ -101,7 +112,16 @@ class CameraPlugin : public SimPlugin {
       throw params.sensorError("camera/image/format", "unknown image format '" + format +
                                                     "' (expected R8G8B8, B8G8R8 or L8)");
     }
-    cp::CameraModel model = cp::CameraModel::fromHorizontalFov(int(width), int(height), hfov_rad);
+    cp::CameraModel model = wide_angle ? readWideAngle(params, int(width), int(height), hfov_rad)
+                                       : cp::CameraModel::fromHorizontalFov(int(width), int(height), hfov_rad);
+    if (!wide_angle && params.sensorHas("camera/lens")) {
+      const std::string type = params.sensorString("camera/lens/type", "stereographic");
+      if (type != "gnomonical") {
+        throw params.sensorError("camera/lens/type", "lens '" + type + "' needs <sensor type=\"wideanglecamera\"> (a "
+                                                     "\"camera\" sensor is a pinhole, i.e. gnomonical)");
+      }
+      params.ignore({"camera/lens"});
+    }
     model.near_clip_m = params.sensorDouble("camera/clip/near", 0.1);
     model.far_clip_m = params.sensorDouble("camera/clip/far", 100.0);
     if (!(model.near_clip_m > 0 && model.far_clip_m > model.near_clip_m)) {
@@ -180,8 +200,10 @@ class CameraPlugin : public SimPlugin {
     image_pub_ = nh.advertise<sensor_msgs::Image>(image_topic, 2);
     info_pub_ = nh.advertise<sensor_msgs::CameraInfo>(info_topic, 2);
     fillCameraInfo(model);
-    ROS_INFO("%s: camera on link %s: %dx%d, hfov %.4f rad (fx %.2f px), %s distortion, %.1f Hz, %s + %s in frame %s",
-             robot.spec.name.c_str(), link_.c_str(), model.width_px, model.height_px, hfov_rad, model.fx_px,
+    ROS_INFO("%s: camera on link %s: %dx%d, %s lens, hfov %.4f rad (fx %.2f px), %s distortion, %.1f Hz, %s + %s in "
+             "frame %s",
+             robot.spec.name.c_str(), link_.c_str(), model.width_px, model.height_px, lens_type_.c_str(), hfov_rad,
+             model.fx_px,
              model.distortion.isZero() ? "no" : "plumb_bob", rate_hz, image_pub_.getTopic().c_str(),
              info_pub_.getTopic().c_str(), frame_.c_str());
   }
@@ -224,6 +246,39 @@ class CameraPlugin : public SimPlugin {
     return out.str();
   }
 
+  // <camera><lens> of a wide-angle camera (SDF defaults: stereographic, scale_to_hfov true,
+  // cutoff_angle 1.5707). env_texture_size is accepted and unused: every pixel's ray is cast directly.
+  cp::CameraModel readWideAngle(PluginParams& params, int width, int height, double hfov_rad) {
+    lens_type_ = params.sensorString("camera/lens/type", "stereographic");
+    cp::LensMapping lens;
+    double focal_scale = 1.0;
+    try {
+      if (lens_type_ == "custom") {
+        if (!params.sensorHas("camera/lens/custom_function"))
+          throw params.sensorError("camera/lens/type", "lens type 'custom' needs a <custom_function>");
+        lens = cp::LensMapping::custom(params.sensorDouble("camera/lens/custom_function/c1", 1.0),
+                                       params.sensorDouble("camera/lens/custom_function/c2", 1.0),
+                                       params.sensorDouble("camera/lens/custom_function/c3", 0.0),
+                                       params.sensorString("camera/lens/custom_function/fun", "tan"));
+        focal_scale = params.sensorDouble("camera/lens/custom_function/f", 1.0);
+      } else {
+        lens = cp::LensMapping::ofType(lens_type_);
+        if (params.sensorHas("camera/lens/custom_function")) params.ignore({"camera/lens/custom_function"});
+      }
+    } catch (const std::invalid_argument& e) {
+      throw params.sensorError("camera/lens", e.what());
+    }
+    lens.cutoff_angle_rad = params.sensorDouble("camera/lens/cutoff_angle", 1.5707);
+    const bool scale_to_hfov = params.sensorBool("camera/lens/scale_to_hfov", true);
+    const double env_texture_size = params.sensorDouble("camera/lens/env_texture_size", 256);
+    if (!(env_texture_size > 0)) throw params.sensorError("camera/lens/env_texture_size", "must be positive");
+    try {
+      return cp::CameraModel::fromWideAngle(width, height, hfov_rad, lens, scale_to_hfov, focal_scale);
+    } catch (const std::invalid_argument& e) {
+      throw params.sensorError("camera/lens", e.what());
+    }
+  }
+
   void readNoise(PluginParams& params, cp::CameraModel& model) {
     if (!params.sensorHas("camera/noise")) return;
     const std::string type = params.sensorString("camera/noise/type", "gaussian");
@@ -246,10 +301,16 @@ class CameraPlugin : public SimPlugin {
     sensor.p1 = params.sensorDouble("camera/distortion/p1", 0.0);
     sensor.p2 = params.sensorDouble("camera/distortion/p2", 0.0);
     const std::string center = params.sensorString("camera/distortion/center", "0.5 0.5");
-    if (center != "0.5 0.5") {
-      throw params.sensorError("camera/distortion/center", "only the image centre '0.5 0.5' is supported (got '" + center +
-                                                         "'); move the principal point with <Cx>/<Cy>");
+    std::istringstream center_in(center);
+    double center_x = 0.5, center_y = 0.5;
+    std::string rest;
+    if (!(center_in >> center_x >> center_y) || (center_in >> rest) || !(center_x > 0 && center_x < 1) ||
+        !(center_y > 0 && center_y < 1)) {
+      throw params.sensorError("camera/distortion/center",
+                               "expected two fractions of the image size in (0, 1), e.g. '0.5 0.5' (got '" + center + "')");
     }
+    // The distortion's centre is the principal point here (the centre of the lens model too).
+    if (in_sensor) model.setDistortionCenter(center_x, center_y);
     plugin.k1 = params.getDouble("distortionK1", 0.0);
     plugin.k2 = params.getDouble("distortionK2", 0.0);
     plugin.k3 = params.getDouble("distortionK3", 0.0);
@@ -299,6 +360,7 @@ class CameraPlugin : public SimPlugin {
 
   PluginContext ctx_;
   std::string link_, frame_, encoding_;
+  std::string lens_type_ = "pinhole";
   cp::Pose link_T_optical_;
   double baseline_m_ = 0.0;
   double steps_per_frame_ = 1.0;
