@@ -6,6 +6,7 @@
 #include "conde_physics/camera_renderer.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstring>
 #include <fstream>
@@ -21,20 +22,28 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 constexpr float kNoHit = std::numeric_limits<float>::infinity();
+std::atomic<bool> wide_vectors_allowed{true};  // CameraRenderer::allowWideVectors
 
 // Four lanes of floats / ints (GCC and Clang vector extensions: one SSE2 register on plain
 // x86-64, NEON on ARM; wider vectors get split badly without AVX). Comparisons give Ints masks,
-// -1 for true.
-constexpr int kLanes = 4;
+// -1 for true. Where the CPU has AVX2 (checked at run time), the ground pass runs on eight
+// lanes instead; its helpers are always inlined, so no 32-byte vector crosses a call without
+// AVX (which is what -Wpsabi warns about).
+#pragma GCC diagnostic ignored "-Wpsabi"
 typedef float Floats __attribute__((vector_size(16)));
 typedef std::int32_t Ints __attribute__((vector_size(16)));
-inline Floats loadFloats(const float* p) {
-  Floats v;
+typedef float Floats8 __attribute__((vector_size(32)));
+typedef std::int32_t Ints8 __attribute__((vector_size(32)));
+template <typename V, typename T>
+__attribute__((always_inline)) inline V loadLanes(const T* p) {
+  V v;
   std::memcpy(&v, p, sizeof v);
   return v;
 }
-inline void storeFloats(float* p, const Floats& v) { std::memcpy(p, &v, sizeof v); }
-inline void storeInts(std::int32_t* p, const Ints& v) { std::memcpy(p, &v, sizeof v); }
+template <typename V, typename T>
+__attribute__((always_inline)) inline void storeLanes(T* p, const V& v) {
+  std::memcpy(p, &v, sizeof v);
+}
 
 // Object lighting: ambient plus Lambert diffuse from a fixed sun above (tilted so that the sides
 // of a box differ). The ground and face images are drawn with their own colours.
@@ -673,6 +682,8 @@ RenderScene renderSceneFromWorld(const WorldDescription& world) {
 
 // --- Renderer ----------------------------------------------------------------------------------
 
+void CameraRenderer::allowWideVectors(bool allowed) { wide_vectors_allowed.store(allowed); }
+
 CameraRenderer::CameraRenderer(const CameraModel& model) : model_(model) {
   const int w = model.width_px, h = model.height_px;
   checkImageSize(w, h);
@@ -753,6 +764,123 @@ CameraRenderer::CameraRenderer(const CameraModel& model) : model_(model) {
 
 namespace {
 
+// What a ray sees of the ground: nothing (sky), the plain ground, or the texture.
+constexpr std::int32_t kSky = 0, kPlainGround = 1, kTexture = 2;
+
+// The per-frame numbers of the ground pass (see render()).
+struct GroundFrame {
+  float rot[3][3];                      // world_R_optical
+  float camera_height = 0.0f, near = 0.0f, far = 0.0f;
+  float u_at_camera = 0.0f, v_at_camera = 0.0f, tex_u_per_m = 0.0f, tex_v_per_m = 0.0f;
+  float u_limit = 0.0f, v_limit = 0.0f, footprint_area_scale = 0.0f;
+  std::int32_t max_level = 0;
+  // The texture: packed texels (R in the low byte, then G, B), each mipmap level's first texel
+  // and row stride, and the packed colours of the plain ground and the sky.
+  const std::uint32_t* texels = nullptr;
+  const std::int32_t* level_first = nullptr;
+  const std::int32_t* level_stride = nullptr;
+  std::uint32_t ground_packed = 0, sky_packed = 0;
+};
+
+// Per pixel of a tile: depth of the ground hit, kind, mipmap level, top-left texel and 8-bit
+// bilinear weights.
+struct GroundTile {
+  float* depth;
+  std::int32_t *kind, *level, *texel_u, *texel_v, *weight_u, *weight_v;
+};
+
+// Bilinear read of one pixel's texels: red and blue, then green, in 16-bit lanes of one word.
+inline std::uint32_t bilinearTexel(const GroundFrame& g, const GroundTile& t, int k) {
+  const std::int32_t stride = g.level_stride[t.level[k]];
+  const std::uint32_t* p = g.texels + g.level_first[t.level[k]] + t.texel_v[k] * stride + t.texel_u[k];
+  const std::uint32_t wu = static_cast<std::uint32_t>(t.weight_u[k]), wv = static_cast<std::uint32_t>(t.weight_v[k]);
+  const std::uint32_t p00 = p[0], p01 = p[1], p10 = p[stride], p11 = p[stride + 1];
+  constexpr std::uint32_t kPair = 0x00FF00FFu;
+  const std::uint32_t rb_top = (((p00 & kPair) * (256 - wu) + (p01 & kPair) * wu) >> 8) & kPair;
+  const std::uint32_t rb_bottom = (((p10 & kPair) * (256 - wu) + (p11 & kPair) * wu) >> 8) & kPair;
+  const std::uint32_t g_top = ((((p00 >> 8) & kPair) * (256 - wu) + ((p01 >> 8) & kPair) * wu) >> 8) & kPair;
+  const std::uint32_t g_bottom = ((((p10 >> 8) & kPair) * (256 - wu) + ((p11 >> 8) & kPair) * wu) >> 8) & kPair;
+  const std::uint32_t rb = ((rb_top * (256 - wv) + rb_bottom * wv) >> 8) & kPair;
+  const std::uint32_t gg = ((g_top * (256 - wv) + g_bottom * wv) >> 8) & kPair;
+  return rb | (gg << 8);
+}
+
+// Ground hit of `count` rays (a multiple of the lane count) and their texel addresses, one
+// vector of lanes at a time.
+template <typename F, typename I>
+__attribute__((always_inline)) inline void groundPass(const GroundFrame& g, const float* __restrict rx,
+                                                      const float* __restrict ry, const float* __restrict rz,
+                                                      int count, const GroundTile& out) {
+  constexpr int kWidth = sizeof(F) / sizeof(float);
+  for (int i = 0; i < count; i += kWidth) {
+    const F x = loadLanes<F>(rx + i), y = loadLanes<F>(ry + i), z = loadLanes<F>(rz + i);
+    const F dx = g.rot[0][0] * x + g.rot[0][1] * y + g.rot[0][2] * z;
+    const F dy = g.rot[1][0] * x + g.rot[1][1] * y + g.rot[1][2] * z;
+    const F dz = g.rot[2][0] * x + g.rot[2][1] * y + g.rot[2][2] * z;
+    const F down = -1.0f / dz;  // > 0 for rays that go down
+    const F t = g.camera_height * down;
+    const I hit = (dz < 0.0f) & (t >= g.near) & (t <= g.far);
+    const F u = g.u_at_camera + t * dx * g.tex_u_per_m;
+    const F v = g.v_at_camera - t * dy * g.tex_v_per_m;
+    const I on_texture = (u >= -0.5f) & (u <= g.u_limit) & (v >= -0.5f) & (v <= g.v_limit);
+    // Mipmap level from the exponent bits of 2 rho^2, and 2^-level the same way. (Lanes
+    // without a ground hit may hold inf or NaN here; their kind is kSky.)
+    const F area2 = g.footprint_area_scale * (down * down * down);
+    I l = ((reinterpret_cast<const I&>(area2) >> 23) - 127) >> 1;
+    l = l < 0 ? 0 : l;
+    l = l > g.max_level ? g.max_level : l;
+    const I scale_bits = (127 - l) << 23;
+    const F scale = reinterpret_cast<const F&>(scale_bits);
+    const F uc = u > g.u_limit ? g.u_limit : (u < -0.5f ? -0.5f : u);
+    const F vc = v > g.v_limit ? g.v_limit : (v < -0.5f ? -0.5f : v);
+    F ul = (uc + 0.5f) * scale - 0.5f;
+    F vl = (vc + 0.5f) * scale - 0.5f;
+    ul = ul < 0.0f ? 0.0f : ul;
+    vl = vl < 0.0f ? 0.0f : vl;
+    const I iu = __builtin_convertvector(ul, I), iv = __builtin_convertvector(vl, I);
+    storeLanes(out.depth + i, F(hit ? t : kNoHit));
+    storeLanes(out.kind + i, I(hit & (on_texture ? kTexture : kPlainGround)));
+    storeLanes(out.level + i, l);
+    storeLanes(out.texel_u + i, iu);
+    storeLanes(out.texel_v + i, iv);
+    storeLanes(out.weight_u + i, __builtin_convertvector((ul - __builtin_convertvector(iu, F)) * 256.0f, I));
+    storeLanes(out.weight_v + i, __builtin_convertvector((vl - __builtin_convertvector(iv, F)) * 256.0f, I));
+  }
+}
+
+void groundPass4(const GroundFrame& g, const float* rx, const float* ry, const float* rz, int count,
+                 const GroundTile& out) {
+  groundPass<Floats, Ints>(g, rx, ry, rz, count, out);
+}
+
+#if defined(__x86_64__) && defined(__GNUC__)
+// The same on eight lanes. (The bilinear read stays scalar, in render(): AVX2 gathers made it
+// slower on this machine.)
+__attribute__((target("avx2"))) void groundPass8(const GroundFrame& g, const float* rx, const float* ry,
+                                                 const float* rz, int count, const GroundTile& out) {
+  groundPass<Floats8, Ints8>(g, rx, ry, rz, count, out);
+}
+#endif
+
+using GroundPassFunction = void (*)(const GroundFrame&, const float*, const float*, const float*, int,
+                                    const GroundTile&);
+
+bool haveAvx2() {
+#if defined(__x86_64__) && defined(__GNUC__)
+  static const bool have = __builtin_cpu_supports("avx2");
+  return have;
+#else
+  return false;
+#endif
+}
+
+GroundPassFunction groundPassFunction() {
+#if defined(__x86_64__) && defined(__GNUC__)
+  if (haveAvx2() && wide_vectors_allowed.load(std::memory_order_relaxed)) return groundPass8;
+#endif
+  return groundPass4;
+}
+
 // True when some ray of a cone (axis, half angle) may meet the bounding sphere of `view`: the
 // angle between the cone's axis and the sphere's direction is at most half + angular radius.
 inline bool coneMeetsSphere(const Vec3& axis, double half_rad, double cos_half, double sin_half,
@@ -763,6 +891,8 @@ inline bool coneMeetsSphere(const Vec3& axis, double half_rad, double cos_half, 
 }
 
 }  // namespace
+
+bool CameraRenderer::wideVectorsAvailable() { return haveAvx2(); }
 
 void CameraRenderer::render(const RenderScene& scene, const Pose& world_T_optical, int exclude_group,
                             std::mt19937* noise_rng, RgbImage& image) const {
@@ -850,86 +980,57 @@ void CameraRenderer::render(const RenderScene& scene, const Pose& world_T_optica
                              std::max(camera_world.z, 0.0);
   const float footprint_area_scale = static_cast<float>(2.0 * footprint_m * footprint_m);
   const std::int32_t max_level = textured ? static_cast<std::int32_t>(scene.ground_levels_.size()) - 1 : 0;
-  const std::uint32_t* texels = scene.ground_texels_.data();
-  const std::uint8_t ground_rgb[3] = {toByte(scene.ground_rgb_.x), toByte(scene.ground_rgb_.y),
-                                      toByte(scene.ground_rgb_.z)};
-  const std::uint8_t sky_rgb[3] = {toByte(scene.sky_rgb_.x), toByte(scene.sky_rgb_.y), toByte(scene.sky_rgb_.z)};
-  float rot[3][3];
+  GroundFrame frame;
   for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 3; ++c) rot[r][c] = static_cast<float>(world_R_optical[r][c]);
-  const float camera_height = static_cast<float>(camera_world.z);
-  const float near_f = static_cast<float>(near_m), far_f = static_cast<float>(far_m);
+    for (int c = 0; c < 3; ++c) frame.rot[r][c] = static_cast<float>(world_R_optical[r][c]);
+  frame.camera_height = static_cast<float>(camera_world.z);
+  frame.near = static_cast<float>(near_m);
+  frame.far = static_cast<float>(far_m);
+  frame.u_at_camera = u_at_camera;
+  frame.v_at_camera = v_at_camera;
+  frame.tex_u_per_m = tex_u_per_m;
+  frame.tex_v_per_m = tex_v_per_m;
+  frame.u_limit = u_limit;
+  frame.v_limit = v_limit;
+  frame.footprint_area_scale = footprint_area_scale;
+  frame.max_level = max_level;
+  std::int32_t level_first[64] = {0}, level_stride[64] = {0};  // a 2^63-texel texture would need more
+  for (size_t l = 0; l < scene.ground_levels_.size() && l < 64; ++l) {
+    level_first[l] = static_cast<std::int32_t>(scene.ground_levels_[l].first_texel);
+    level_stride[l] = scene.ground_levels_[l].width_px + 1;
+  }
+  frame.texels = scene.ground_texels_.data();
+  frame.level_first = level_first;
+  frame.level_stride = level_stride;
+  auto packed = [](const Vec3& rgb) {
+    return static_cast<std::uint32_t>(toByte(rgb.x)) | static_cast<std::uint32_t>(toByte(rgb.y)) << 8 |
+           static_cast<std::uint32_t>(toByte(rgb.z)) << 16;
+  };
+  frame.ground_packed = packed(scene.ground_rgb_);
+  frame.sky_packed = packed(scene.sky_rgb_);
+  const GroundPassFunction ground_pass = groundPassFunction();
 
-  constexpr std::int32_t kSky = 0, kPlainGround = 1, kTexture = 2;
   alignas(64) float depth[kTilePixels];
   alignas(64) std::int32_t kind[kTilePixels];
   alignas(64) std::int32_t level[kTilePixels];
   alignas(64) std::int32_t texel_u[kTilePixels], texel_v[kTilePixels];    // top-left texel of the read
   alignas(64) std::int32_t weight_u[kTilePixels], weight_v[kTilePixels];  // 0..255: right column, lower row
+  const GroundTile ground{depth, kind, level, texel_u, texel_v, weight_u, weight_v};
   for (size_t tile_index = 0; tile_index < tiles_.size(); ++tile_index) {
     const Tile& tile = tiles_[tile_index];
-    const float* __restrict rx = tile_ray_x_.data() + tile_index * kTilePixels;
-    const float* __restrict ry = tile_ray_y_.data() + tile_index * kTilePixels;
-    const float* __restrict rz = tile_ray_z_.data() + tile_index * kTilePixels;
-    // Ground hit of each ray and its texel address, kLanes rays at a time.
-    for (int i = 0; i < kTilePixels; i += kLanes) {
-      const Floats x = loadFloats(rx + i), y = loadFloats(ry + i), z = loadFloats(rz + i);
-      const Floats dx = rot[0][0] * x + rot[0][1] * y + rot[0][2] * z;
-      const Floats dy = rot[1][0] * x + rot[1][1] * y + rot[1][2] * z;
-      const Floats dz = rot[2][0] * x + rot[2][1] * y + rot[2][2] * z;
-      const Floats t = -camera_height / dz;
-      const Ints hit = (dz < 0.0f) & (t >= near_f) & (t <= far_f);
-      const Floats u = u_at_camera + t * dx * tex_u_per_m;
-      const Floats v = v_at_camera - t * dy * tex_v_per_m;
-      const Ints on_texture = (u >= -0.5f) & (u <= u_limit) & (v >= -0.5f) & (v <= v_limit);
-      // Mipmap level from the exponent bits of 2 rho^2, and 2^-level the same way. (Lanes
-      // without a ground hit may hold inf or NaN here; their kind is kSky.)
-      const Floats area2 = footprint_area_scale / (dz * dz * -dz);
-      Ints l = ((reinterpret_cast<const Ints&>(area2) >> 23) - 127) >> 1;
-      l = l < 0 ? 0 : l;
-      l = l > max_level ? max_level : l;
-      const Ints scale_bits = (127 - l) << 23;
-      const Floats scale = reinterpret_cast<const Floats&>(scale_bits);
-      const Floats uc = u > u_limit ? u_limit : (u < -0.5f ? -0.5f : u);
-      const Floats vc = v > v_limit ? v_limit : (v < -0.5f ? -0.5f : v);
-      Floats ul = (uc + 0.5f) * scale - 0.5f;
-      Floats vl = (vc + 0.5f) * scale - 0.5f;
-      ul = ul < 0.0f ? 0.0f : ul;
-      vl = vl < 0.0f ? 0.0f : vl;
-      const Ints iu = __builtin_convertvector(ul, Ints), iv = __builtin_convertvector(vl, Ints);
-      storeFloats(depth + i, hit ? t : kNoHit);
-      storeInts(kind + i, hit & (on_texture ? kTexture : kPlainGround));
-      storeInts(level + i, l);
-      storeInts(texel_u + i, iu);
-      storeInts(texel_v + i, iv);
-      storeInts(weight_u + i, __builtin_convertvector((ul - __builtin_convertvector(iu, Floats)) * 256.0f, Ints));
-      storeInts(weight_v + i, __builtin_convertvector((vl - __builtin_convertvector(iv, Floats)) * 256.0f, Ints));
-    }
+    const size_t first = tile_index * kTilePixels;
+    ground_pass(frame, tile_ray_x_.data() + first, tile_ray_y_.data() + first, tile_ray_z_.data() + first,
+                kTilePixels, ground);
     for (int j = 0; j < tile.height; ++j) {
       std::uint8_t* out = image.pixel(tile.u0, tile.v0 + j);
       for (int i = 0; i < tile.width; ++i, out += 3) {
         const int k = j * kTileWidth + i;
-        if (kind[k] == kTexture) {
-          // Bilinear on packed texels: red and blue, then green, in 16-bit lanes of one word.
-          const RenderScene::TextureLevel& tl = scene.ground_levels_[level[k]];
-          const int stride = tl.width_px + 1;
-          const std::uint32_t* p = texels + tl.first_texel + static_cast<size_t>(texel_v[k]) * stride + texel_u[k];
-          const std::uint32_t wu = static_cast<std::uint32_t>(weight_u[k]), wv = static_cast<std::uint32_t>(weight_v[k]);
-          const std::uint32_t p00 = p[0], p01 = p[1], p10 = p[stride], p11 = p[stride + 1];
-          constexpr std::uint32_t kLanes = 0x00FF00FFu;
-          const std::uint32_t rb_top = (((p00 & kLanes) * (256 - wu) + (p01 & kLanes) * wu) >> 8) & kLanes;
-          const std::uint32_t rb_bottom = (((p10 & kLanes) * (256 - wu) + (p11 & kLanes) * wu) >> 8) & kLanes;
-          const std::uint32_t g_top = ((((p00 >> 8) & kLanes) * (256 - wu) + ((p01 >> 8) & kLanes) * wu) >> 8) & kLanes;
-          const std::uint32_t g_bottom =
-              ((((p10 >> 8) & kLanes) * (256 - wu) + ((p11 >> 8) & kLanes) * wu) >> 8) & kLanes;
-          const std::uint32_t rb = ((rb_top * (256 - wv) + rb_bottom * wv) >> 8) & kLanes;
-          const std::uint32_t g = ((g_top * (256 - wv) + g_bottom * wv) >> 8) & kLanes;
-          out[0] = static_cast<std::uint8_t>(rb);
-          out[1] = static_cast<std::uint8_t>(g);
-          out[2] = static_cast<std::uint8_t>(rb >> 16);
-        } else {
-          std::memcpy(out, kind[k] == kSky ? sky_rgb : ground_rgb, 3);
-        }
+        const std::uint32_t c = kind[k] == kTexture ? bilinearTexel(frame, ground, k)
+                                : kind[k] == kSky   ? frame.sky_packed
+                                                    : frame.ground_packed;
+        out[0] = static_cast<std::uint8_t>(c);
+        out[1] = static_cast<std::uint8_t>(c >> 8);
+        out[2] = static_cast<std::uint8_t>(c >> 16);
       }
     }
     // Objects, nearest hit wins.

@@ -1,7 +1,8 @@
 // Speed of the CPU camera renderer with Conde's three cameras in a world file, no ROS:
 //   conde_render_benchmark WORLD.world.yaml [frames=500] [save_dir]
 // Conde starts at the world's "conde" spawn (else the first one) and drives straight ahead
-// 1 cm per frame; each camera renders `frames` frames without and with its lens distortion.
+// 1 cm per frame; each camera renders `frames` frames without and with its lens distortion, with
+// the ground pass on eight lanes (AVX2) and on four.
 // Prints Markdown tables: time per frame per camera (wall clock, and this thread's CPU time,
 // which a busy machine disturbs less), and what that means for the three cameras at 30 Hz on one
 // core. With save_dir, writes the first frame of each camera as PNG.
@@ -126,11 +127,15 @@ int main(int argc, char** argv) {
                 "camera, 1 cm apart.\n\n",
                 world.name.c_str(), scene.objectCount(), world.ground.texture_path.c_str(), start.position.x,
                 start.position.y, start.orientation.yaw(), frames);
-    std::printf("| camera | resolution | distortion | mean [ms] | p95 [ms] | CPU mean [ms] | frames/s (wall) | "
-                "frames/s (CPU) |\n");
-    std::printf("|---|---|---|---|---|---|---|---|\n");
-    // Three cameras, one frame each, without and with distortion: wall and CPU time.
-    double set_ms[2] = {0.0, 0.0}, set_cpu_ms[2] = {0.0, 0.0};
+    std::printf("| camera | resolution | distortion | ground pass | mean [ms] | p95 [ms] | CPU mean [ms] | "
+                "frames/s (wall) | frames/s (CPU) |\n");
+    std::printf("|---|---|---|---|---|---|---|---|---|\n");
+    // Three cameras, one frame each, without and with distortion, the ground pass on eight lanes
+    // (AVX2, when the CPU has it) and on four: wall and CPU time.
+    const bool have_wide = cp::CameraRenderer::wideVectorsAvailable();
+    const int lane_variants = have_wide ? 2 : 1;
+    double set_ms[2][2] = {{0.0, 0.0}, {0.0, 0.0}}, set_cpu_ms[2][2] = {{0.0, 0.0}, {0.0, 0.0}};
+    auto lanes = [&](int variant) { return have_wide && variant == 0 ? "8 lanes (AVX2)" : "4 lanes"; };
     for (const CameraSpec& spec : condeCameras()) {
       for (int distorted = 0; distorted < 2; ++distorted) {
         cp::CameraModel model = cp::CameraModel::fromHorizontalFov(spec.width_px, spec.height_px, spec.hfov_rad);
@@ -139,12 +144,16 @@ int main(int argc, char** argv) {
         model.far_clip_m = spec.far_m;
         const cp::CameraRenderer renderer(model);
         cp::RgbImage image;
-        const Timing t = timeFrames(renderer, scene, start, spec.base_T_camera * camera_T_optical, frames, image);
-        set_ms[distorted] += t.mean_ms;
-        set_cpu_ms[distorted] += t.cpu_mean_ms;
-        std::printf("| %s | %dx%d | %s | %.3f | %.3f | %.3f | %.0f | %.0f |\n", spec.name.c_str(), spec.width_px,
-                    spec.height_px, distorted ? "on" : "off", t.mean_ms, t.p95_ms, t.cpu_mean_ms, 1000.0 / t.mean_ms,
-                    1000.0 / t.cpu_mean_ms);
+        for (int variant = 0; variant < lane_variants; ++variant) {
+          cp::CameraRenderer::allowWideVectors(variant == 0);
+          const Timing t = timeFrames(renderer, scene, start, spec.base_T_camera * camera_T_optical, frames, image);
+          set_ms[distorted][variant] += t.mean_ms;
+          set_cpu_ms[distorted][variant] += t.cpu_mean_ms;
+          std::printf("| %s | %dx%d | %s | %s | %.3f | %.3f | %.3f | %.0f | %.0f |\n", spec.name.c_str(),
+                      spec.width_px, spec.height_px, distorted ? "on" : "off", lanes(variant), t.mean_ms, t.p95_ms,
+                      t.cpu_mean_ms, 1000.0 / t.mean_ms, 1000.0 / t.cpu_mean_ms);
+        }
+        cp::CameraRenderer::allowWideVectors(true);
         if (!save_dir.empty()) {
           renderer.render(scene, cp::Pose(start.position, start.orientation) * spec.base_T_camera * camera_T_optical,
                           -1, nullptr, image);
@@ -152,13 +161,16 @@ int main(int argc, char** argv) {
         }
       }
     }
-    std::printf("\n| three cameras at %.0f Hz, one core | render time per simulated second, wall / CPU [ms] | "
-                "max real-time factor (rendering only), wall / CPU |\n|---|---|---|\n",
+    std::printf("\n| three cameras at %.0f Hz, one core | ground pass | render time per simulated second, wall / CPU "
+                "[ms] | max real-time factor (rendering only), wall / CPU |\n|---|---|---|---|\n",
                 kCameraRateHz);
     for (int distorted = 0; distorted < 2; ++distorted) {
-      const double wall_ms = kCameraRateHz * set_ms[distorted], cpu_ms = kCameraRateHz * set_cpu_ms[distorted];
-      std::printf("| distortion %s | %.1f / %.1f | %.1f / %.1f |\n", distorted ? "on" : "off", wall_ms, cpu_ms,
-                  1000.0 / wall_ms, 1000.0 / cpu_ms);
+      for (int variant = 0; variant < lane_variants; ++variant) {
+        const double wall_ms = kCameraRateHz * set_ms[distorted][variant];
+        const double cpu_ms = kCameraRateHz * set_cpu_ms[distorted][variant];
+        std::printf("| distortion %s | %s | %.1f / %.1f | %.1f / %.1f |\n", distorted ? "on" : "off", lanes(variant),
+                    wall_ms, cpu_ms, 1000.0 / wall_ms, 1000.0 / cpu_ms);
+      }
     }
   } catch (const std::exception& e) {
     std::fprintf(stderr, "conde_render_benchmark: %s\n", e.what());

@@ -1051,3 +1051,39 @@ TEST(CameraRendererTest, BadImagesAndObjectsAreRejectedWithClearMessages) {
   EXPECT_EQ(messageOf<std::invalid_argument>([&] { scene.setGround(solid(2, 2, 0, 0, 0), 1, 1, 0, 1, {0, 0, 0}); }),
             "ground texture ranges must have min < max (got x [1, 1] m, y [0, 1] m)");
 }
+
+// The ground pass on eight lanes (AVX2, where the CPU has it) and on four draw the same pixels:
+// a random texture seen from many poses, with and without distortion, a wide-angle lens too.
+TEST(CameraRendererTest, EightAndFourLaneGroundPassesDrawTheSameImage) {
+  std::mt19937 rng(7);
+  cp::RgbImage texture;
+  texture.resize(301, 203);
+  for (auto& byte : texture.data) byte = static_cast<std::uint8_t>(rng() & 0xFF);
+  cp::RenderScene scene;
+  scene.setGround(texture, -3.0, 3.0, -2.0, 2.0, {0.2, 0.5, 0.2});
+  scene.addObject(box({0.3, 0.3, 0.3}, cp::Pose(cp::Vec3(0.5, 0.4, 0.15), cp::Quat()), {1.0, 0.0, 0.0}));
+  cp::CameraModel distorted = cp::CameraModel::fromHorizontalFov(160, 120, 1.0865);
+  distorted.distortion = condeDistortion();
+  const std::vector<cp::CameraModel> models = {
+      cp::CameraModel::fromHorizontalFov(320, 240, 1.5708), distorted,
+      cp::CameraModel::fromWideAngle(160, 120, 2.6, cp::LensMapping::ofType("stereographic"), true)};
+  std::uniform_real_distribution<double> position(-4.0, 4.0), height(0.05, 3.0), angle(-kPi, kPi);
+  int compared = 0;
+  for (const cp::CameraModel& model : models) {
+    const cp::CameraRenderer renderer(model);
+    for (int pose = 0; pose < 20; ++pose) {
+      const cp::Vec3 eye(position(rng), position(rng), height(rng));
+      const cp::Vec3 target(position(rng), position(rng), angle(rng) * 0.1);
+      const cp::Pose camera = lookAt(eye, target);
+      cp::RgbImage wide, narrow;
+      cp::CameraRenderer::allowWideVectors(true);
+      renderer.render(scene, camera, -1, nullptr, wide);
+      cp::CameraRenderer::allowWideVectors(false);
+      renderer.render(scene, camera, -1, nullptr, narrow);
+      cp::CameraRenderer::allowWideVectors(true);
+      ASSERT_EQ(wide.data, narrow.data) << "model " << model.width_px << "x" << model.height_px << ", pose " << pose;
+      ++compared;
+    }
+  }
+  EXPECT_EQ(compared, 60);
+}

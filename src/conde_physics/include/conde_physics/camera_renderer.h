@@ -192,6 +192,11 @@ class CameraRenderer {
   void render(const RenderScene& scene, const Pose& world_T_optical, int exclude_group, std::mt19937* noise_rng,
               RgbImage& image) const;
 
+  // The ground pass uses AVX2 (eight lanes) where the CPU has it, else four lanes; both draw the
+  // same pixels. false forces four lanes everywhere (tests and benchmarks compare the two).
+  static void allowWideVectors(bool allowed);
+  static bool wideVectorsAvailable();  // this CPU has AVX2 (and the build targets x86-64)
+
  private:
   // The image is drawn in tiles of kTileWidth x kTileHeight pixels (smaller at the right and
   // bottom edges); an object is tested only on the tiles whose ray cone its bounding sphere meets.
