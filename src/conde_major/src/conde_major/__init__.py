@@ -1,0 +1,1 @@
+"""Major Alvega (Ackermann robot of the original Conde simulator): its Ackermann controller."""
