@@ -184,8 +184,8 @@ TEST_P(AckermannCar, SteeringSettlesOnTheAckermannAnglesWithoutOscillation) {
     worst_left = std::max(worst_left, std::abs(drive_->measuredSteering().left_rad - target.left_rad));
     worst_right = std::max(worst_right, std::abs(drive_->measuredSteering().right_rad - target.right_rad));
   }
-  // Contact noise (ODE's cylinders touch the ground at their rims) may shake the wheels by a
-  // few milliradians; an oscillation of the PID loop would be far larger.
+  // Contact noise may shake the wheels by a few milliradians; an oscillation of the PID loop
+  // would be far larger.
   EXPECT_LT(worst_left, 0.005);
   EXPECT_LT(worst_right, 0.005);
   // Inner (left) wheel turns more than the outer one, as Ackermann geometry wants.

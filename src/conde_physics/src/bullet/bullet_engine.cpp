@@ -12,8 +12,8 @@
 //   Bullet global; we set it to a stateless function), from the SurfaceParams hung on every
 //   collision shape: min(mu) as in ODE/Gazebo, kp in series, kd in parallel; two friction
 //   directions fixed by the contact normal.
-// - Wheels (cylinders spinning about their own axis on a joint) become tyres: rounded tread and
-//   slightly compliant friction; see makeShape() and kTyreFrictionCfm.
+// - Wheels (cylinders spinning about their own axis on a joint, tyre.h) become tyres: rounded
+//   tread and slightly compliant friction; see makeShape() and kTyreFrictionCfm.
 // - Bodies of one model never collide: a broadphase pair filter on the model id kept in each
 //   collision object's user index (-1 = static world).
 // - One step() is exactly one Bullet step: stepSimulation(step_s, 0) runs a single internal
@@ -35,6 +35,8 @@
 #include <deque>
 #include <string>
 #include <vector>
+
+#include "conde_physics/tyre.h"
 
 namespace conde_physics {
 namespace {
@@ -238,7 +240,7 @@ class BulletEngine : public PhysicsEngine {
         auto compound = std::make_unique<btCompoundShape>(/*enableDynamicAabbTree=*/false,
                                                           static_cast<int>(spec.collisions.size()));
         for (const CollisionSpec& c : spec.collisions) {
-          const bool tyre = !is_static && isWheel(model, static_cast<int>(i), root_pose, c);
+          const bool tyre = !is_static && isWheelCollision(model, static_cast<int>(i), c);
           btCollisionShape* child = makeShape(c.shape, !is_static, tyre);
           if (child == nullptr) continue;
           const SurfaceParams* s = keepSurface(c.surface);
@@ -369,22 +371,6 @@ class BulletEngine : public PhysicsEngine {
     return raw;
   }
 
-  // A cylinder spinning about its own axis on a revolute or continuous joint is a wheel.
-  static bool isWheel(const ArticulatedModel& model, int body, const Pose& root_pose, const CollisionSpec& c) {
-    if (c.shape.type != ShapeType::kCylinder) return false;
-    const Pose body_link_world = root_pose * model.bodies[body].initial_pose_in_model;
-    const Pose cylinder_world = body_link_world * c.pose_in_link;
-    const Vec3 cylinder_axis = cylinder_world.orientation.rotate(Vec3(0, 0, 1));
-    for (const JointSpec& j : model.joints) {
-      if (j.child_body != body || j.type == JointType::kPrismatic || j.parent_body < 0) continue;
-      const Pose joint_world = root_pose * model.bodies[j.parent_body].initial_pose_in_model * j.pose_in_parent;
-      const Vec3 joint_axis = joint_world.orientation.rotate(j.axis.normalized());
-      const double off_axis_m = (cylinder_world.position - joint_world.position).cross(joint_axis).norm();
-      if (std::abs(cylinder_axis.dot(joint_axis)) > 1.0 - 1e-6 && off_axis_m < 0.01 * c.shape.radius_m) return true;
-    }
-    return false;
-  }
-
   // Shape of one collision; nullptr for an empty mesh. A tyre is a cylinder whose edges are
   // rounded with half its width: a flat tread touches flat ground at one of its edges, which
   // moves the wheel's contact sideways (by half the width, changing the track of a
@@ -400,7 +386,7 @@ class BulletEngine : public PhysicsEngine {
       case ShapeType::kCylinder: {
         const double half_length_m = 0.5 * shape.length_m;
         auto cylinder = std::make_unique<btCylinderShapeZ>(btVector3(shape.radius_m, shape.radius_m, half_length_m));
-        if (tyre && half_length_m < shape.radius_m) {
+        if (tyre && canBeTyre(shape.radius_m, shape.length_m)) {
           cylinder->setMargin(half_length_m);  // core: a flat disk of radius r - width/2
         } else {
           cylinder->setMargin(std::min(kShapeMargin_m, 0.5 * std::min(shape.radius_m, half_length_m)));

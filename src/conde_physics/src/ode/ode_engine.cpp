@@ -5,7 +5,8 @@
 // still carries joints and geoms. Contacts come from the engine's own spaces (dynamic geoms, and
 // static ones apart); joints are hinges (revolute, continuous) and sliders (prismatic) attached
 // as (child, parent), so ODE's angle, rate, motor and torque signs match the URDF convention
-// "child relative to parent about the axis".
+// "child relative to parent about the axis". Wheels (tyre.h) touch planes at one point of a
+// rounded tread, computed here, as Bullet's rounded cylinders do; all other pairs use dCollide.
 #include "ode/ode_engine.h"
 
 #include <ode/ode.h>
@@ -18,6 +19,8 @@
 #include <stdexcept>
 #include <string>
 #include <vector>
+
+#include "conde_physics/tyre.h"
 
 namespace conde_physics {
 namespace {
@@ -66,6 +69,8 @@ bool finitePositive(double v) { return std::isfinite(v) && v > 0.0; }
 struct GeomInfo {
   ModelId model = -1;  // -1: static world
   SurfaceParams surface;
+  bool tyre = false;   // a wheel's cylinder (tyre.h): one rounded-tread contact on planes
+  double tyre_radius_m = 0.0, tyre_width_m = 0.0;
 };
 
 // Vertex and index arrays must outlive the trimesh data that references them.
@@ -118,8 +123,9 @@ class OdeEngine final : public PhysicsEngine {
  private:
   static void nearCallback(void* data, dGeomID a, dGeomID b);
   void collidePair(dGeomID a, dGeomID b);
+  int tyreOnPlaneContact(dGeomID tyre, const GeomInfo& info, dGeomID plane);
   dGeomID createGeom(const Shape& shape);
-  void registerGeom(dGeomID geom, ModelId model, const SurfaceParams& surface, bool dynamic);
+  GeomInfo& registerGeom(dGeomID geom, ModelId model, const SurfaceParams& surface, bool dynamic);
   const ModelState& modelAt(ModelId model) const;
   const JointState& jointAt(ModelId model, int joint) const;
   JointState& jointAt(ModelId model, int joint) {
@@ -177,10 +183,14 @@ OdeEngine::~OdeEngine() {
   dWorldDestroy(world_);  // bodies and joints
 }
 
-void OdeEngine::registerGeom(dGeomID geom, ModelId model, const SurfaceParams& surface, bool dynamic) {
-  geom_infos_.push_back(GeomInfo{model, surface});
+GeomInfo& OdeEngine::registerGeom(dGeomID geom, ModelId model, const SurfaceParams& surface, bool dynamic) {
+  GeomInfo info;
+  info.model = model;
+  info.surface = surface;
+  geom_infos_.push_back(info);
   dGeomSetData(geom, &geom_infos_.back());
   dSpaceAdd(dynamic ? dynamic_space_ : static_space_, geom);
+  return geom_infos_.back();
 }
 
 // Throws before anything is created, so a rejected model leaves the world untouched.
@@ -303,7 +313,13 @@ ModelId OdeEngine::addModel(const ArticulatedModel& model, const Pose& root_pose
       dQuaternion oq;
       toOde(offset.orientation, oq);
       dGeomSetOffsetQuaternion(geom, oq);
-      registerGeom(geom, id, collision.surface, !kinematic);
+      GeomInfo& info = registerGeom(geom, id, collision.surface, !kinematic);
+      if (!kinematic && isWheelCollision(model, b, collision) &&
+          canBeTyre(collision.shape.radius_m, collision.shape.length_m)) {
+        info.tyre = true;
+        info.tyre_radius_m = collision.shape.radius_m;
+        info.tyre_width_m = collision.shape.length_m;
+      }
     }
     state.bodies.push_back(body);
     state.link_in_body.push_back(link_in_body);
@@ -391,13 +407,51 @@ void OdeEngine::addJointEffort(ModelId model, int joint, double effort) {
 
 void OdeEngine::nearCallback(void* data, dGeomID a, dGeomID b) { static_cast<OdeEngine*>(data)->collidePair(a, b); }
 
+// One contact at the deepest point of the rounded tread (tyre.h), normal out of the plane into
+// the tyre; 0 when the tyre does not touch. -1 when the wheel lies on its face: use dCollide.
+int OdeEngine::tyreOnPlaneContact(dGeomID tyre, const GeomInfo& info, dGeomID plane) {
+  dVector4 plane_params;  // unit normal (a, b, c) and offset d of a x + b y + c z = d
+  dGeomPlaneGetParams(plane, plane_params);
+  const dReal* r = dGeomGetRotation(tyre);  // 3x4 row-major: the cylinder axis is column z
+  TyreContact tc;
+  const Vec3 normal(plane_params[0], plane_params[1], plane_params[2]);
+  const Vec3 axis(r[2], r[6], r[10]);
+  const Vec3 centre = toVec3(dGeomGetPosition(tyre));
+  switch (tyreOnPlane(centre, axis, info.tyre_radius_m, info.tyre_width_m, normal, plane_params[3], tc)) {
+    case TyreOnPlane::kApart:
+      return 0;
+    case TyreOnPlane::kOnFace:
+      return -1;
+    case TyreOnPlane::kTouching:
+      break;
+  }
+  dContactGeom& c = contacts_[0].geom;
+  c.pos[0] = tc.point_m.x;
+  c.pos[1] = tc.point_m.y;
+  c.pos[2] = tc.point_m.z;
+  c.normal[0] = normal.x;
+  c.normal[1] = normal.y;
+  c.normal[2] = normal.z;
+  c.depth = tc.depth_m;
+  c.g1 = tyre;
+  c.g2 = plane;
+  c.side1 = c.side2 = -1;
+  return 1;
+}
+
 void OdeEngine::collidePair(dGeomID a, dGeomID b) {
   // Static-static pairs never get here (separate spaces); bodies of one model do not collide.
   const auto* info_a = static_cast<const GeomInfo*>(dGeomGetData(a));
   const auto* info_b = static_cast<const GeomInfo*>(dGeomGetData(b));
   if (info_a->model >= 0 && info_a->model == info_b->model) return;
 
-  const int count = dCollide(a, b, max_contacts_per_pair_, &contacts_[0].geom, sizeof(dContact));
+  int count = -1;
+  if (info_b->tyre && dGeomGetClass(a) == dPlaneClass) {  // tyre first: the normal points into it
+    std::swap(a, b);
+    std::swap(info_a, info_b);
+  }
+  if (info_a->tyre && dGeomGetClass(b) == dPlaneClass) count = tyreOnPlaneContact(a, *info_a, b);
+  if (count < 0) count = dCollide(a, b, max_contacts_per_pair_, &contacts_[0].geom, sizeof(dContact));
   if (count <= 0) return;
 
   dSurfaceParameters surface{};
