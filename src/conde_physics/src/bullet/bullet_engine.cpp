@@ -164,6 +164,25 @@ struct Model {
   std::vector<Joint> joints;
 };
 
+// The stock world without continuous collision detection, which no body here uses (none has a
+// CCD motion threshold). For it the stock world integrates every body twice more per step: a
+// predicted pose whose bounding box is merged into the body's, and predictive contacts. Bounding
+// boxes keep Bullet's contact margin (gContactBreakingThreshold, 2 cm), so a body moving less than
+// that per step still meets everything it can touch within the step.
+class WorldWithoutCcd final : public btDiscreteDynamicsWorld {
+ public:
+  using btDiscreteDynamicsWorld::btDiscreteDynamicsWorld;
+
+ protected:
+  void predictUnconstraintMotion(btScalar step_s) override {
+    for (int i = 0; i < m_nonStaticRigidBodies.size(); ++i) {
+      btRigidBody* body = m_nonStaticRigidBodies[i];
+      if (!body->isStaticOrKinematicObject()) body->applyDamping(step_s);  // what remains of it
+    }
+  }
+  void createPredictiveContacts(btScalar) override { releasePredictiveContacts(); }
+};
+
 class BulletEngine : public PhysicsEngine {
  public:
   explicit BulletEngine(const PhysicsSettings& settings) : PhysicsEngine(settings) {
@@ -173,8 +192,8 @@ class BulletEngine : public PhysicsEngine {
     broadphase_ = std::make_unique<btDbvtBroadphase>();
     broadphase_->getOverlappingPairCache()->setOverlapFilterCallback(&pair_filter_);
     solver_ = std::make_unique<btSequentialImpulseConstraintSolver>();
-    world_ = std::make_unique<btDiscreteDynamicsWorld>(dispatcher_.get(), broadphase_.get(), solver_.get(),
-                                                       config_.get());
+    world_ = std::make_unique<WorldWithoutCcd>(dispatcher_.get(), broadphase_.get(), solver_.get(), config_.get());
+    world_->getDispatchInfo().m_useContinuous = false;
     world_->setGravity(toBt(settings.gravity_mps2));
     world_->setForceUpdateAllAabbs(false);  // static objects never move
     btContactSolverInfo& info = world_->getSolverInfo();
@@ -606,7 +625,7 @@ class BulletEngine : public PhysicsEngine {
   std::unique_ptr<btCollisionDispatcher> dispatcher_;
   std::unique_ptr<btDbvtBroadphase> broadphase_;
   std::unique_ptr<btSequentialImpulseConstraintSolver> solver_;
-  std::unique_ptr<btDiscreteDynamicsWorld> world_;
+  std::unique_ptr<WorldWithoutCcd> world_;
   std::vector<std::unique_ptr<Model>> models_;
 };
 
