@@ -33,9 +33,9 @@ const std::string& carUrdf() {
 cp::WorldDescription flatWorld() {
   cp::WorldDescription w;
   w.name = "flat";
-  // 15 solver iterations, as the car benchmark and the racetrack world: the fewest with which
-  // ODE's four-wheel-drive turning radius stays within 3 % (at 10 it is 4 % off; Bullet passes).
-  w.physics.solver_iterations = 15;
+  // 10 solver iterations, as the car benchmark and the racetrack world (within 0.2 % of the
+  // Ackermann turning radius on both engines; wheels touch as tyres, conde_physics/tyre.h).
+  w.physics.solver_iterations = 10;
   return w;  // otherwise default physics: 1 ms step; ground friction 1
 }
 
@@ -135,7 +135,10 @@ class AckermannCar : public ::testing::TestWithParam<std::string> {
       path.push_back(truth().position);
     });
     double cx, cy;
-    return fitCircle(path, cx, cy);
+    const double fitted_m = fitCircle(path, cx, cy);
+    std::printf("[ radius   ] %s, %.2f m/s, steering %+.2f rad: %.4f m, L / tan(delta) %.4f m (%+.2f %%)\n",
+                GetParam().c_str(), speed, steering, fitted_m, radius, 100.0 * (fitted_m - radius) / radius);
+    return fitted_m;
   }
 
   std::unique_ptr<Simulation> sim_;
@@ -184,8 +187,8 @@ TEST_P(AckermannCar, SteeringSettlesOnTheAckermannAnglesWithoutOscillation) {
     worst_left = std::max(worst_left, std::abs(drive_->measuredSteering().left_rad - target.left_rad));
     worst_right = std::max(worst_right, std::abs(drive_->measuredSteering().right_rad - target.right_rad));
   }
-  // Contact noise (ODE's cylinders touch the ground at their rims) may shake the wheels by a
-  // few milliradians; an oscillation of the PID loop would be far larger.
+  // Contact noise may shake the wheels by a few milliradians; an oscillation of the PID loop
+  // would be far larger.
   EXPECT_LT(worst_left, 0.005);
   EXPECT_LT(worst_right, 0.005);
   // Inner (left) wheel turns more than the outer one, as Ackermann geometry wants.

@@ -12,8 +12,8 @@
 //   Bullet global; we set it to a stateless function), from the SurfaceParams hung on every
 //   collision shape: min(mu) as in ODE/Gazebo, kp in series, kd in parallel; two friction
 //   directions fixed by the contact normal.
-// - Wheels (cylinders spinning about their own axis on a joint) become tyres: rounded tread and
-//   slightly compliant friction; see makeShape() and kTyreFrictionCfm.
+// - Wheels (cylinders spinning about their own axis on a joint, tyre.h) become tyres: rounded
+//   tread and slightly compliant friction; see makeShape() and kTyreFrictionCfm.
 // - Bodies of one model never collide: a broadphase pair filter on the model id kept in each
 //   collision object's user index (-1 = static world).
 // - One step() is exactly one Bullet step: stepSimulation(step_s, 0) runs a single internal
@@ -35,6 +35,8 @@
 #include <deque>
 #include <string>
 #include <vector>
+
+#include "conde_physics/tyre.h"
 
 namespace conde_physics {
 namespace {
@@ -162,6 +164,25 @@ struct Model {
   std::vector<Joint> joints;
 };
 
+// The stock world without continuous collision detection, which no body here uses (none has a
+// CCD motion threshold). For it the stock world integrates every body twice more per step: a
+// predicted pose whose bounding box is merged into the body's, and predictive contacts. Bounding
+// boxes keep Bullet's contact margin (gContactBreakingThreshold, 2 cm), so a body moving less than
+// that per step still meets everything it can touch within the step.
+class WorldWithoutCcd final : public btDiscreteDynamicsWorld {
+ public:
+  using btDiscreteDynamicsWorld::btDiscreteDynamicsWorld;
+
+ protected:
+  void predictUnconstraintMotion(btScalar step_s) override {
+    for (int i = 0; i < m_nonStaticRigidBodies.size(); ++i) {
+      btRigidBody* body = m_nonStaticRigidBodies[i];
+      if (!body->isStaticOrKinematicObject()) body->applyDamping(step_s);  // what remains of it
+    }
+  }
+  void createPredictiveContacts(btScalar) override { releasePredictiveContacts(); }
+};
+
 class BulletEngine : public PhysicsEngine {
  public:
   explicit BulletEngine(const PhysicsSettings& settings) : PhysicsEngine(settings) {
@@ -171,8 +192,8 @@ class BulletEngine : public PhysicsEngine {
     broadphase_ = std::make_unique<btDbvtBroadphase>();
     broadphase_->getOverlappingPairCache()->setOverlapFilterCallback(&pair_filter_);
     solver_ = std::make_unique<btSequentialImpulseConstraintSolver>();
-    world_ = std::make_unique<btDiscreteDynamicsWorld>(dispatcher_.get(), broadphase_.get(), solver_.get(),
-                                                       config_.get());
+    world_ = std::make_unique<WorldWithoutCcd>(dispatcher_.get(), broadphase_.get(), solver_.get(), config_.get());
+    world_->getDispatchInfo().m_useContinuous = false;
     world_->setGravity(toBt(settings.gravity_mps2));
     world_->setForceUpdateAllAabbs(false);  // static objects never move
     btContactSolverInfo& info = world_->getSolverInfo();
@@ -238,7 +259,7 @@ class BulletEngine : public PhysicsEngine {
         auto compound = std::make_unique<btCompoundShape>(/*enableDynamicAabbTree=*/false,
                                                           static_cast<int>(spec.collisions.size()));
         for (const CollisionSpec& c : spec.collisions) {
-          const bool tyre = !is_static && isWheel(model, static_cast<int>(i), root_pose, c);
+          const bool tyre = !is_static && isWheelCollision(model, static_cast<int>(i), c);
           btCollisionShape* child = makeShape(c.shape, !is_static, tyre);
           if (child == nullptr) continue;
           const SurfaceParams* s = keepSurface(c.surface);
@@ -369,22 +390,6 @@ class BulletEngine : public PhysicsEngine {
     return raw;
   }
 
-  // A cylinder spinning about its own axis on a revolute or continuous joint is a wheel.
-  static bool isWheel(const ArticulatedModel& model, int body, const Pose& root_pose, const CollisionSpec& c) {
-    if (c.shape.type != ShapeType::kCylinder) return false;
-    const Pose body_link_world = root_pose * model.bodies[body].initial_pose_in_model;
-    const Pose cylinder_world = body_link_world * c.pose_in_link;
-    const Vec3 cylinder_axis = cylinder_world.orientation.rotate(Vec3(0, 0, 1));
-    for (const JointSpec& j : model.joints) {
-      if (j.child_body != body || j.type == JointType::kPrismatic || j.parent_body < 0) continue;
-      const Pose joint_world = root_pose * model.bodies[j.parent_body].initial_pose_in_model * j.pose_in_parent;
-      const Vec3 joint_axis = joint_world.orientation.rotate(j.axis.normalized());
-      const double off_axis_m = (cylinder_world.position - joint_world.position).cross(joint_axis).norm();
-      if (std::abs(cylinder_axis.dot(joint_axis)) > 1.0 - 1e-6 && off_axis_m < 0.01 * c.shape.radius_m) return true;
-    }
-    return false;
-  }
-
   // Shape of one collision; nullptr for an empty mesh. A tyre is a cylinder whose edges are
   // rounded with half its width: a flat tread touches flat ground at one of its edges, which
   // moves the wheel's contact sideways (by half the width, changing the track of a
@@ -400,7 +405,7 @@ class BulletEngine : public PhysicsEngine {
       case ShapeType::kCylinder: {
         const double half_length_m = 0.5 * shape.length_m;
         auto cylinder = std::make_unique<btCylinderShapeZ>(btVector3(shape.radius_m, shape.radius_m, half_length_m));
-        if (tyre && half_length_m < shape.radius_m) {
+        if (tyre && canBeTyre(shape.radius_m, shape.length_m)) {
           cylinder->setMargin(half_length_m);  // core: a flat disk of radius r - width/2
         } else {
           cylinder->setMargin(std::min(kShapeMargin_m, 0.5 * std::min(shape.radius_m, half_length_m)));
@@ -620,7 +625,7 @@ class BulletEngine : public PhysicsEngine {
   std::unique_ptr<btCollisionDispatcher> dispatcher_;
   std::unique_ptr<btDbvtBroadphase> broadphase_;
   std::unique_ptr<btSequentialImpulseConstraintSolver> solver_;
-  std::unique_ptr<btDiscreteDynamicsWorld> world_;
+  std::unique_ptr<WorldWithoutCcd> world_;
   std::vector<std::unique_ptr<Model>> models_;
 };
 

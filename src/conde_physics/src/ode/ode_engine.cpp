@@ -5,7 +5,8 @@
 // still carries joints and geoms. Contacts come from the engine's own spaces (dynamic geoms, and
 // static ones apart); joints are hinges (revolute, continuous) and sliders (prismatic) attached
 // as (child, parent), so ODE's angle, rate, motor and torque signs match the URDF convention
-// "child relative to parent about the axis".
+// "child relative to parent about the axis". Wheels (tyre.h) touch planes at one point of a
+// rounded tread, computed here, as Bullet's rounded cylinders do; all other pairs use dCollide.
 #include "ode/ode_engine.h"
 
 #include <ode/ode.h>
@@ -18,6 +19,8 @@
 #include <stdexcept>
 #include <string>
 #include <vector>
+
+#include "conde_physics/tyre.h"
 
 namespace conde_physics {
 namespace {
@@ -66,6 +69,8 @@ bool finitePositive(double v) { return std::isfinite(v) && v > 0.0; }
 struct GeomInfo {
   ModelId model = -1;  // -1: static world
   SurfaceParams surface;
+  bool tyre = false;   // a wheel's cylinder (tyre.h): one rounded-tread contact on planes
+  double tyre_radius_m = 0.0, tyre_width_m = 0.0;
 };
 
 // Vertex and index arrays must outlive the trimesh data that references them.
@@ -118,8 +123,9 @@ class OdeEngine final : public PhysicsEngine {
  private:
   static void nearCallback(void* data, dGeomID a, dGeomID b);
   void collidePair(dGeomID a, dGeomID b);
+  int tyreOnPlaneContact(dGeomID tyre, const GeomInfo& info, dGeomID plane);
   dGeomID createGeom(const Shape& shape);
-  void registerGeom(dGeomID geom, ModelId model, const SurfaceParams& surface, bool dynamic);
+  GeomInfo& registerGeom(dGeomID geom, ModelId model, const SurfaceParams& surface, dSpaceID space);
   const ModelState& modelAt(ModelId model) const;
   const JointState& jointAt(ModelId model, int joint) const;
   JointState& jointAt(ModelId model, int joint) {
@@ -131,6 +137,10 @@ class OdeEngine final : public PhysicsEngine {
   // Static geoms (world shapes, kinematic roots of welded models) never collide with each other,
   // so they live apart: a step tests dynamic-dynamic pairs plus dynamic x static, which stays
   // cheap with many static shapes (a simple space's pair sweep would be quadratic in them).
+  // The moving geoms of each model sit in a space of their own inside `dynamic_space_`: a step
+  // tests models' bounding boxes against each other and looks inside two models only where
+  // those overlap, so the pairs grow with the number of models, not of geoms, and pairs within
+  // one model (which must not collide) are never even formed.
   dSpaceID dynamic_space_ = nullptr;
   dSpaceID static_space_ = nullptr;
   dJointGroupID contact_group_ = nullptr;
@@ -157,8 +167,8 @@ OdeEngine::OdeEngine(const PhysicsSettings& settings) : PhysicsEngine(settings) 
   dWorldSetContactMaxCorrectingVel(world_, settings.max_contact_correcting_vel_mps);
   dWorldSetAutoDisableFlag(world_, 0);
 
-  // Few dynamic geoms per world: a simple space's AABB sweep beats hashing at this size, and
-  // a hash space's collide2 against a geom is a linear scan anyway.
+  // Few models and few static shapes per world: a simple space's AABB sweep beats hashing at
+  // this size, and a hash space's collide2 against a geom is a linear scan anyway.
   dynamic_space_ = dSimpleSpaceCreate(nullptr);
   static_space_ = dSimpleSpaceCreate(nullptr);
   contact_group_ = dJointGroupCreate(0);
@@ -169,7 +179,7 @@ OdeEngine::OdeEngine(const PhysicsSettings& settings) : PhysicsEngine(settings) 
 
 OdeEngine::~OdeEngine() {
   std::lock_guard<std::mutex> lock(odeGlobalStateMutex());
-  // Geoms first (the space destroys its own), then what they reference, then the world.
+  // Geoms first (a space destroys its geoms and spaces), then what they reference, then the world.
   dSpaceDestroy(dynamic_space_);
   dSpaceDestroy(static_space_);
   for (auto& mesh : meshes_) dGeomTriMeshDataDestroy(mesh->data);
@@ -177,10 +187,14 @@ OdeEngine::~OdeEngine() {
   dWorldDestroy(world_);  // bodies and joints
 }
 
-void OdeEngine::registerGeom(dGeomID geom, ModelId model, const SurfaceParams& surface, bool dynamic) {
-  geom_infos_.push_back(GeomInfo{model, surface});
+GeomInfo& OdeEngine::registerGeom(dGeomID geom, ModelId model, const SurfaceParams& surface, dSpaceID space) {
+  GeomInfo info;
+  info.model = model;
+  info.surface = surface;
+  geom_infos_.push_back(info);
   dGeomSetData(geom, &geom_infos_.back());
-  dSpaceAdd(dynamic ? dynamic_space_ : static_space_, geom);
+  dSpaceAdd(space, geom);
+  return geom_infos_.back();
 }
 
 // Throws before anything is created, so a rejected model leaves the world untouched.
@@ -237,7 +251,7 @@ dGeomID OdeEngine::createGeom(const Shape& shape) {
 
 void OdeEngine::addGroundPlane(const SurfaceParams& surface) {
   std::lock_guard<std::mutex> lock(odeGlobalStateMutex());
-  registerGeom(dCreatePlane(nullptr, 0, 0, 1, 0), -1, surface, false);
+  registerGeom(dCreatePlane(nullptr, 0, 0, 1, 0), -1, surface, static_space_);
   ray_scene_.addGroundPlane();
 }
 
@@ -249,7 +263,7 @@ void OdeEngine::addStaticShape(const Shape& shape, const Pose& world_pose, const
   dQuaternion q;
   toOde(world_pose.orientation, q);
   dGeomSetQuaternion(geom, q);
-  registerGeom(geom, -1, surface, false);
+  registerGeom(geom, -1, surface, static_space_);
   ray_scene_.addStatic(shape, world_pose);
 }
 
@@ -269,6 +283,7 @@ ModelId OdeEngine::addModel(const ArticulatedModel& model, const Pose& root_pose
   ModelState state;
   state.first_joint = joints_.size();
   state.joint_count = model.joints.size();
+  const dSpaceID model_space = dSimpleSpaceCreate(dynamic_space_);  // destroyed with dynamic_space_
 
   for (int b = 0; b < body_count; ++b) {
     const BodySpec& spec = model.bodies[b];
@@ -303,7 +318,13 @@ ModelId OdeEngine::addModel(const ArticulatedModel& model, const Pose& root_pose
       dQuaternion oq;
       toOde(offset.orientation, oq);
       dGeomSetOffsetQuaternion(geom, oq);
-      registerGeom(geom, id, collision.surface, !kinematic);
+      GeomInfo& info = registerGeom(geom, id, collision.surface, kinematic ? static_space_ : model_space);
+      if (!kinematic && isWheelCollision(model, b, collision) &&
+          canBeTyre(collision.shape.radius_m, collision.shape.length_m)) {
+        info.tyre = true;
+        info.tyre_radius_m = collision.shape.radius_m;
+        info.tyre_width_m = collision.shape.length_m;
+      }
     }
     state.bodies.push_back(body);
     state.link_in_body.push_back(link_in_body);
@@ -389,15 +410,61 @@ void OdeEngine::addJointEffort(ModelId model, int joint, double effort) {
   jointAt(model, joint).pending_effort += effort;
 }
 
-void OdeEngine::nearCallback(void* data, dGeomID a, dGeomID b) { static_cast<OdeEngine*>(data)->collidePair(a, b); }
+// Called for pairs whose bounding boxes overlap; a model's space stands for all its geoms.
+void OdeEngine::nearCallback(void* data, dGeomID a, dGeomID b) {
+  if (dGeomIsSpace(a) || dGeomIsSpace(b)) {
+    dSpaceCollide2(a, b, data, &OdeEngine::nearCallback);
+    return;
+  }
+  static_cast<OdeEngine*>(data)->collidePair(a, b);
+}
+
+// One contact at the deepest point of the rounded tread (tyre.h), normal out of the plane into
+// the tyre; 0 when the tyre does not touch. -1 when the wheel lies on its face: use dCollide.
+int OdeEngine::tyreOnPlaneContact(dGeomID tyre, const GeomInfo& info, dGeomID plane) {
+  dVector4 plane_params;  // unit normal (a, b, c) and offset d of a x + b y + c z = d
+  dGeomPlaneGetParams(plane, plane_params);
+  const dReal* r = dGeomGetRotation(tyre);  // 3x4 row-major: the cylinder axis is column z
+  TyreContact tc;
+  const Vec3 normal(plane_params[0], plane_params[1], plane_params[2]);
+  const Vec3 axis(r[2], r[6], r[10]);
+  const Vec3 centre = toVec3(dGeomGetPosition(tyre));
+  switch (tyreOnPlane(centre, axis, info.tyre_radius_m, info.tyre_width_m, normal, plane_params[3], tc)) {
+    case TyreOnPlane::kApart:
+      return 0;
+    case TyreOnPlane::kOnFace:
+      return -1;
+    case TyreOnPlane::kTouching:
+      break;
+  }
+  dContactGeom& c = contacts_[0].geom;
+  c.pos[0] = tc.point_m.x;
+  c.pos[1] = tc.point_m.y;
+  c.pos[2] = tc.point_m.z;
+  c.normal[0] = normal.x;
+  c.normal[1] = normal.y;
+  c.normal[2] = normal.z;
+  c.depth = tc.depth_m;
+  c.g1 = tyre;
+  c.g2 = plane;
+  c.side1 = c.side2 = -1;
+  return 1;
+}
 
 void OdeEngine::collidePair(dGeomID a, dGeomID b) {
-  // Static-static pairs never get here (separate spaces); bodies of one model do not collide.
+  // Static-static pairs never get here (separate spaces), nor pairs within one model's space;
+  // bodies of one model do not collide, so skip a welded model's parts meeting its static root.
   const auto* info_a = static_cast<const GeomInfo*>(dGeomGetData(a));
   const auto* info_b = static_cast<const GeomInfo*>(dGeomGetData(b));
   if (info_a->model >= 0 && info_a->model == info_b->model) return;
 
-  const int count = dCollide(a, b, max_contacts_per_pair_, &contacts_[0].geom, sizeof(dContact));
+  int count = -1;
+  if (info_b->tyre && dGeomGetClass(a) == dPlaneClass) {  // tyre first: the normal points into it
+    std::swap(a, b);
+    std::swap(info_a, info_b);
+  }
+  if (info_a->tyre && dGeomGetClass(b) == dPlaneClass) count = tyreOnPlaneContact(a, *info_a, b);
+  if (count < 0) count = dCollide(a, b, max_contacts_per_pair_, &contacts_[0].geom, sizeof(dContact));
   if (count <= 0) return;
 
   dSurfaceParameters surface{};
@@ -439,7 +506,7 @@ void OdeEngine::step() {
       if (effort != 0.0) dJointAddSliderForce(j.id, effort);
     }
   }
-  dSpaceCollide(dynamic_space_, this, &OdeEngine::nearCallback);
+  dSpaceCollide(dynamic_space_, this, &OdeEngine::nearCallback);  // model x model
   dSpaceCollide2(reinterpret_cast<dGeomID>(dynamic_space_), reinterpret_cast<dGeomID>(static_space_), this,
                  &OdeEngine::nearCallback);
   dRandSetSeed(rand_seed_);

@@ -55,7 +55,7 @@ class LaserScanner {
   std::vector<conde_physics::Vec3> origins_, directions_;
   std::vector<conde_physics::RayHit> hits_;
   std::vector<float> ranges_;
-  std::mt19937 rng_;
+  std::mt19937_64 rng_;  // one draw per uniform double (mt19937 needs two for 53 bits)
   std::normal_distribution<double> gauss_{0.0, 1.0};
 };
 
