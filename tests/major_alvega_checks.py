@@ -7,15 +7,10 @@ controller node runs on its simulated clock.
 Numbers from reference/conde-original.md §3.2: wheelbase L = 0.32 m, hinges 0.25 m apart, wheel
 radius 0.05 m; base_link (the ground-truth body) lies midway between the axles.
 
-Parameter ~controllers names the controller YAML of conde_major/config the launch loaded:
-  major_joint_states                    the original's gains. Its steering servo is P-D only
-      (p 4, d 1): on ODE the wheels' contact with the ground opposes the steering with about
-      0.05-0.1 N m while the car turns (Bullet: none), which leaves the hinges up to 0.018 rad short
-      of their targets and the turns 4 % wider forwards, 5 % narrower backwards than
-      L / tan(delta). Checked: the hinges within 0.025 rad of their targets, and the car turning
-      as its wheels point (radius within 3 % of the Ackermann radius of the measured hinges).
-  major_joint_states_integral_steering  the same with an integral term on the steering: the
-      hinges within 0.005 rad and the radius within 3 % of L / tan(delta), as the issue asks."""
+Parameter ~controllers names the controller YAML of conde_major/config the launch loaded
+(major_joint_states: the original's gains, a P-D steering servo). Checked: the hinges within
+0.005 rad of their targets, the radius within 3 % of L / tan(delta) and within 3 % of the
+Ackermann radius of the measured hinges."""
 import math
 import unittest
 
@@ -43,11 +38,10 @@ CONTROLLERS = ("left_steering_ctrlr", "right_steering_ctrlr", "left_front_wheel_
                "left_rear_wheel_ctrlr", "right_rear_wheel_ctrlr")
 COMMAND_PERIOD_S = 1.0 / 30  # the test sends /ackermann_cmd at 30 Hz of simulated time
 # Per controller YAML: largest hinge error [rad]; largest relative error of the turning radius
-# against L / tan(delta) (None: not asserted, printed). Both always: radius within 3 % of the
-# Ackermann radius of the measured hinge angles.
+# against L / tan(delta) (None: not asserted, printed). Always: radius within 3 % of the Ackermann
+# radius of the measured hinge angles.
 TOLERANCES = {
-    "major_joint_states": (0.025, None),
-    "major_joint_states_integral_steering": (0.005, 0.03),
+    "major_joint_states": (0.005, 0.03),
 }
 GEOMETRY_TOLERANCE = 0.03
 

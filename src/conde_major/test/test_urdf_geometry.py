@@ -40,7 +40,7 @@ def test_major_alvega_dimensions_from_its_urdf(major_urdf):
     assert limit_rad == pytest.approx(0.785398)
 
 
-@pytest.mark.parametrize('yaml_name', ['major_joint_states.yaml', 'major_joint_states_integral_steering.yaml'])
+@pytest.mark.parametrize('yaml_name', ['major_joint_states.yaml'])
 def test_controller_yamls_name_movable_joints_of_the_robot(major_urdf, yaml_name):
     with open(os.path.join(PACKAGE_DIR, 'config', yaml_name)) as f:
         controllers = yaml.safe_load(f)
@@ -49,11 +49,11 @@ def test_controller_yamls_name_movable_joints_of_the_robot(major_urdf, yaml_name
     assert joints == movable
     assert controllers['joint_state_ctrlr'] == {'type': 'joint_state_controller/JointStateController',
                                                 'publish_rate': 30}
-    # The original's gains, except the integral of the steering in the *_integral_steering file.
+    # The original's gains.
     for side in ('left', 'right'):
         pid = controllers[side + '_steering_ctrlr']['pid']
         assert (pid['p'], pid['d']) == (4.0, 1.0)
-        assert pid['i'] == (40.0 if 'integral' in yaml_name else 0.0)
+        assert pid['i'] == 0.0
         for axle in ('front', 'rear'):
             wheel = controllers['%s_%s_wheel_ctrlr' % (side, axle)]
             assert wheel['type'] == 'effort_controllers/JointVelocityController'
