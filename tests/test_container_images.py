@@ -62,36 +62,50 @@ def skip_reason():
     return None
 
 
-_built = {}  # one build per pytest session, shared with test_novnc_rviz.py
+_built = {}  # one build (or one skip or failure) per pytest session, shared with test_novnc_rviz.py
 
 
 def build_images(config):
     """Builds the base image and the dev, run and gui stages once per session; returns
-    {stage: (build time [s], size [MB])}. Skips the calling test if no container can start."""
+    {stage: (build time [s], size [MB])}. Skips the calling test if no container can start;
+    fails it (and every later caller, without building again) if a build fails. Build logs:
+    build/test_results/containers/build_<stage>.log."""
     if "result" in _built:
         return _built["result"]
+    if "skip" in _built:
+        pytest.skip(_built["skip"])
+    if "failure" in _built:
+        pytest.fail(_built["failure"])
     reason = skip_reason()
     if reason:
+        _built["skip"] = reason
         pytest.skip(reason)
     _terminal["config"] = config
+    os.makedirs(ARTEFACTS, exist_ok=True)
     if os.path.exists(os.path.join(ARTEFACTS, "images.md")):
         os.remove(os.path.join(ARTEFACTS, "images.md"))
     report(f"container images ({IMAGE}:<stage>), built with docker/podman_build.sh:")
     script = os.path.join(REPO, "docker", "podman_build.sh")
-    started = time.monotonic()
-    base = subprocess.run([script, "base"], env=podman_env(), capture_output=True, text=True, timeout=BUILD_TIMEOUT_S)
-    assert base.returncode == 0, f"making the base image failed:\n{base.stdout[-3000:]}\n{base.stderr[-3000:]}"
-    report(f"- base image {BASE_TAG} ready in {time.monotonic() - started:.0f} s (debootstrap when missing)")
-    probe = podman("run", "--rm", "--network=none", BASE_TAG, "true", check=False, timeout=120)
-    if probe.returncode != 0:
-        pytest.skip(f"podman cannot start a container here: {probe.stderr.strip()[-500:]}")
     result = {}
-    for stage in STAGES:
+    for stage in ("base",) + STAGES:
         started = time.monotonic()
-        proc = subprocess.run([script, stage], env=dict(podman_env(), IMAGE=IMAGE), capture_output=True, text=True,
-                              timeout=BUILD_TIMEOUT_S)
+        log_path = os.path.join(ARTEFACTS, f"build_{stage}.log")
+        with open(log_path, "w") as log:
+            proc = subprocess.run([script, stage], env=dict(podman_env(), IMAGE=IMAGE), stdout=log,
+                                  stderr=subprocess.STDOUT, timeout=BUILD_TIMEOUT_S)
         build_s = time.monotonic() - started
-        assert proc.returncode == 0, f"building stage {stage} failed after {build_s:.0f} s:\n{proc.stdout[-6000:]}\n{proc.stderr[-3000:]}"
+        if proc.returncode != 0:
+            with open(log_path) as log:
+                _built["failure"] = f"building {stage} failed (exit {proc.returncode}) after {build_s:.0f} s; " \
+                                    f"{log_path} ends:\n{log.read()[-5000:]}"
+            pytest.fail(_built["failure"])
+        if stage == "base":
+            report(f"- base image {BASE_TAG} ready in {build_s:.0f} s (debootstrap when missing)")
+            probe = podman("run", "--rm", "--network=none", BASE_TAG, "true", check=False, timeout=120)
+            if probe.returncode != 0:
+                _built["skip"] = f"podman cannot start a container here: {probe.stderr.strip()[-500:]}"
+                pytest.skip(_built["skip"])
+            continue
         size_mb = int(podman("image", "inspect", "--format", "{{.Size}}", f"{IMAGE}:{stage}").stdout) / 1e6
         result[stage] = (build_s, size_mb)
         report(f"- stage {stage}: built in {build_s:.0f} s, image {size_mb:.0f} MB")
@@ -122,12 +136,14 @@ def test_run_image_default_command_prints_the_main_job_table(images):
         f.write(output)
     report(f"- run image, default command (main job, --network=none): exit {proc.returncode} after {run_s:.0f} s")
     assert proc.returncode == 0, f"the run image's default command exited {proc.returncode}:\n{output[-4000:]}"
+    # The main job (scripts/main_job.sh) prints a table with rows per engine and says where its
+    # results went (CONDE_RESULTS_DIR of the run image).
     table_rows = [l for l in output.splitlines() if l.startswith("| ")]
     assert table_rows and table_rows[0].startswith("| engine |"), f"no result table in:\n{output[-4000:]}"
     for engine in ("ode", "bullet"):
         rows = [r for r in table_rows if r.startswith(f"| {engine} |")]
-        assert len(rows) >= 5, f"expected the five odometry runs of {engine}, got {len(rows)}:\n{output[-4000:]}"
-    assert "written to /home/conde/results/odometry_test.md" in output
+        assert rows, f"no result row for {engine}:\n{output[-4000:]}"
+    assert "written to /home/conde/results/" in output, output[-4000:]
 
 
 def test_dev_image_runs_the_test_command(images):

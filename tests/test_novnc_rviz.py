@@ -2,12 +2,15 @@
 display served by noVNC; the noVNC port is published on the host's loopback only.
 
 The test starts the container as docker/compose.yaml's rviz service does (port published on
-127.0.0.1), loads noVNC in headless Chromium and checks from the screenshot that rviz is drawn:
-its light-grey Qt panels and the red Conde robot in the 3D view. The screenshot is kept as
+127.0.0.1), loads noVNC in headless Chromium (through the DevTools protocol) and checks from
+screenshots that rviz is drawn: its light-grey Qt panels and the red Conde robot in the 3D
+view. The last screenshot is kept as
 build/test_results/containers/novnc_rviz.png. It also checks that the host port, the ROS master
 and the VNC server listen on loopback addresses only. Skipped where no container can run (see
 test_container_images.py, whose images it shares).
 """
+import base64
+import json
 import os
 import shutil
 import socket
@@ -20,6 +23,11 @@ import cv2
 import numpy as np
 import pytest
 import yaml
+
+try:
+    import websocket  # python3-websocket (scripts/install_dependencies.sh containers)
+except ImportError:  # the dev image has no browser tools; the test skips there
+    websocket = None
 
 from test_container_images import ARTEFACTS, IMAGE, REPO, build_images, podman
 
@@ -62,14 +70,54 @@ def rviz_pixels(image_bgr):
     return int(light_grey.sum()), int(red.sum())
 
 
-def screenshot(url, path):
-    with tempfile.TemporaryDirectory(prefix="conde_chromium_") as profile:
-        proc = subprocess.run(
+class HeadlessChromium:
+    """Headless Chromium driven through the DevTools protocol: one page that stays connected to
+    noVNC while the test takes screenshots (a fresh `chromium --screenshot` per try can capture
+    the page before the first VNC frame arrives)."""
+
+    def __init__(self, width_px, height_px):
+        self.profile = tempfile.TemporaryDirectory(prefix="conde_chromium_")
+        self.process = subprocess.Popen(
             ["chromium", "--headless", "--no-sandbox", "--disable-gpu", "--hide-scrollbars",
-             f"--user-data-dir={profile}", f"--window-size={SCREEN_W_PX},{SCREEN_H_PX}",
-             "--virtual-time-budget=15000", f"--screenshot={path}", url],
-            capture_output=True, text=True, timeout=180)
-    assert proc.returncode == 0 and os.path.exists(path), f"chromium failed ({proc.returncode}):\n{proc.stderr[-2000:]}"
+             "--remote-debugging-port=0", f"--user-data-dir={self.profile.name}",
+             f"--window-size={width_px},{height_px}", "about:blank"],
+            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        port_file = os.path.join(self.profile.name, "DevToolsActivePort")
+        deadline = time.monotonic() + 60
+        while not (os.path.exists(port_file) and open(port_file).read().strip()):
+            assert self.process.poll() is None, f"chromium exited {self.process.returncode}"
+            assert time.monotonic() < deadline, "chromium did not open its DevTools port"
+            time.sleep(0.2)
+        port = int(open(port_file).read().split()[0])
+        with urllib.request.urlopen(f"http://127.0.0.1:{port}/json/list", timeout=10) as answer:
+            page = next(t for t in json.load(answer) if t["type"] == "page")
+        self.socket = websocket.create_connection(page["webSocketDebuggerUrl"], timeout=60, suppress_origin=True)
+        self.next_id = 0
+        # The page gets exactly this size (the window's would lose some to the browser's frame).
+        self.call("Emulation.setDeviceMetricsOverride", width=width_px, height=height_px, deviceScaleFactor=1,
+                  mobile=False)
+
+    def call(self, method, **params):
+        self.next_id += 1
+        self.socket.send(json.dumps({"id": self.next_id, "method": method, "params": params}))
+        while True:  # events come in between; the answer carries our id
+            message = json.loads(self.socket.recv())
+            if message.get("id") == self.next_id:
+                assert "error" not in message, f"{method}: {message['error']}"
+                return message["result"]
+
+    def screenshot_png(self):
+        return base64.b64decode(self.call("Page.captureScreenshot", format="png")["data"])
+
+    def close(self):
+        self.socket.close()
+        self.process.terminate()
+        try:
+            self.process.wait(timeout=30)
+        except subprocess.TimeoutExpired:
+            self.process.kill()
+            self.process.wait()
+        self.profile.cleanup()
 
 
 def test_compose_publishes_ports_on_localhost_only():
@@ -84,8 +132,8 @@ def test_compose_publishes_ports_on_localhost_only():
 
 def test_novnc_shows_rviz(request):
     build_images(request.config)
-    if shutil.which("chromium") is None:
-        pytest.skip("chromium is not installed (scripts/install_dependencies.sh containers)")
+    if shutil.which("chromium") is None or websocket is None:
+        pytest.skip("chromium or python3-websocket is not installed (scripts/install_dependencies.sh containers)")
     if os.path.exists(SCREENSHOT):
         os.remove(SCREENSHOT)
     port = free_port()
@@ -115,19 +163,25 @@ def test_novnc_shows_rviz(request):
 
         # rviz needs the simulation's TF before it draws the robot: screenshots until it shows.
         os.makedirs(ARTEFACTS, exist_ok=True)
-        deadline = time.monotonic() + 300
-        while True:
-            screenshot(url, SCREENSHOT)
-            image = cv2.imread(SCREENSHOT)
-            assert image is not None, f"unreadable screenshot {SCREENSHOT}"
-            light_grey_px, red_px = rviz_pixels(image)
-            total_px = image.shape[0] * image.shape[1]
-            if light_grey_px >= 0.10 * total_px and red_px >= 300:
-                break
-            assert time.monotonic() < deadline, (
-                f"rviz is not drawn in {SCREENSHOT}: {light_grey_px} light-grey panel pixels "
-                f"(need {0.10 * total_px:.0f}), {red_px} red robot pixels (need 300)")
-            time.sleep(5)
+        browser = HeadlessChromium(SCREEN_W_PX, SCREEN_H_PX)
+        try:
+            browser.call("Page.navigate", url=url)
+            deadline = time.monotonic() + 300
+            while True:
+                time.sleep(2)
+                png = browser.screenshot_png()
+                image = cv2.imdecode(np.frombuffer(png, np.uint8), cv2.IMREAD_COLOR)
+                light_grey_px, red_px = rviz_pixels(image)
+                total_px = image.shape[0] * image.shape[1]
+                if (light_grey_px >= 0.10 * total_px and red_px >= 300) or time.monotonic() > deadline:
+                    break
+        finally:
+            browser.close()
+        with open(SCREENSHOT, "wb") as f:
+            f.write(png)
+        assert light_grey_px >= 0.10 * total_px and red_px >= 300, (
+            f"rviz is not drawn in {SCREENSHOT}: {light_grey_px} light-grey panel pixels "
+            f"(need {0.10 * total_px:.0f}), {red_px} red robot pixels (need 300)")
         print(f"rviz drawn: {light_grey_px} light-grey panel pixels, {red_px} red robot pixels; {SCREENSHOT}")
 
         inside = podman("exec", name, "cat", "/proc/net/tcp", "/proc/net/tcp6").stdout
