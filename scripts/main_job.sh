@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The main job in a workspace that is already built (or installed): sources the workspace and
-# runs the headless demo, printing its result. scripts/run_demo.sh installs and builds first;
+# runs the headless autonomous run, printing its result. scripts/run_demo.sh installs and builds first;
 # the Docker run stage calls this directly. Extra arguments go to the job.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -9,4 +9,5 @@ SETUP="${CONDE_SETUP:-devel/setup.bash}"
 # shellcheck disable=SC1090
 set +u; source "$SETUP"; set -u
 OUTPUT_DIR="${CONDE_RESULTS_DIR:-$PWD/results}"
-rosrun conde_eval odometry_test --output-dir "$OUTPUT_DIR" "$@"
+# Conde drives two laps on its own (ODE; --engine bullet for the other engine); exit 0 on pass.
+rosrun conde_eval autonomous_run --output-dir "$OUTPUT_DIR" "$@"

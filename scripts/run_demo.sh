@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
-# The main job on a fresh Debian 12 machine: install what is missing, build, then run the
-# odometry test of Conde on the competition track on both physics engines (headless, faster than
-# real time) and print its table. Results go to results/.
+# The main job on a fresh Debian 12 machine: install what is missing, build, then let Conde drive
+# two laps of the competition track on its own (headless, faster than real time) and print lap
+# times and lane keeping. Results (path plot, rosbag, log, summary) go to results/.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 export PATH="/usr/bin:$PATH"

@@ -187,3 +187,19 @@ def test_converges_to_an_offset_reference():
         th += w * DT_S
     assert y == pytest.approx(0.15, abs=0.01)
     assert abs(th) < math.radians(1.0)
+
+
+def test_path_curvature_is_fed_forward():
+    """On the wanted path (no offset or heading error) the robot turns at v * curvature: an arc
+    of radius 1 / curvature; a message without the field follows the lane as before."""
+    config = ControlConfig(max_angular_accel_radps2=100.0, max_linear_accel_mps2=100.0)
+    for curvature in (1.0 / 0.609, -1.0 / 1.391):
+        controller = LaneFollowingController(config)
+        for _ in range(50):
+            v, omega = controller.update(Reference(linear_velocity_mps=0.5, path_curvature_per_m=curvature), 0.02)
+        assert v == pytest.approx(0.5) and omega == pytest.approx(0.5 * curvature)
+    class WithoutCurvature:
+        lateral_offset_m = lateral_offset_ref_m = heading_error_rad = heading_ref_rad = 0.0
+        linear_velocity_mps = 0.5
+    controller = LaneFollowingController(config)
+    assert controller.update(WithoutCurvature(), 0.02)[1] == 0.0

@@ -1,9 +1,11 @@
 """The conde_control node against a real roscore on a free loopback port, on simulated time owned
 by the test: references in, /cmd_vel out at the node's rate within the limits, braking when the
-references stop; a bad configuration stops it with the message and a non-zero exit."""
+references stop; a bad configuration stops it with the message and a non-zero exit; the CPU timing
+line at shutdown."""
 
 import json
 import os
+import re
 import signal
 import subprocess
 
@@ -15,6 +17,7 @@ from conde_control.control_law import ControlConfig
 HERE = os.path.dirname(os.path.abspath(__file__))
 LIMITS = ControlConfig()
 PERIOD_S = 1.0 / 30.0
+TIMING_LINE = re.compile(r"conde_control: timing: (\d+) frames, mean (\d+\.\d\d) ms, max (\d+\.\d\d) ms CPU per frame")
 
 
 @pytest.fixture(scope="module")
@@ -58,6 +61,12 @@ def test_reference_in_cmd_vel_out_and_braking_when_stale(core):
         assert abs(v1) <= LIMITS.max_linear_mps + 1e-9 and abs(w1) <= LIMITS.max_angular_radps + 1e-9
         assert abs(v1 - v0) <= LIMITS.max_linear_accel_mps2 * PERIOD_S * 1.001
         assert abs(w1 - w0) <= LIMITS.max_angular_accel_radps2 * PERIOD_S * 1.001
+
+    # The CPU timing at shutdown counts at least every iteration whose command the probe logged.
+    timing = TIMING_LINE.findall(log)
+    assert timing, "no timing line in the node log:\n" + log
+    frames, mean_ms, max_ms = timing[-1]
+    assert int(frames) >= len(follow) + len(silent) and 0.0 <= float(mean_ms) <= float(max_ms), timing[-1]
 
 
 def test_bad_config_exits_with_the_message(core, tmp_path):

@@ -5,8 +5,16 @@ The robot's position s [m] runs along its lane from the start (s = 0: base_footp
 near edge of the crosswalk, as at the spawn pose).  It meets the near edge of a crosswalk every
 HALF_LAP_M (the lane-centre length of the track between two crossings).  The camera reports a
 crosswalk whose near edge is between VIEW_M[0] and VIEW_M[1] ahead, with its distance.  The robot
-drives at the commanded speed times `speed_scale` (1: exactly as the logic dead-reckons)."""
+drives at the commanded speed times `speed_scale` (1: exactly as the logic dead-reckons).
 
+Heading (fed to on_odometry each step): north at the start; it turns with the curvature the logic
+commands (the junctions' arcs) and, after a fork taken straight, around the loop beyond it:
+LOOP_STRAIGHT_M of straight road, then LOOP_SWEEP_RAD along an arc of the loop's lane radius
+(counter-clockwise after a fork that opens left, clockwise after one that opens right), then
+straight on.  (The straight before the north loop is shortened from the track's 3.18 m so that
+the loop and the turn back onto the central road fit into the model's mean half lap.)"""
+
+import math
 from dataclasses import dataclass
 
 #: Lane-centre length between two crossings: a lap is 40.66 m (geometry YAML), split 21.5 + 19.1 m
@@ -14,6 +22,10 @@ from dataclasses import dataclass
 HALF_LAP_M = 40.66405 / 2.0
 VIEW_M = (0.15, 1.2)  # [m] range ahead in which the ground cameras see the crosswalk's near edge
 DT_S = 1.0 / 30.0  # camera rate
+FORK_SIDES = ("left", "right")  # the side each fork opens to, in turn from the start
+LOOP_STRAIGHT_M = {"left": 1.8, "right": 3.18}  # fork to the start of the loop's arc [m]
+LOOP_RADIUS_M = {"left": 2.5685, "right": 1.7865}  # the lane's radius around the loop [m]
+LOOP_SWEEP_RAD = 1.5 * math.pi
 
 
 @dataclass
@@ -28,7 +40,7 @@ class Lane:
 
 
 class Road:
-    def __init__(self, logic, speed_scale=1.0, start_s=0.0, t0_s=100.0):
+    def __init__(self, logic, speed_scale=1.0, start_s=0.0, t0_s=100.0, odometry_distance=True):
         self.logic = logic
         self.s = start_s
         self.t = t0_s
@@ -38,6 +50,10 @@ class Road:
         self.heading_error_rad = -0.01
         self.outputs = []  # every DecisionOutput
         self.positions = []  # s at each output
+        self.yaw_rad = 0.5 * math.pi
+        self.odometry_distance = odometry_distance  # odometry reports the path length (s) too
+        self.forks = 0  # forks passed
+        self.loop = None  # (arc start s, arc end s, signed curvature) of the loop being driven
 
     def next_near_edge_m(self):
         """Position of the first crosswalk near edge at least VIEW_M[0] ahead of the robot."""
@@ -52,10 +68,27 @@ class Road:
                     self.lane_confidence)
 
     def step(self):
+        self.logic.on_odometry(self.yaw_rad, self.s if self.odometry_distance else None)
         out = self.logic.on_lane(self.lane(), self.t)
         self.outputs.append(out)
         self.positions.append(self.s)
-        self.s += out.linear_velocity_mps * self.speed_scale * DT_S
+        for event in out.events:
+            if event.startswith("fork_"):
+                side = FORK_SIDES[self.forks % 2]
+                self.forks += 1
+                if event == "fork_straight":
+                    start = self.s + LOOP_STRAIGHT_M[side]
+                    radius = LOOP_RADIUS_M[side]
+                    self.loop = (start, start + LOOP_SWEEP_RAD * radius, (1.0 if side == "left" else -1.0) / radius)
+        ds = out.linear_velocity_mps * self.speed_scale * DT_S
+        if out.path_curvature_per_m != 0.0:
+            self.yaw_rad += out.path_curvature_per_m * ds
+        elif self.loop is not None:
+            start, end, curvature = self.loop
+            self.yaw_rad += curvature * max(0.0, min(self.s + ds, end) - max(self.s, start))
+            if self.s + ds >= end:
+                self.loop = None
+        self.s += ds
         self.t += DT_S
         return out
 

@@ -10,7 +10,7 @@ import pytest
 from conde_decision.decision_logic import (END_OF_TRIAL, FORWARD, LEFT, NONE, PARKING, RIGHT, STOP, DecisionConfig,
                                            DecisionLogic)
 from conde_decision.state_machine import load_state_machine
-from road_model import DT_S, HALF_LAP_M, Lane, Road
+from road_model import DT_S, HALF_LAP_M, LOOP_RADIUS_M, LOOP_STRAIGHT_M, Lane, Road
 
 PACKAGE_DIR = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 SPEC = load_state_machine(os.path.join(PACKAGE_DIR, "config", "conde_states.yaml"))
@@ -20,8 +20,9 @@ STEP_M = CRUISE * DT_S  # distance of one step at cruise speed
 FORK_S = CONFIG.crosswalk_length_m + CONFIG.fork_distance_m  # first fork, from the start (s = 0)
 
 
-def make(speed_scale=1.0, **config):
-    return Road(DecisionLogic(SPEC, replace(CONFIG, **config)), speed_scale=speed_scale)
+def make(speed_scale=1.0, odometry_distance=True, **config):
+    return Road(DecisionLogic(SPEC, replace(CONFIG, **config)), speed_scale=speed_scale,
+                odometry_distance=odometry_distance)
 
 
 def signal(road, code, confidence=1.0):
@@ -76,6 +77,80 @@ def assert_branch_bias(refs, distances, peak_m, turn_m):
     assert abs(refs[-1]) < 0.05 * abs(peak_m)
 
 
+def assert_blind_arc(outputs, state, curvature_per_m):
+    """Every output of a junction's turn: cruise speed, the arc's curvature, and the lane
+    measurement replaced by its (zero) references, so that only the arc steers."""
+    assert outputs
+    for o in outputs:
+        assert o.state == state and o.linear_velocity_mps == pytest.approx(CRUISE)
+        assert o.path_curvature_per_m == pytest.approx(curvature_per_m)
+        assert o.lateral_offset_m == o.lateral_offset_ref_m == 0.0 and o.heading_error_rad == o.heading_ref_rad == 0.0
+        assert not o.lane_lost
+
+
+def test_a_loop_taken_straight_ends_with_a_turn_onto_the_central_road():
+    """North fork straight on: counter-clockwise around the north loop, then a right turn where the
+    loop's road meets the central road; south fork straight on: clockwise, then a left turn."""
+    road = make(fork_forward=("straight", "straight"))
+    signal(road, FORWARD)
+    for fork_side, merge, sign in (("left", "merge_right", 1.0), ("right", "merge_left", -1.0)):
+        road.until("fork_straight")
+        fork_s, fork_yaw = road.positions[-1], road.yaw_rad
+        out = road.until(merge)
+        road.lane_confidence = 0.0  # no lane in the turn does not matter
+        arc_end_s = fork_s + LOOP_STRAIGHT_M[fork_side] + 1.5 * math.pi * LOOP_RADIUS_M[fork_side]
+        # The turn starts loop_exit_m after the arc's end (within the tolerance's arc and 2 steps).
+        assert road.positions[-1] - arc_end_s == pytest.approx(CONFIG.loop_exit_m, abs=2 * STEP_M + 0.01)
+        # (this step already drives the turn's first STEP_M)
+        assert sign * (road.yaw_rad - fork_yaw) == pytest.approx(1.5 * math.pi, abs=STEP_M / 0.609 + 1e-6)
+        turn_state = "turn_" + merge[len("merge_"):]
+        assert out.transitions == [("follow_lane", merge, turn_state)]
+        first = len(road.outputs) - 1
+        road.until("distance_elapsed")
+        assert_blind_arc(road.outputs[first:-1], turn_state, sign * -1.0 / SPEC.states[turn_state].command.radius_m)
+        # After the turn the robot heads along the central road, away from the loop: 90 deg more.
+        assert sign * (road.yaw_rad - fork_yaw) == pytest.approx(1.5 * math.pi - 0.5 * math.pi, abs=0.02)
+        road.lane_confidence = 1.0
+    assert road.logic.state == "follow_lane"
+
+
+def test_without_odometry_no_merge_fires():
+    road = make()
+    road.yaw_rad = float("nan")  # on_odometry ignores non-finite headings
+    signal(road, FORWARD)
+    road.until("fork_straight")
+    road.run(40.0)
+    assert not any(e.startswith("merge_") for out in road.outputs for e in out.events)
+
+
+def test_forward_takes_the_default_lap():
+    """Forward: straight on at the north fork, the branch (a right turn) at the south fork."""
+    road = make()
+    signal(road, FORWARD)
+    assert road.until("fork_straight").state == "follow_lane"
+    assert road.until("merge_right").state == "turn_right"
+    out = road.until("fork_right")
+    assert out.transitions == [("follow_lane", "fork_right", "turn_right")]
+    assert road.positions[-1] == pytest.approx(HALF_LAP_M + FORK_S, abs=0.05)
+    road.run(60.0)
+    assert not any("merge_left" in o.events for o in road.outputs)
+
+
+@pytest.mark.parametrize("speed_scale", [0.8, 1.25])
+def test_odometry_places_the_fork_when_the_robot_lags_its_commands(speed_scale):
+    """With the path length from odometry, the fork fires where it is even when the robot drives
+    slower or faster than commanded; dead reckoning from the command would miss it by 20 %."""
+    for odometry in (True, False):
+        road = make(speed_scale, odometry_distance=odometry)
+        signal(road, FORWARD)
+        road.until("fork_straight")
+        error_m = road.positions[-1] - FORK_S
+        if odometry:
+            assert abs(error_m) <= 2 * STEP_M * speed_scale
+        else:
+            assert abs(error_m) > 0.15 * CONFIG.fork_distance_m
+
+
 def test_forward_keeps_straight_at_the_fork():
     road = make()
     signal(road, FORWARD)
@@ -95,14 +170,9 @@ def test_left_at_the_start_takes_the_left_branch():
     turn_m = SPEC.states["turn_left"].command.distance_m
     assert road.positions[-1] == pytest.approx(FORK_S + turn_m, abs=2 * STEP_M)
     assert out.state == "follow_lane" and out.lateral_offset_ref_m == 0.0
-    # While turning: cruise speed, the offset reference biased to the left for a short while.
+    # While turning: cruise speed, an arc of the state's radius to the left, driven blind.
     turn = road.outputs[first:-1]
-    assert all(o.state == "turn_left" and o.linear_velocity_mps == pytest.approx(CRUISE) for o in turn)
-    assert all(o.heading_ref_rad == CONFIG.branch_heading_rad * o.lateral_offset_ref_m / CONFIG.branch_offset_m
-               for o in turn)
-    assert_branch_bias([o.lateral_offset_ref_m for o in turn],
-                       [s - road.positions[first] for s in road.positions[first:-1]],
-                       CONFIG.branch_offset_m, turn_m)
+    assert_blind_arc(turn, "turn_left", 1.0 / SPEC.states["turn_left"].command.radius_m)
     # The order is used up: the next fork is passed straight.
     road.until("fork_straight")
     assert road.logic.state == "follow_lane"
@@ -121,9 +191,8 @@ def test_right_after_a_southbound_crossing_takes_the_right_branch():
     assert out.state == "turn_right"
     first = len(road.outputs) - 1
     assert road.until("distance_elapsed").state == "follow_lane"
-    assert_branch_bias([o.lateral_offset_ref_m for o in road.outputs[first:-1]],
-                       [s - fork_s for s in road.positions[first:-1]], -CONFIG.branch_offset_m,
-                       SPEC.states["turn_right"].command.distance_m)
+    assert road.positions[-1] - fork_s == pytest.approx(SPEC.states["turn_right"].command.distance_m, abs=2 * STEP_M)
+    assert_blind_arc(road.outputs[first:-1], "turn_right", -1.0 / SPEC.states["turn_right"].command.radius_m)
 
 
 def test_an_order_the_fork_cannot_take_keeps_straight():
@@ -142,7 +211,7 @@ def test_an_order_the_fork_cannot_take_keeps_straight():
 
 @pytest.mark.parametrize("speed_scale", [1.0, 0.9, 1.1])  # robot as commanded, slower, faster
 def test_stop_before_the_crosswalk_and_go_on(speed_scale):
-    road = make(speed_scale)
+    road = make(speed_scale, odometry_distance=False)  # dead reckoning from the commanded speed
     signal(road, FORWARD)
     road.drive_m(HALF_LAP_M - 5.0)  # approaching the crosswalk (southbound)
     assert signal(road, STOP) == [("follow_lane", "signal_stop", "approach_stop")]
@@ -193,7 +262,7 @@ def test_stop_shown_too_late_stops_at_the_next_crosswalk():
 def test_two_laps_then_end_of_trial():
     road = make()
     signal(road, FORWARD)
-    road.drive_m(4 * HALF_LAP_M - 5.0)
+    road.drive_m(4 * HALF_LAP_M - 2.0)  # past the south loop's turn back onto the central road
     assert road.logic.crossings == 3 and road.logic.laps == 1
     assert signal(road, END_OF_TRIAL) == [("follow_lane", "signal_end_of_trial", "approach_finish")]
     out = road.until("crosswalk_reached")
@@ -307,6 +376,13 @@ def test_time_gaps_are_capped():
     ({"crossings_per_lap": 0}, "crossings_per_lap: expected an integer >= 1, got 0"),
     ({"min_signal_confidence": 1.5}, "min_signal_confidence: must be in [0, 1], got 1.5"),
     ({"cruise_speed_mps": "fast"}, "cruise_speed_mps: expected a finite number, got 'fast'"),
+    ({"fork_forward": ("straight",)},
+     "fork_forward: expected straight or branch for each entry of fork_sides, got ('straight',)"),
+    ({"fork_forward": ("straight", "left")},
+     "fork_forward: expected straight or branch for each entry of fork_sides, got ('straight', 'left')"),
+    ({"loop_lane_radii_m": (2.5, -1.0)},
+     "loop_lane_radii_m: expected one radius > 0 per entry of fork_sides, got (2.5, -1.0)"),
+    ({"loop_exit_m": -0.1}, "loop_exit_m: must be >= 0, got -0.1"),
 ])
 def test_config_errors(change, message):
     with pytest.raises(ValueError) as info:
@@ -348,6 +424,18 @@ def reach(road, state):
         assert state == "follow_lane", "no recipe to reach %s" % state
 
 
+def reach_loop(road, state, merge):
+    """`state` entered with the robot on the loop after the north fork (merge_right ahead) or
+    the south fork (merge_left ahead), both taken straight."""
+    signal(road, FORWARD)
+    road.until("fork_straight")
+    if merge == "merge_left":
+        road.until("fork_straight")
+    if state in ENTRY_SIGNAL:
+        signal(road, ENTRY_SIGNAL[state])
+    assert road.logic.state == state
+
+
 def reach_before_fork(road, state, side):
     """`state` entered with the robot on a crosswalk whose fork opens to `side`, after the panel
     ordered `side`."""
@@ -364,15 +452,18 @@ def reach_before_fork(road, state, side):
 @pytest.mark.parametrize("source, event, target", SPEC.transitions(),
                          ids=["%s-%s" % (s, e) for s, e, _ in SPEC.transitions()])
 def test_every_transition_fires_from_inputs(source, event, target):
-    road = make()
+    road = make(fork_forward=("straight", "straight")) if event == "merge_left" else make()
     if event in ("fork_left", "fork_right"):
         reach_before_fork(road, source, event[len("fork_"):])
+    elif event in ("merge_left", "merge_right"):
+        reach_loop(road, source, event)
     else:
         reach(road, source)
     assert road.logic.state == source
+    entered_from = road.logic.machine.previous  # where a `return` goes back to
     if event in CODES:
         fired = signal(road, CODES[event])
     else:
         fired = road.until(event).transitions
-    assert fired[0] == (source, event, target)
+    assert fired[0] == (source, event, target if target != "return" else entered_from)
     assert road.logic.last_event == fired[-1][1]

@@ -1,9 +1,10 @@
 """The conde_decision node against a real roscore on a free loopback port: lane measurements and
 panel signals in, control reference, state and marker out, on simulated time owned by the test;
-bad input stops it with the message and a non-zero exit."""
+bad input stops it with the message and a non-zero exit; the CPU timing line at shutdown."""
 
 import json
 import os
+import re
 import signal
 import subprocess
 
@@ -13,6 +14,7 @@ from decision_ros import PYTHON, Roscore
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 FIXTURES = os.path.join(HERE, "fixtures")
+TIMING_LINE = re.compile(r"conde_decision: timing: (\d+) frames, mean (\d+\.\d\d) ms, max (\d+\.\d\d) ms CPU per frame")
 
 
 @pytest.fixture(scope="module")
@@ -74,6 +76,12 @@ def test_lane_and_signal_in_reference_and_state_out(core):
     assert frame == "base_footprint" and marker_type == 9 and z > 0.3  # 9 = TEXT_VIEW_FACING
     assert text.splitlines()[0] == "follow_lane" and "signal forward" in text
     assert "wait_for_go --signal_forward--> follow_lane" in log
+
+    # The CPU timing at shutdown counts every lane measurement.
+    timing = TIMING_LINE.findall(log)
+    assert timing, "no timing line in the node log:\n" + log
+    frames, mean_ms, max_ms = timing[-1]
+    assert int(frames) == 40 and 0.0 <= float(mean_ms) <= float(max_ms), timing[-1]
 
 
 def test_unknown_state_exits_with_the_message(core):

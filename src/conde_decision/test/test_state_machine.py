@@ -50,6 +50,8 @@ def test_every_transition_fires(source, event, target):
     for e in path_to(SPEC, source):  # reach the source state through the machine itself
         assert machine.handle(e) is not None
     assert machine.state == source
+    if target == "return":  # back to the state this one was entered from
+        target = machine.previous
     assert machine.handle(event) == target
     assert machine.state == target and machine.last_event == event
 
@@ -85,8 +87,9 @@ def error_of(path):
 def modified(tmp_path, change):
     data = default_data()
     for state in data["states"].values():  # BaseLoader keeps numbers as strings
-        if "distance_m" in state["command"]:
-            state["command"]["distance_m"] = float(state["command"]["distance_m"])
+        for key in ("distance_m", "radius_m"):
+            if key in state["command"]:
+                state["command"][key] = float(state["command"][key])
     change(data)
     return write(tmp_path, data)
 
@@ -130,7 +133,7 @@ def test_unknown_state_key(tmp_path):
 def test_unknown_command_key(tmp_path):
     path = modified(tmp_path, lambda d: d["states"]["stopped"]["command"].update(lane="left"))
     assert error_of(path) == (f"{path}: states.stopped.command: unknown key 'lane' "
-                              "(expected one of: speed, branch, distance_m)")
+                              "(expected one of: speed, branch, distance_m, radius_m)")
 
 
 def test_unknown_speed(tmp_path):
@@ -219,3 +222,23 @@ def test_on_is_a_key_not_a_boolean(tmp_path):
     spec = load_state_machine(path)
     assert spec.states["a"].transitions == {"signal_forward": "b"}
     assert spec.states["b"].description == "on"
+
+
+def test_return_goes_back_to_the_state_a_turn_was_entered_from():
+    machine = StateMachine(SPEC)
+    for event, state in (("signal_forward", "follow_lane"), ("signal_stop", "approach_stop"),
+                         ("merge_right", "turn_right"), ("distance_elapsed", "approach_stop"),
+                         ("signal_forward", "follow_lane"), ("merge_left", "turn_left"),
+                         ("distance_elapsed", "follow_lane")):
+        assert machine.handle(event) == state
+
+
+def test_return_is_not_a_state_name(tmp_path):
+    path = modified(tmp_path, lambda d: d["states"].update({"return": {"command": {"speed": "stop"}}}))
+    assert error_of(path) == (f"{path}: states.return: 'return' is a reserved target (back to the previous "
+                              "state), not a state name")
+
+
+def test_an_arc_needs_a_branch(tmp_path):
+    path = modified(tmp_path, lambda d: d["states"]["turn_left"]["command"].update(branch="none"))
+    assert error_of(path) == f"{path}: states.turn_left.command.radius_m: an arc needs a branch (left or right) to turn toward"

@@ -1,9 +1,11 @@
 """The conde_semaphore node against a real roscore on a free loopback port: rendered top-camera
 images in, debounced /conde_signal out (rgb8 and bgr8, stamps passed through), the warning for
-an unsupported encoding and the "waiting for images" log, both read from /rosout.
+an unsupported encoding and the "waiting for images" log, both read from /rosout; the CPU timing
+line the node prints at shutdown.
 
 Needs the built workspace: `source devel/setup.bash` (the node is started with rosrun)."""
 import os
+import re
 import signal
 import socket
 import subprocess
@@ -26,6 +28,7 @@ from conde_semaphore.panel_classifier import SIGNAL_CODES
 IMAGES_DIR = os.path.join(os.path.dirname(os.path.abspath(__file__)), "images")
 IMAGE_TOPIC = "/conde_camera_signalling_panel/image_raw"
 TIMEOUT_S = 60.0  # generous: the machine may be busy
+TIMING_LINE = re.compile(r"conde_semaphore: timing: (\d+) frames, mean (\d+\.\d\d) ms, max (\d+\.\d\d) ms CPU per frame")
 
 
 def free_port():
@@ -177,3 +180,27 @@ def test_truncated_image_is_ignored_with_a_warning(ros):
         assert time.monotonic() < deadline, "timed out waiting for the size warning on /rosout"
         publisher.publish(msg)
         time.sleep(0.5)
+
+
+def test_cpu_timing_is_logged_at_shutdown(ros):
+    """A second instance of the node on its own image topic (so that the shared one keeps running):
+    images until it publishes a signal, then SIGINT; its stdout has the timing line."""
+    _, signals, _ = ros
+    topic = "/conde_semaphore_timing_test/image_raw"
+    publisher = rospy.Publisher(topic, Image, queue_size=10)
+    node = subprocess.Popen(["rosrun", "conde_semaphore", "conde_semaphore", "__name:=conde_semaphore_timing_test",
+                             "_image_topic:=" + topic], stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                            start_new_session=True)
+    try:
+        wait_until(lambda: publisher.get_num_connections() > 0, "the second conde_semaphore to connect")
+        publish_until(publisher, signals, lambda s: image_message("stop_1.png", "rgb8", s), SIGNAL_CODES["stop"],
+                      20000.0)
+    finally:
+        os.killpg(node.pid, signal.SIGINT)
+        log = node.communicate(timeout=60)[0]
+        publisher.unregister()
+    timing = TIMING_LINE.findall(log)
+    assert timing, "no timing line in the node's output:\n" + log
+    frames, mean_ms, max_ms = timing[-1]
+    # The debouncer needs 3 images before the first signal.
+    assert int(frames) >= 3 and 0.0 < float(mean_ms) <= float(max_ms), timing[-1]

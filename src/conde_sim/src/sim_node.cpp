@@ -124,6 +124,8 @@ class SimNode {
   // The step loop. Returns when ROS shuts down or ~max_sim_time_s is reached.
   void run() {
     const auto run_start = std::chrono::steady_clock::now();
+    const double run_start_cpu_s = processCpuSeconds();
+    double paused_cpu_s = 0.0;
     const double run_start_sim_s = sim_->timeS();
     auto wall_start = std::chrono::steady_clock::now();
     double sim_start_s = sim_->timeS();
@@ -133,8 +135,10 @@ class SimNode {
       handleRequests();
       if (paused_ && pending_steps_ == 0) {
         const auto pause_start = std::chrono::steady_clock::now();
+        const double pause_start_cpu_s = processCpuSeconds();
         queue.callAvailable(ros::WallDuration(0.005));
         paused_wall_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - pause_start).count();
+        paused_cpu_s += processCpuSeconds() - pause_start_cpu_s;
         wall_start = std::chrono::steady_clock::now();
         sim_start_s = sim_->timeS();
         continue;
@@ -157,13 +161,22 @@ class SimNode {
         std::chrono::duration<double>(std::chrono::steady_clock::now() - run_start).count() - paused_wall_s;
     rusage usage{};
     getrusage(RUSAGE_SELF, &usage);
+    const double cpu_s = processCpuSeconds() - run_start_cpu_s - paused_cpu_s;
+    const double simulated_s = sim_->timeS() - run_start_sim_s;
     ROS_INFO("conde_sim: simulated %.3f s in %.3f s of wall time, pauses not counted (real-time factor %.1f), "
-             "peak RSS %.1f MB",
-             sim_->timeS() - run_start_sim_s, wall_s, (sim_->timeS() - run_start_sim_s) / std::max(wall_s, 1e-9),
-             usage.ru_maxrss / 1024.0);
+             "peak RSS %.1f MB, CPU %.3f s (simulated seconds per CPU second %.1f)",
+             simulated_s, wall_s, simulated_s / std::max(wall_s, 1e-9), usage.ru_maxrss / 1024.0, cpu_s,
+             simulated_s / std::max(cpu_s, 1e-9));
   }
 
  private:
+  // User + system CPU time of the whole process (all threads) [s].
+  static double processCpuSeconds() {
+    rusage usage{};
+    getrusage(RUSAGE_SELF, &usage);
+    return usage.ru_utime.tv_sec + usage.ru_stime.tv_sec + 1e-6 * (usage.ru_utime.tv_usec + usage.ru_stime.tv_usec);
+  }
+
   void loadRobots() {
     XmlRpc::XmlRpcValue list;
     if (!pnh_.getParam("robots", list)) {

@@ -33,7 +33,10 @@ const std::string& carUrdf() {
 cp::WorldDescription flatWorld() {
   cp::WorldDescription w;
   w.name = "flat";
-  return w;  // default physics: 1 ms step; ground friction 1
+  // 15 solver iterations, as the car benchmark and the racetrack world: the fewest with which
+  // ODE's four-wheel-drive turning radius stays within 3 % (at 10 it is 4 % off; Bullet passes).
+  w.physics.solver_iterations = 15;
+  return w;  // otherwise default physics: 1 ms step; ground friction 1
 }
 
 // Least-squares circle through points (Kasa fit): returns the radius, sets the centre.

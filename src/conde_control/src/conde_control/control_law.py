@@ -11,8 +11,12 @@ Sign conventions (those of the message):
 
 Law (kinematic unicycle on a straight lane: d offset/dt = v sin(heading), d heading/dt = omega):
 
-    omega = -offset_gain_per_m2 * v * (offset - offset_ref)
+    omega = v * path_curvature
+            - offset_gain_per_m2 * v * (offset - offset_ref)
             - heading_gain_per_m * |v| * (heading - heading_ref)
+
+path_curvature (feed-forward, 0 when following a lane) lets the decision drive an arc of known
+radius where the lane cannot be measured (a 90-degree turn at a junction).
 
 Both terms scale with the speed, so the path the robot drives to get back to its lane is the
 same at every speed: linearised, the offset obeys  e'' + k_h e' + k_o e = 0  with derivatives
@@ -104,6 +108,7 @@ class Reference:
     heading_error_rad: float = 0.0
     heading_ref_rad: float = 0.0
     linear_velocity_mps: float = 0.0
+    path_curvature_per_m: float = 0.0
 
 
 def _clip(value: float, limit: float) -> float:
@@ -133,15 +138,17 @@ class LaneFollowingController:
     def update(self, ref, dt_s: float) -> Tuple[float, float]:
         """One step toward the command the law asks for; `ref` is any object with the fields of
         Reference (a ControlReference message works).  Non-finite fields raise ValueError."""
+        curvature_per_m = getattr(ref, "path_curvature_per_m", 0.0)
         values = [ref.lateral_offset_m, ref.lateral_offset_ref_m, ref.heading_error_rad,
-                  ref.heading_ref_rad, ref.linear_velocity_mps]
+                  ref.heading_ref_rad, ref.linear_velocity_mps, curvature_per_m]
         if not all(math.isfinite(x) for x in values):
             raise ValueError("reference has a non-finite field: %r" % (values,))
         c = self.config
         v = self._next_v(_clip(ref.linear_velocity_mps, c.max_linear_mps), dt_s)
         offset_error_m = ref.lateral_offset_m - ref.lateral_offset_ref_m
         heading_error_rad = ref.heading_error_rad - ref.heading_ref_rad
-        omega_target = -c.offset_gain_per_m2 * v * offset_error_m - c.heading_gain_per_m * abs(v) * heading_error_rad
+        omega_target = (v * curvature_per_m - c.offset_gain_per_m2 * v * offset_error_m
+                        - c.heading_gain_per_m * abs(v) * heading_error_rad)
         return v, self._next_omega(omega_target, dt_s)
 
     def brake(self, dt_s: float) -> Tuple[float, float]:

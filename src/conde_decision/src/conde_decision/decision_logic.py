@@ -13,17 +13,29 @@ worlds/tracks/competition_track.geometry.yaml):
   after having left it; the start does not count.  Laps are counted at the end of a crossing's
   approach (the robot arriving at the crosswalk), so the last lap is complete when the robot
   stops there on "end of trial".
-* `fork_distance_m` after the crosswalk's far edge the road forks; the branch opens on the west
-  side: to the left after a northbound crossing, to the right after a southbound one
-  (`fork_sides`, taken in turn from the start).  The last direction signal (forward / left /
-  right) seen before the fork chooses: fork_left / fork_right when it names the side the fork
-  opens to, fork_straight otherwise (a "left" at a right-opening fork cannot be obeyed).  The
-  order is used up at the fork.
+* `fork_distance_m` after the crosswalk's far edge the road forks: the loop's road leaves the
+  central road on the west side, to the left after a northbound crossing, to the right after a
+  southbound one (`fork_sides`, taken in turn from the start).  The last direction signal
+  (forward / left / right) seen before the fork chooses: fork_left / fork_right when it names the
+  side the fork opens to, fork_straight when it names the other side (a "left" at a
+  right-opening fork cannot be obeyed); "forward" does what `fork_forward` says for that fork
+  ("straight" or "branch").  The order is used up at the fork.  The default lap on "forward":
+  straight on at the north fork, counter-clockwise around the north loop and right onto the
+  central road; the branch at the south fork, counter-clockwise around the south loop and
+  straight onto the central road (both loops in their outer lane).
+* Straight on at a fork, the robot drives the loop beyond it (counter-clockwise after the north
+  fork, clockwise after the south one), turns through `loop_sweep_rad` and comes back along the
+  loop's road, which joins the central road again at the fork with a 90-degree turn toward it
+  (right at the north fork, left at the south one).  That junction is found by the robot's
+  heading (on_odometry): once the heading has turned through the loop's sweep (less
+  `loop_exit_tolerance_rad`, plus the arc that tolerance leaves at `loop_lane_radii_m`), the turn
+  starts `loop_exit_m` further on, and merge_right / merge_left fires.  Without odometry the
+  merges never fire.
 
-Where the robot is along the road is dead-reckoned from the speed it is commanded (this module
-ramps its own speed at speed_ramp_mps2, the acceleration limit of conde_control, so that the
-commanded speed is what the robot drives) and corrected by every crosswalk sighting of
-conde_tracking (crosswalk_distance_m).  Sightings are ignored from the moment the robot is at the
+Where the robot is along the road is measured by odometry (the path length on_odometry is given)
+or, without it, dead-reckoned from the speed it is commanded (this module ramps its own speed at
+speed_ramp_mps2, the acceleration limit of conde_control, so that the commanded speed is what the
+robot drives), and corrected by every crosswalk sighting of conde_tracking (crosswalk_distance_m).  Sightings are ignored from the moment the robot is at the
 crosswalk until it has driven crosswalk_rearm_m past it (the stripes under and behind the robot
 are not a new crosswalk).
 
@@ -32,7 +44,10 @@ Commands (the state's `command` in the YAML):
 * speed ``cruise``: cruise_speed_mps; ``stop``: 0; ``stop_at_crosswalk``: cruise, braking at
   brake_decel_mps2 so as to stand stop_margin_m before the near edge of the crosswalk ahead
   (if the state begins while the robot is already on a crosswalk, at the next one);
-* branch ``left`` / ``right``: a bias of the references toward the branch, for a short while:
+* branch ``left`` / ``right`` with ``radius_m``: an arc of that radius toward the branch, driven
+  blind (the control reference carries the path curvature, the lane measurement is not used and
+  a lost lane does not stop the robot), for distance_m; the junctions' turns;
+* branch ``left`` / ``right`` without ``radius_m``: a bias of the references toward the branch, for a short while:
   the lateral offset reference becomes +-branch_offset_m times a trapezoid of the distance driven
   in the state (rising over the first quarter of the state's distance_m, full until half-way,
   back to 0 at the end; full all along without distance_m), the heading reference likewise with
@@ -79,7 +94,12 @@ class DecisionConfig:
     start_to_near_edge_m: float = 0.0  # distance from base_footprint to the near edge at the start [m]
     fork_distance_m: float = 1.8  # crosswalk far edge to the fork [m] (1.82 northbound, 1.73 southbound)
     fork_sides: Tuple[str, ...] = ("left", "right")  # side the branch opens to at the 1st, 2nd, ... fork (cyclic)
+    fork_forward: Tuple[str, ...] = ("straight", "branch")  # what "forward" does at each fork of fork_sides
     crossings_per_lap: int = 2  # crosswalk crossings per lap of the track
+    loop_sweep_rad: float = 4.712389  # heading change around a loop, fork to where its road turns back [rad]
+    loop_exit_tolerance_rad: float = 0.087  # the loop counts as done this much before its full sweep [rad]
+    loop_lane_radii_m: Tuple[float, ...] = (2.5685, 1.7865)  # lane radius of the loop after each fork of fork_sides [m]
+    loop_exit_m: float = 1.1775  # end of the loop's arc to the start of the turn onto the central road [m]
     branch_offset_m: float = 0.2  # peak lateral offset reference while taking a branch [m] (+ = left branch)
     branch_heading_rad: float = 0.0  # peak heading reference while taking a branch [rad] (+ = left branch)
     min_signal_confidence: float = 0.5  # panel signals below this confidence are ignored
@@ -98,6 +118,14 @@ class DecisionConfig:
             if f.name == "fork_sides":
                 need(f.name, isinstance(value, (list, tuple)) and len(value) > 0
                      and all(v in ("left", "right") for v in value), "expected a non-empty list of left/right")
+            elif f.name == "fork_forward":
+                need(f.name, isinstance(value, (list, tuple)) and len(value) == len(self.fork_sides)
+                     and all(v in ("straight", "branch") for v in value),
+                     "expected straight or branch for each entry of fork_sides")
+            elif f.name == "loop_lane_radii_m":
+                need(f.name, isinstance(value, (list, tuple)) and len(value) == len(self.fork_sides)
+                     and all(isinstance(v, (int, float)) and not isinstance(v, bool) and v > 0 for v in value),
+                     "expected one radius > 0 per entry of fork_sides")
             elif f.name == "crossings_per_lap":
                 need(f.name, isinstance(value, int) and not isinstance(value, bool) and value >= 1,
                      "expected an integer >= 1")
@@ -107,7 +135,8 @@ class DecisionConfig:
         for name in ("cruise_speed_mps", "speed_ramp_mps2", "brake_decel_mps2", "crosswalk_length_m",
                      "lane_lost_timeout_s", "max_step_s"):
             need(name, getattr(self, name) > 0, "must be > 0")
-        for name in ("stop_margin_m", "crosswalk_rearm_m", "fork_distance_m", "branch_offset_m"):
+        for name in ("stop_margin_m", "crosswalk_rearm_m", "fork_distance_m", "branch_offset_m", "loop_sweep_rad",
+                     "loop_exit_tolerance_rad", "loop_exit_m"):
             need(name, getattr(self, name) >= 0, "must be >= 0")
         for name in ("min_signal_confidence", "min_lane_confidence"):
             need(name, 0 <= getattr(self, name) <= 1, "must be in [0, 1]")
@@ -128,6 +157,7 @@ class DecisionOutput:
     heading_error_rad: float
     heading_ref_rad: float
     linear_velocity_mps: float
+    path_curvature_per_m: float = 0.0  # of the arc being driven blind (+ = left), 0 = follow the lane
     transitions: List[Tuple[str, str, str]] = field(default_factory=list)  # (from, event, to) that fired
     events: List[str] = field(default_factory=list)  # every event produced, fired or ignored
     lane_lost: bool = False  # the speed is held at 0 because no confident lane was seen for too long
@@ -157,6 +187,10 @@ class DecisionLogic:
         self.since_left_m: Optional[float] = None  # distance since the last crosswalk_left
         self.fork_pending = False
         self.forks_passed = 0
+        self.yaw_rad: Optional[float] = None  # unwrapped heading from odometry
+        self.odom_travelled_m: Optional[float] = None  # path length by odometry, latest
+        self.odom_used_m = 0.0  # ... as far as on_lane has advanced along the road
+        self.loop: Optional[dict] = None  # the loop being driven after a fork_straight (see _loop_events)
         self.stop_latched = False  # stop_at_crosswalk has committed to stopping at this crosswalk
         self.direction_order = "forward"
         self.last_signal = NONE
@@ -193,6 +227,22 @@ class DecisionLogic:
         self._fire("signal_" + SIGNAL_NAMES[signal])
         return self._transitions
 
+    def on_odometry(self, yaw_rad: float, travelled_m: Optional[float] = None) -> None:
+        """The robot's heading [rad] (any branch of the angle; unwrapped here) and, if known, the
+        length of the path it has driven so far by odometry [m]: distances along the road are
+        then measured rather than dead-reckoned from the commanded speed (which a robot that
+        lags behind its commands, e.g. on a busy machine, does not drive)."""
+        if not math.isfinite(yaw_rad):
+            return
+        if travelled_m is not None and math.isfinite(travelled_m):
+            if self.odom_travelled_m is None:
+                self.odom_used_m = travelled_m
+            self.odom_travelled_m = travelled_m
+        if self.yaw_rad is None:
+            self.yaw_rad = yaw_rad
+        else:
+            self.yaw_rad += math.remainder(yaw_rad - self.yaw_rad, 2.0 * math.pi)
+
     def on_lane(self, lane, time_s: float) -> DecisionOutput:
         """A lane measurement (any object with the fields of conde_msgs/LaneMeasurement) taken at
         time_s [s]; returns the control reference for it."""
@@ -200,9 +250,14 @@ class DecisionLogic:
         self._transitions, self._events, self.notes = [], [], []
         dt_s = 0.0 if self.last_time_s is None else min(max(time_s - self.last_time_s, 0.0), c.max_step_s)
         self.last_time_s = time_s
-        self._advance(self.v_mps * dt_s)
+        if self.odom_travelled_m is not None:
+            self._advance(max(0.0, self.odom_travelled_m - self.odom_used_m))
+            self.odom_used_m = self.odom_travelled_m
+        else:
+            self._advance(self.v_mps * dt_s)
         self._update_crosswalk(lane)
         self._crosswalk_and_fork_events(time_s)
+        self._loop_events()
         command = self.machine.command
         if (command.distance_m is not None and not self.distance_fired
                 and self.travelled_m - self.state_entry_m >= command.distance_m - 1e-9):
@@ -210,9 +265,10 @@ class DecisionLogic:
             self._fire("distance_elapsed")
         command = self.machine.command
 
+        blind_arc = command.radius_m is not None
         lane_ok = (math.isfinite(lane.lateral_offset_m) and math.isfinite(lane.heading_error_rad)
                    and lane.confidence >= c.min_lane_confidence)
-        if lane_ok:
+        if lane_ok or blind_arc:
             self.lane_bad_since_s = None
         elif self.lane_bad_since_s is None:
             self.lane_bad_since_s = time_s
@@ -223,13 +279,19 @@ class DecisionLogic:
         if self.v_mps > 0.0 and self.lap_mark_s is None:
             self.lap_mark_s = time_s
 
-        bias = {"none": 0.0, "left": 1.0, "right": -1.0}[command.branch] * self._branch_shape(command)
+        side = {"none": 0.0, "left": 1.0, "right": -1.0}[command.branch]
+        curvature_per_m = 0.0
+        if blind_arc:
+            bias = 0.0
+            curvature_per_m = side / command.radius_m
+        else:
+            bias = side * self._branch_shape(command)
         offset_ref_m = bias * c.branch_offset_m
         heading_ref_rad = bias * c.branch_heading_rad
-        offset_m = lane.lateral_offset_m if lane_ok else offset_ref_m
-        heading_rad = lane.heading_error_rad if lane_ok else heading_ref_rad
+        offset_m = lane.lateral_offset_m if lane_ok and not blind_arc else offset_ref_m
+        heading_rad = lane.heading_error_rad if lane_ok and not blind_arc else heading_ref_rad
         return DecisionOutput(self.state, self.last_event, offset_m, offset_ref_m, heading_rad, heading_ref_rad,
-                              self.v_mps, list(self._transitions), list(self._events), lane_lost)
+                              self.v_mps, curvature_per_m, list(self._transitions), list(self._events), lane_lost)
 
     # --- internals ------------------------------------------------------------------------------
 
@@ -276,16 +338,40 @@ class DecisionLogic:
             self._fire("crosswalk_left")
         if self.fork_pending and self.since_left_m >= c.fork_distance_m:
             self.fork_pending = False
-            side = c.fork_sides[self.forks_passed % len(c.fork_sides)]
+            fork = self.forks_passed % len(c.fork_sides)
+            side = c.fork_sides[fork]
             self.forks_passed += 1
             order, self.direction_order = self.direction_order, "forward"
+            if order == "forward" and c.fork_forward[fork] == "branch":
+                order = side
             if order == side:
                 self._fire("fork_" + side)
             else:
                 if order != "forward":
                     self.notes.append("the panel ordered %s, but this fork opens to the %s: keeping straight"
                                       % (order, side))
+                # Straight on: the loop turns toward the fork's side and comes back to the fork,
+                # where its road joins the central road with a turn to the other side.
+                self.loop = {"sign": 1.0 if side == "left" else -1.0, "yaw0_rad": self.yaw_rad,
+                             "radius_m": c.loop_lane_radii_m[fork], "merge": "right" if side == "left" else "left",
+                             "exit_mark_m": None}
                 self._fire("fork_straight")
+
+    def _loop_events(self) -> None:
+        """merge_left / merge_right where the loop driven after a fork_straight turns back onto the
+        central road (found by the heading turned since the fork, see the module docstring)."""
+        c, loop = self.config, self.loop
+        if loop is None or self.yaw_rad is None:
+            return
+        if loop["yaw0_rad"] is None:  # no odometry at the fork yet: count from the first heading
+            loop["yaw0_rad"] = self.yaw_rad
+        if loop["exit_mark_m"] is None:
+            if loop["sign"] * (self.yaw_rad - loop["yaw0_rad"]) >= c.loop_sweep_rad - c.loop_exit_tolerance_rad:
+                loop["exit_mark_m"] = self.travelled_m
+            return
+        if self.travelled_m - loop["exit_mark_m"] >= c.loop_exit_m + c.loop_exit_tolerance_rad * loop["radius_m"]:
+            self.loop = None
+            self._fire("merge_" + loop["merge"])
 
     def _branch_shape(self, command) -> float:
         """0..1: trapezoid over the state's distance (rise 1/4, hold to 1/2, fall to the end)."""

@@ -11,6 +11,8 @@ File format (see config/conde_states.yaml):
           branch: none                 # none | left | right (optional, default none)
           distance_m: 2.2              # optional: the event distance_elapsed fires after
                                        # driving this far [m] in the state
+          radius_m: 1.391              # optional, with a branch: drive an arc of this radius
+                                       # toward the branch instead of following the lane
         on:                            # transitions: event -> next state
           signal_stop: approach_stop
 
@@ -22,7 +24,9 @@ warning: in a machine this small an unreachable state is always a typo or a forg
 transition).  Duplicate keys in a mapping are errors too (YAML would keep the last silently).
 
 Events not listed in a state's `on` are ignored in that state.  A transition to the state itself
-is allowed (it restarts the state's distance count).
+is allowed (it restarts the state's distance count).  The target `return` goes back to the state
+the current one was entered from (e.g. a turn returns to following the lane, or to approaching
+the crosswalk to stop there); `return` is therefore not a state name.
 """
 
 import re
@@ -47,6 +51,10 @@ EVENTS = OrderedDict([
     ("fork_left", "the fork after the crosswalk is reached, the panel ordered left and the fork opens left"),
     ("fork_right", "the fork after the crosswalk is reached, the panel ordered right and the fork opens right"),
     ("fork_straight", "the fork after the crosswalk is reached and the robot keeps straight"),
+    ("merge_left", "the loop driven after a fork_straight ends where its road joins the central road "
+                   "with a left turn"),
+    ("merge_right", "the loop driven after a fork_straight ends where its road joins the central road "
+                    "with a right turn"),
     ("distance_elapsed", "the robot drove the state's command.distance_m since it entered the state"),
 ])
 
@@ -54,7 +62,8 @@ SPEEDS = ("cruise", "stop", "stop_at_crosswalk")
 BRANCHES = ("none", "left", "right")
 TOP_KEYS = ("initial", "states")
 STATE_KEYS = ("description", "command", "on")
-COMMAND_KEYS = ("speed", "branch", "distance_m")
+COMMAND_KEYS = ("speed", "branch", "distance_m", "radius_m")
+RETURN = "return"  # transition target: back to the state the current one was entered from
 
 
 class StateMachineError(ValueError):
@@ -68,6 +77,7 @@ class Command:
     speed: str  # one of SPEEDS
     branch: str = "none"  # one of BRANCHES
     distance_m: Optional[float] = None  # distance_elapsed fires after this many metres
+    radius_m: Optional[float] = None  # with a branch: drive an arc of this radius toward it [m]
 
 
 @dataclass(frozen=True)
@@ -155,6 +165,8 @@ def parse_state_machine(data, source: str) -> StateMachineSpec:
         where = "states.%s" % name
         if not isinstance(name, str) or not name:
             fail("states", "state names must be non-empty strings, got %r" % (name,))
+        if name == RETURN:
+            fail(where, "'%s' is a reserved target (back to the previous state), not a state name" % RETURN)
         if not isinstance(raw, dict):
             fail(where, "expected a mapping with keys %s" % ", ".join(STATE_KEYS))
         expect_keys(raw, STATE_KEYS, where)
@@ -177,7 +189,7 @@ def parse_state_machine(data, source: str) -> StateMachineSpec:
 
     for name, state in states.items():
         for event, target in state.transitions.items():
-            if target not in states:
+            if target not in states and target != RETURN:
                 fail("states.%s.on.%s" % (name, event), "unknown target state '%s'" % (target,))
 
     initial = data["initial"]
@@ -188,7 +200,7 @@ def parse_state_machine(data, source: str) -> StateMachineSpec:
     frontier = [initial]
     while frontier:
         for target in states[frontier.pop()].transitions.values():
-            if target not in reached:
+            if target not in reached and target != RETURN:
                 reached.add(target)
                 frontier.append(target)
     for name in states:
@@ -217,7 +229,14 @@ def _parse_command(raw, where, fail) -> Command:
         if isinstance(distance_m, bool) or not isinstance(distance_m, (int, float)) or not distance_m > 0:
             fail(where + ".distance_m", "expected a distance > 0 [m], got %r" % (distance_m,))
         distance_m = float(distance_m)
-    return Command(speed, branch, distance_m)
+    radius_m = raw.get("radius_m")
+    if radius_m is not None:
+        if isinstance(radius_m, bool) or not isinstance(radius_m, (int, float)) or not radius_m > 0:
+            fail(where + ".radius_m", "expected a radius > 0 [m], got %r" % (radius_m,))
+        if branch == "none":
+            fail(where + ".radius_m", "an arc needs a branch (left or right) to turn toward")
+        radius_m = float(radius_m)
+    return Command(speed, branch, distance_m, radius_m)
 
 
 class StateMachine:
@@ -226,6 +245,7 @@ class StateMachine:
     def __init__(self, spec: StateMachineSpec):
         self.spec = spec
         self.state = spec.initial
+        self.previous = spec.initial  # the state the current one was entered from
         self.last_event = ""
 
     @property
@@ -240,6 +260,9 @@ class StateMachine:
         target = self.spec.states[self.state].transitions.get(event)
         if target is None:
             return None
+        if target == RETURN:
+            target = self.previous
+        self.previous = self.state
         self.state = target
         self.last_event = event
         return target

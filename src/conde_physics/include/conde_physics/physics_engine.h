@@ -20,6 +20,7 @@
 
 #include "conde_physics/math.h"
 #include "conde_physics/model.h"
+#include "conde_physics/ray_caster.h"
 
 namespace conde_physics {
 
@@ -61,14 +62,18 @@ class PhysicsEngine {
   virtual void addJointEffort(ModelId model, int joint, double effort) = 0;
 
   // Casts rays against every shape (static and dynamic). `origins` and `directions` (unit) in
-  // world coordinates; results have max_range_m where nothing is hit within it.
-  // Shapes of `ignore_model` (e.g. the robot carrying the sensor) are skipped; -1 skips none.
-  virtual void castRays(const std::vector<Vec3>& origins, const std::vector<Vec3>& directions,
-                        double max_range_m, ModelId ignore_model, std::vector<RayHit>& hits) const = 0;
+  // world coordinates; results have max_range_m where nothing is hit within it. A ray that
+  // starts inside a shape does not see that shape. Shapes of `ignore_model` (e.g. the robot
+  // carrying the sensor) are skipped; -1 skips none. The same exact geometry on every backend
+  // (ray_caster.h), at the bodies' current poses. Throws std::invalid_argument when the two
+  // lists differ in length.
+  void castRays(const std::vector<Vec3>& origins, const std::vector<Vec3>& directions, double max_range_m,
+                ModelId ignore_model, std::vector<RayHit>& hits) const;
 
  protected:
   explicit PhysicsEngine(const PhysicsSettings& settings) : settings_(settings) {}
   PhysicsSettings settings_;
+  RayScene ray_scene_;  // every backend registers its ground plane, static shapes and models here
 };
 
 // Names accepted by createPhysicsEngine, in the order they are documented.

@@ -130,17 +130,6 @@ struct ModelPairFilter : public btOverlapFilterCallback {
   }
 };
 
-// Closest hit, skipping the objects of one model.
-struct ClosestRayIgnoringModel : public btCollisionWorld::ClosestRayResultCallback {
-  ClosestRayIgnoringModel(const btVector3& from, const btVector3& to, int ignore_model)
-      : ClosestRayResultCallback(from, to), ignore_model_(ignore_model) {}
-  bool needsCollision(btBroadphaseProxy* proxy) const override {
-    if (!ClosestRayResultCallback::needsCollision(proxy)) return false;
-    return ignore_model_ < 0 || static_cast<const btCollisionObject*>(proxy->m_clientObject)->getUserIndex() != ignore_model_;
-  }
-  int ignore_model_;
-};
-
 // ---- engine ----------------------------------------------------------------------------------
 
 struct Body {
@@ -212,6 +201,7 @@ class BulletEngine : public PhysicsEngine {
     btCollisionShape* shape = keepShape(std::make_unique<btStaticPlaneShape>(btVector3(0, 0, 1), 0.0));
     shape->setUserPointer(const_cast<SurfaceParams*>(s));
     addRigidBody(0.0, btVector3(0, 0, 0), shape, btTransform::getIdentity(), -1, s, true);
+    ray_scene_.addGroundPlane();
   }
 
   void addStaticShape(const Shape& shape, const Pose& world_pose, const SurfaceParams& surface) override {
@@ -220,6 +210,7 @@ class BulletEngine : public PhysicsEngine {
     if (bt_shape == nullptr) return;
     bt_shape->setUserPointer(const_cast<SurfaceParams*>(s));
     addRigidBody(0.0, btVector3(0, 0, 0), bt_shape, toBt(world_pose), -1, s, true);
+    ray_scene_.addStatic(shape, world_pose);
   }
 
   ModelId addModel(const ArticulatedModel& model, const Pose& root_pose) override {
@@ -314,6 +305,7 @@ class BulletEngine : public PhysicsEngine {
       updateMotor(joint);
     }
     models_.push_back(std::move(m));
+    ray_scene_.addModel(id, model);
     return id;
   }
 
@@ -356,27 +348,6 @@ class BulletEngine : public PhysicsEngine {
   }
 
   void addJointEffort(ModelId model, int joint, double effort) override { jointAt(model, joint).pending_effort += effort; }
-
-  void castRays(const std::vector<Vec3>& origins, const std::vector<Vec3>& directions, double max_range_m,
-                ModelId ignore_model, std::vector<RayHit>& hits) const override {
-    hits.resize(origins.size());
-    for (size_t i = 0; i < origins.size(); ++i) {
-      RayHit& hit = hits[i];
-      hit.hit = false;
-      hit.distance_m = max_range_m;
-      if (i >= directions.size()) continue;
-      const btVector3 from = toBt(origins[i]);
-      const btVector3 to = from + toBt(directions[i]) * max_range_m;
-      ClosestRayIgnoringModel callback(from, to, ignore_model);
-      // GJK cast: the default subsimplex cast stops about a centimetre early on boxes.
-      callback.m_flags |= btTriangleRaycastCallback::kF_UseGjkConvexCastRaytest;
-      world_->rayTest(from, to, callback);
-      if (callback.hasHit()) {
-        hit.hit = true;
-        hit.distance_m = callback.m_closestHitFraction * max_range_m;
-      }
-    }
-  }
 
  private:
   // ---- construction helpers ----

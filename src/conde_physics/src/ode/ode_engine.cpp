@@ -114,8 +114,6 @@ class OdeEngine final : public PhysicsEngine {
   double jointVelocity(ModelId model, int joint) const override;
   void setJointVelocityMotor(ModelId model, int joint, double velocity, double max_effort) override;
   void addJointEffort(ModelId model, int joint, double effort) override;
-  void castRays(const std::vector<Vec3>& origins, const std::vector<Vec3>& directions, double max_range_m,
-                ModelId ignore_model, std::vector<RayHit>& hits) const override;
 
  private:
   static void nearCallback(void* data, dGeomID a, dGeomID b);
@@ -136,12 +134,10 @@ class OdeEngine final : public PhysicsEngine {
   dSpaceID dynamic_space_ = nullptr;
   dSpaceID static_space_ = nullptr;
   dJointGroupID contact_group_ = nullptr;
-  dGeomID ray_ = nullptr;                 // reused by castRays, not in the space
   unsigned long rand_seed_ = 0;           // this engine's QuickStep shuffle seed
   int max_contacts_per_pair_ = 1;
   std::vector<dContact> contacts_;        // dCollide output, max_contacts_per_pair_ long
   std::deque<GeomInfo> geom_infos_;
-  std::vector<dGeomID> ray_targets_;      // every geom, in creation order (deterministic ties)
   std::vector<std::unique_ptr<MeshStore>> meshes_;
   std::vector<ModelState> models_;
   std::vector<JointState> joints_;        // all models' joints, models_ index into it
@@ -169,17 +165,11 @@ OdeEngine::OdeEngine(const PhysicsSettings& settings) : PhysicsEngine(settings) 
 
   max_contacts_per_pair_ = std::clamp(settings.max_contacts, 1, 0xffff);  // dCollide flags: 16 bits
   contacts_.resize(static_cast<size_t>(max_contacts_per_pair_));
-
-  ray_ = dCreateRay(nullptr, 1.0);
-  dGeomRaySetFirstContact(ray_, 0);
-  dGeomRaySetBackfaceCull(ray_, 0);
-  dGeomRaySetClosestHit(ray_, 1);  // trimeshes report their nearest hit, not an arbitrary one
 }
 
 OdeEngine::~OdeEngine() {
   std::lock_guard<std::mutex> lock(odeGlobalStateMutex());
   // Geoms first (the space destroys its own), then what they reference, then the world.
-  dGeomDestroy(ray_);
   dSpaceDestroy(dynamic_space_);
   dSpaceDestroy(static_space_);
   for (auto& mesh : meshes_) dGeomTriMeshDataDestroy(mesh->data);
@@ -191,7 +181,6 @@ void OdeEngine::registerGeom(dGeomID geom, ModelId model, const SurfaceParams& s
   geom_infos_.push_back(GeomInfo{model, surface});
   dGeomSetData(geom, &geom_infos_.back());
   dSpaceAdd(dynamic ? dynamic_space_ : static_space_, geom);
-  ray_targets_.push_back(geom);
 }
 
 // Throws before anything is created, so a rejected model leaves the world untouched.
@@ -249,6 +238,7 @@ dGeomID OdeEngine::createGeom(const Shape& shape) {
 void OdeEngine::addGroundPlane(const SurfaceParams& surface) {
   std::lock_guard<std::mutex> lock(odeGlobalStateMutex());
   registerGeom(dCreatePlane(nullptr, 0, 0, 1, 0), -1, surface, false);
+  ray_scene_.addGroundPlane();
 }
 
 void OdeEngine::addStaticShape(const Shape& shape, const Pose& world_pose, const SurfaceParams& surface) {
@@ -260,6 +250,7 @@ void OdeEngine::addStaticShape(const Shape& shape, const Pose& world_pose, const
   toOde(world_pose.orientation, q);
   dGeomSetQuaternion(geom, q);
   registerGeom(geom, -1, surface, false);
+  ray_scene_.addStatic(shape, world_pose);
 }
 
 ModelId OdeEngine::addModel(const ArticulatedModel& model, const Pose& root_pose) {
@@ -355,6 +346,7 @@ ModelId OdeEngine::addModel(const ArticulatedModel& model, const Pose& root_pose
     joints_.push_back(joint);
   }
   models_.push_back(std::move(state));
+  ray_scene_.addModel(id, model);
   return id;
 }
 
@@ -494,44 +486,6 @@ double OdeEngine::jointPosition(ModelId model, int joint) const {
 double OdeEngine::jointVelocity(ModelId model, int joint) const {
   const JointState& j = jointAt(model, joint);
   return j.hinge ? dJointGetHingeAngleRate(j.id) : dJointGetSliderPositionRate(j.id);
-}
-
-void OdeEngine::castRays(const std::vector<Vec3>& origins, const std::vector<Vec3>& directions,
-                         double max_range_m, ModelId ignore_model, std::vector<RayHit>& hits) const {
-  if (origins.size() != directions.size())
-    throw std::invalid_argument("ode: castRays needs one direction per origin");
-  hits.resize(origins.size());
-  if (!finitePositive(max_range_m)) {
-    for (RayHit& h : hits) h = RayHit{false, std::max(0.0, max_range_m)};
-    return;
-  }
-  ensureOdeThreadData();
-  std::lock_guard<std::mutex> lock(odeGlobalStateMutex());
-  dGeomRaySetLength(ray_, max_range_m);
-  for (size_t r = 0; r < origins.size(); ++r) {
-    const Vec3& o = origins[r];
-    const Vec3& d = directions[r];
-    dGeomRaySet(ray_, o.x, o.y, o.z, d.x, d.y, d.z);
-    const Vec3 end = o + d * max_range_m;
-    const double lo[3] = {std::min(o.x, end.x), std::min(o.y, end.y), std::min(o.z, end.z)};
-    const double hi[3] = {std::max(o.x, end.x), std::max(o.y, end.y), std::max(o.z, end.z)};
-    double nearest_m = max_range_m;
-    bool hit = false;
-    for (dGeomID geom : ray_targets_) {
-      if (ignore_model >= 0 && static_cast<const GeomInfo*>(dGeomGetData(geom))->model == ignore_model) continue;
-      dReal aabb[6];  // minx, maxx, miny, maxy, minz, maxz; infinite for the plane
-      dGeomGetAABB(geom, aabb);
-      if (aabb[0] > hi[0] || aabb[1] < lo[0] || aabb[2] > hi[1] || aabb[3] < lo[1] || aabb[4] > hi[2] ||
-          aabb[5] < lo[2])
-        continue;
-      dContactGeom contact;
-      if (dCollide(ray_, geom, 1, &contact, sizeof(dContactGeom)) > 0 && contact.depth < nearest_m) {
-        nearest_m = contact.depth;  // distance from the ray origin
-        hit = true;
-      }
-    }
-    hits[r] = RayHit{hit, hit ? nearest_m : max_range_m};
-  }
 }
 
 }  // namespace

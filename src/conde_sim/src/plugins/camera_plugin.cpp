@@ -205,7 +205,9 @@ class CameraPlugin : public SimPlugin {
       msg.height = image_.height;
       msg.encoding = encoding_;
       toEncoding(msg);
-      image_pub_.publish(msg);
+      image_pub_.publish(msg);  // serialises the message before it returns
+      // Take the pixel buffer back so that the next frame renders into it without allocating.
+      if (image_.data.empty()) image_.data.swap(msg.data);
     }
     info_.header.stamp = stamp;
     info_pub_.publish(info_);

@@ -36,6 +36,7 @@ class LaneConfig:
     left_line_offset_m: float = 0.391  # centre of the dashed centre line from the lane centre
     white_threshold: int = 140  # [0..255] every RGB channel at least this
     fit_range_m: Sequence[float] = (0.0, 1.3)  # x range [m] of the points used for the lane fit
+    near_weight_length_m: float = 0.4  # a point's fit weight is 1 / (1 + x / this)^2 [m]
     max_abs_y_m: float = 1.3  # points farther to the side are ignored [m]
     line_window_m: float = 0.06  # half width of the band around a predicted line centre [m]
     min_line_points: int = 25  # white pixels for a line to count as found
@@ -163,7 +164,10 @@ class LaneMeasurement:
             # one line only, or a short x extent: a parabola is not determined well; keep it straight
             degree = 2 if (found_r and found_l and np.ptp(xu) > 0.6) else 1
             A = np.column_stack([np.ones_like(xu), xu, xu * xu][:degree + 1])
-            sol = np.linalg.lstsq(A, target, rcond=None)[0]
+            # Near points weigh more: the heading is wanted at the robot (x = 0), and a parabola
+            # over the whole range bends toward a curve that begins (or ends) further ahead.
+            sqrt_w = 1.0 / (1.0 + xu / c.near_weight_length_m)
+            sol = np.linalg.lstsq(A * sqrt_w[:, None], target * sqrt_w, rcond=None)[0]
             coeffs = np.zeros(3)
             coeffs[:degree + 1] = sol
         return LaneFit(coeffs, bool(found_r), bool(found_l)), pts[right], pts[left]

@@ -1,0 +1,395 @@
+"""The conde_teleop node against a real roscore on a free loopback port, on a real
+pseudo-terminal: keys typed into the terminal, geometry_msgs/Twist received on cmd_vel; the
+current command republished; a zero Twist and the terminal restored on every way out (q, Ctrl-C,
+SIGTERM, roslaunch stopping); the namespace and the launch file; bad parameters and a stdin that
+is not a terminal, with the exact message and exit status 1.
+
+The nodes are started with rosrun/roslaunch: the workspace must be built (scripts/build.sh); its
+devel/setup.bash is sourced for them if the current environment does not find conde_teleop."""
+
+import os
+import pty
+import signal
+import socket
+import subprocess
+import termios
+import threading
+import time
+
+import pytest
+
+try:
+    import rosgraph
+    import rospy
+    from geometry_msgs.msg import Twist
+except ImportError as error:
+    raise ImportError("%s: run the tests with /usr/bin/python3 (the Python that has rospy)" % error) from None
+
+WORKSPACE = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", ".."))
+TIMEOUT_S = 60.0  # generous: the machine may be busy
+HELP_FIRST_LINE = b"Conde keyboard teleop: one key at a time, no Enter."
+UP, DOWN, RIGHT, LEFT = b"\x1b[A", b"\x1b[B", b"\x1b[C", b"\x1b[D"
+
+
+def free_port():
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def wait_until(condition, what, timeout_s=TIMEOUT_S):
+    deadline = time.monotonic() + timeout_s
+    while not condition():
+        assert time.monotonic() < deadline, "timed out waiting for " + what
+        time.sleep(0.02)
+
+
+def workspace_env():
+    """The current environment if rospack finds conde_teleop, else the built workspace's."""
+    env = dict(os.environ, PATH="/usr/bin:" + os.environ.get("PATH", ""))
+    if subprocess.run(["rospack", "find", "conde_teleop"], env=env, capture_output=True).returncode == 0:
+        return env
+    setup = os.path.join(WORKSPACE, "devel", "setup.bash")
+    assert os.path.isfile(setup), "build the workspace first (scripts/build.sh): no %s" % setup
+    out = subprocess.run(["bash", "-c", "set +u; source '%s' && env -0" % setup], env=env, capture_output=True,
+                         check=True).stdout
+    return dict(item.split("=", 1) for item in out.decode().split("\0") if "=" in item)
+
+
+def master_parent_pid(uri):
+    """The parent process of the master answering at uri (the roscore that started it), or None."""
+    try:
+        pid = rosgraph.Master("/teleop_test_setup", master_uri=uri).getPid()
+        with open("/proc/%d/stat" % pid) as stat:
+            return int(stat.read().rsplit(")", 1)[1].split()[1])
+    except Exception:  # no master (yet) at uri, or it is not on this machine
+        return None
+
+
+def start_roscore(env):
+    """(process, environment) of a roscore on a free port.  Another test run may take the port
+    between the check and roscore's start: that roscore then exits, and another port is tried."""
+    for _ in range(5):
+        uri = "http://127.0.0.1:%d" % free_port()
+        core_env = dict(env, ROS_MASTER_URI=uri)
+        core = subprocess.Popen(["roscore", "-p", uri.rsplit(":", 1)[1]], env=core_env, stdout=subprocess.DEVNULL,
+                                stderr=subprocess.DEVNULL, start_new_session=True)
+        deadline = time.monotonic() + TIMEOUT_S
+        while core.poll() is None and master_parent_pid(uri) != core.pid:
+            assert time.monotonic() < deadline, "timed out waiting for roscore to come up at " + uri
+            time.sleep(0.2)
+        if core.poll() is None:
+            return core, core_env
+    raise AssertionError("roscore did not start on any of 5 free ports")
+
+
+@pytest.fixture(scope="module")
+def master():
+    """A roscore on a free port (ours: not another test run's); this test process joins it as a
+    ROS node.  Yields the environment the nodes under test run in."""
+    env = dict(workspace_env(), ROS_IP="127.0.0.1")
+    env.pop("ROS_HOSTNAME", None)
+    env.pop("ROS_NAMESPACE", None)
+    core, env = start_roscore(env)
+    try:
+        os.environ.update(ROS_MASTER_URI=env["ROS_MASTER_URI"], ROS_IP="127.0.0.1")
+        os.environ.pop("ROS_HOSTNAME", None)
+        rospy.init_node("teleop_test", anonymous=True, disable_signals=True)
+        yield env
+    finally:
+        rospy.signal_shutdown("tests done")
+        os.killpg(core.pid, signal.SIGINT)
+        try:
+            core.wait(timeout=30)
+        except subprocess.TimeoutExpired:
+            os.killpg(core.pid, signal.SIGKILL)
+            core.wait()
+
+
+def clear_private_parameters(env, node_name):
+    """Private parameters of an earlier case stay on the master: delete them."""
+    master_api = rosgraph.Master("/teleop_test_setup", master_uri=env["ROS_MASTER_URI"])
+    if master_api.hasParam(node_name):
+        master_api.deleteParam(node_name)
+
+
+def command_of(message):
+    return (message.linear.x, message.angular.z)
+
+
+class Commands:
+    """Every Twist received on a topic, and waiting for one that matches."""
+
+    def __init__(self, topic):
+        self.topic = topic
+        self.messages = []
+        self._changed = threading.Condition()
+        self._subscriber = rospy.Subscriber(topic, Twist, self._on_message, queue_size=1000)
+
+    def _on_message(self, message):
+        with self._changed:
+            self.messages.append(message)
+            self._changed.notify_all()
+
+    def wait_for(self, command, since=0, count=1, timeout_s=TIMEOUT_S):
+        """Waits until `count` messages with `command` (linear [m/s], angular [rad/s]) have
+        arrived from the since-th message on."""
+        deadline = time.monotonic() + timeout_s
+        with self._changed:
+            while sum(1 for m in self.messages[since:] if command_of(m) == pytest.approx(command)) < count:
+                remaining = deadline - time.monotonic()
+                assert remaining > 0, "%s: timed out waiting for %d x %s; received %s" % (
+                    self.topic, count, command, self.distinct())
+                self._changed.wait(remaining)
+
+    def distinct(self):
+        """The commands received, consecutive repeats dropped."""
+        with self._changed:
+            commands = [command_of(m) for m in self.messages]
+        return [c for i, c in enumerate(commands) if i == 0 or c != commands[i - 1]]
+
+    def close(self):
+        self._subscriber.unregister()
+
+
+class Terminal:
+    """A pseudo-terminal: the node gets its slave side as stdin and stdout; the test types on the
+    master side and collects what the node prints."""
+
+    def __init__(self):
+        self.master_fd, self.slave_fd = pty.openpty()
+        self.saved = termios.tcgetattr(self.slave_fd)
+        self.output = b""
+        self._reader = threading.Thread(target=self._read, daemon=True)
+        self._reader.start()
+
+    def _read(self):
+        while True:
+            try:
+                data = os.read(self.master_fd, 4096)
+            except OSError:
+                return
+            if not data:
+                return
+            self.output += data
+
+    def type(self, keys):
+        os.write(self.master_fd, keys)
+
+    def in_cbreak_mode(self):
+        lflag = termios.tcgetattr(self.slave_fd)[3]
+        return not lflag & termios.ICANON and not lflag & termios.ECHO
+
+    def restored(self):
+        return termios.tcgetattr(self.slave_fd) == self.saved
+
+    def close(self):
+        os.close(self.slave_fd)
+        os.close(self.master_fd)
+
+
+class Process:
+    """A command under test; stdin and stdout the given files, stderr collected in a file."""
+
+    def __init__(self, command, env, tmp_path, stdin=subprocess.DEVNULL, stdout=None):
+        self.stderr_path = tmp_path / "stderr.txt"
+        with open(self.stderr_path, "w") as err:
+            self.process = subprocess.Popen(command, env=env, stdin=stdin, stdout=stdout or err, stderr=err)
+
+    def stderr(self):
+        return self.stderr_path.read_text()
+
+    def wait(self, timeout_s=TIMEOUT_S):
+        return self.process.wait(timeout=timeout_s)
+
+    def stop(self):
+        if self.process.poll() is None:
+            self.process.send_signal(signal.SIGINT)
+            try:
+                self.process.wait(timeout=30)
+            except subprocess.TimeoutExpired:
+                self.process.kill()
+                self.process.wait()
+
+
+def start_teleop(env, tmp_path, terminal, args=(), controlling_terminal=False, namespace=None):
+    clear_private_parameters(env, "/%s/conde_teleop" % namespace if namespace else "/conde_teleop")
+    command = ["rosrun", "conde_teleop", "conde_teleop"] + list(args)
+    if controlling_terminal:  # the terminal on stdin becomes the node's: Ctrl-C there sends SIGINT
+        command = ["setsid", "-w", "-c"] + command
+    if namespace:
+        env = dict(env, ROS_NAMESPACE=namespace)
+    return Process(command, env, tmp_path, stdin=terminal.slave_fd, stdout=terminal.slave_fd)
+
+
+def wait_until_ready(commands, terminal):
+    """The node publishes (the initial zero reached this subscriber) and reads keys."""
+    commands.wait_for((0.0, 0.0))
+    wait_until(terminal.in_cbreak_mode, "the terminal in cbreak mode")
+    wait_until(lambda: HELP_FIRST_LINE in terminal.output, "the help text")
+
+
+def test_every_key_on_the_terminal_within_the_limits(master, tmp_path):
+    """Non-default steps and limits, so that the parameters are seen to be read; the limits are
+    not whole numbers of steps."""
+    terminal = Terminal()
+    commands = Commands("/cmd_vel")
+    node = start_teleop(master, tmp_path, terminal, ["_linear_step_mps:=0.2", "_max_linear_mps:=0.3",
+                                                      "_angular_step_radps:=0.5", "_max_angular_radps:=0.75"])
+    try:
+        wait_until_ready(commands, terminal)
+        steps = [  # (keys typed at once, the command after them [m/s, rad/s])
+            (b"i", (0.2, 0.0)),
+            (UP, (0.3, 0.0)),  # the limit
+            (b"ix,", (0.2, 0.0)),  # i: already at the limit; x ignored; one step back
+            (DOWN, (0.0, 0.0)),
+            (b",", (-0.2, 0.0)),
+            (b"j", (-0.2, 0.5)),
+            (LEFT, (-0.2, 0.75)),
+            (RIGHT, (-0.2, 0.5)),
+            (b"l", (-0.2, 0.0)),
+            (b"l", (-0.2, -0.5)),
+            (b"l", (-0.2, -0.75)),
+            (b"k", (0.0, 0.0)),
+            (b"ij", (0.2, 0.5)),  # two keys in one read
+            (b" ", (0.0, 0.0)),
+            (b"\x1bOA", (0.2, 0.0)),  # Up in application cursor mode
+        ]
+        for keys, command in steps:
+            count = len(commands.messages)
+            terminal.type(keys)
+            commands.wait_for(command, since=count)
+        # Republished without keys, so the diff drive's command timeout does not brake.
+        count = len(commands.messages)
+        commands.wait_for((0.2, 0.0), since=count, count=5)
+        assert node.process.poll() is None
+
+        count = len(commands.messages)
+        terminal.type(b"q")
+        assert node.wait() == 0, node.stderr()
+        commands.wait_for((0.0, 0.0), since=count)
+        assert terminal.restored()
+        expected = [(0.0, 0.0), (0.2, 0.0), (0.3, 0.0), (0.2, 0.0), (0.0, 0.0), (-0.2, 0.0), (-0.2, 0.5),
+                    (-0.2, 0.75), (-0.2, 0.5), (-0.2, 0.0), (-0.2, -0.5), (-0.2, -0.75), (0.0, 0.0), (0.2, 0.0),
+                    (0.2, 0.5), (0.0, 0.0), (0.2, 0.0), (0.0, 0.0)]
+        assert commands.distinct() == pytest.approx(expected)
+        for message in commands.messages:  # a planar robot: only linear.x and angular.z are used
+            assert (message.linear.y, message.linear.z, message.angular.x, message.angular.y) == (0, 0, 0, 0)
+        text = terminal.output.decode()
+        assert "  i or Up      faster forward    linear  +0.2 m/s (up to 0.3 m/s)" in text
+        assert "linear -0.20 m/s, angular +0.75 rad/s" in text
+        assert "conde_teleop: quit key 'q': stopping the robot and quitting" in text
+    finally:
+        node.stop()
+        commands.close()
+        terminal.close()
+
+
+def test_ctrl_c_stops_the_robot_and_restores_the_terminal(master, tmp_path):
+    terminal = Terminal()
+    commands = Commands("/cmd_vel")
+    node = start_teleop(master, tmp_path, terminal, controlling_terminal=True)
+    try:
+        wait_until_ready(commands, terminal)
+        assert "  j or Left    turn left         angular +0.25 rad/s (up to 1.5 rad/s)" in terminal.output.decode()
+        count = len(commands.messages)
+        terminal.type(b"i" + LEFT)  # the defaults: 0.1 m/s and 0.25 rad/s per key
+        commands.wait_for((0.1, 0.25), since=count)
+        count = len(commands.messages)
+        terminal.type(b"\x03")  # Ctrl-C: the terminal sends SIGINT to the node
+        assert node.wait() == 0, node.stderr()
+        commands.wait_for((0.0, 0.0), since=count)
+        assert command_of(commands.messages[-1]) == (0.0, 0.0)
+        assert terminal.restored()
+        assert "conde_teleop: signal SIGINT: stopping the robot and quitting" in terminal.output.decode()
+    finally:
+        node.stop()
+        commands.close()
+        terminal.close()
+
+
+def test_sigterm_in_a_namespace(master, tmp_path):
+    """cmd_vel is a relative name: in namespace robot1 the node publishes /robot1/cmd_vel and
+    reads its parameters from /robot1/conde_teleop."""
+    terminal = Terminal()
+    commands = Commands("/robot1/cmd_vel")
+    node = start_teleop(master, tmp_path, terminal, ["_max_angular_radps:=0.25"], namespace="robot1")
+    try:
+        wait_until_ready(commands, terminal)
+        count = len(commands.messages)
+        terminal.type(b"lll")
+        commands.wait_for((0.0, -0.25), since=count)
+        count = len(commands.messages)
+        node.process.send_signal(signal.SIGTERM)
+        assert node.wait() == 0, node.stderr()
+        commands.wait_for((0.0, 0.0), since=count)
+        assert command_of(commands.messages[-1]) == (0.0, 0.0)
+        assert commands.distinct() == [(0.0, 0.0), (0.0, -0.25), (0.0, 0.0)]
+        assert terminal.restored()
+        assert "publishing on /robot1/cmd_vel at 10 Hz" in terminal.output.decode()
+    finally:
+        node.stop()
+        commands.close()
+        terminal.close()
+
+
+def test_launch_file(master, tmp_path):
+    """roslaunch with a limit and a remapped topic; stopping roslaunch stops the robot."""
+    terminal = Terminal()
+    commands = Commands("/teleop/cmd_vel")
+    clear_private_parameters(master, "/conde_teleop")
+    launch = Process(["roslaunch", "conde_teleop", "conde_teleop.launch", "max_linear_mps:=0.15",
+                      "cmd_vel:=/teleop/cmd_vel"], master, tmp_path, stdin=terminal.slave_fd,
+                     stdout=terminal.slave_fd)
+    try:
+        wait_until_ready(commands, terminal)
+        for keys, command in ((b"i", (0.1, 0.0)), (b"ii", (0.15, 0.0)), (b"j", (0.15, 0.25))):
+            count = len(commands.messages)
+            terminal.type(keys)
+            commands.wait_for(command, since=count)
+        count = len(commands.messages)
+        launch.process.send_signal(signal.SIGINT)  # as Ctrl-C in roslaunch's terminal does
+        assert launch.wait() == 0, launch.stderr()
+        commands.wait_for((0.0, 0.0), since=count)
+        assert commands.distinct() == pytest.approx([(0.0, 0.0), (0.1, 0.0), (0.15, 0.0), (0.15, 0.25), (0.0, 0.0)])
+        assert terminal.restored()
+    finally:
+        launch.stop()
+        commands.close()
+        terminal.close()
+
+
+@pytest.mark.parametrize("arg, message", [
+    ("_linear_step_mps:=-0.1", "parameter /conde_teleop/linear_step_mps: expected a number > 0, got -0.1"),
+    ("_angular_step_radps:=0", "parameter /conde_teleop/angular_step_radps: expected a number > 0, got 0"),
+    ("_max_linear_mps:=fast", "parameter /conde_teleop/max_linear_mps: expected a number > 0, got 'fast'"),
+    ("_max_angular_radps:=.inf", "parameter /conde_teleop/max_angular_radps: expected a number > 0, got inf"),
+    ("_linear_step_mps:=0.6", "parameter /conde_teleop/linear_step_mps: must not exceed max_linear_mps (0.5), "
+                              "got 0.6"),
+    ("_rate_hz:=0", "parameter /conde_teleop/rate_hz: expected a number > 0, got 0"),
+    ("_rate_hz:=true", "parameter /conde_teleop/rate_hz: expected a number > 0, got True"),
+])
+def test_bad_parameter_exits_with_its_message(master, tmp_path, arg, message):
+    terminal = Terminal()  # a terminal, so that the parameter is the only thing wrong
+    node = start_teleop(master, tmp_path, terminal, [arg])
+    try:
+        assert node.wait() == 1, node.stderr()
+        errors = [line for line in node.stderr().splitlines() if line.startswith("conde_teleop: error: ")]
+        assert errors == ["conde_teleop: error: " + message], node.stderr()
+        assert terminal.restored()
+    finally:
+        node.stop()
+        terminal.close()
+
+
+def test_stdin_not_a_terminal_exits_with_its_message(master, tmp_path):
+    clear_private_parameters(master, "/conde_teleop")
+    node = Process(["rosrun", "conde_teleop", "conde_teleop"], master, tmp_path)  # stdin: /dev/null
+    try:
+        assert node.wait() == 1, node.stderr()
+        errors = [line for line in node.stderr().splitlines() if line.startswith("conde_teleop: error: ")]
+        assert errors == ["conde_teleop: error: stdin is not a terminal, and the keys are read from it: run the "
+                          "node in a terminal (rosrun conde_teleop conde_teleop, or roslaunch with "
+                          "launch_prefix:='xterm -e')"], node.stderr()
+    finally:
+        node.stop()
