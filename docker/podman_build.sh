@@ -94,7 +94,8 @@ for stage in "${stages[@]}"; do
   previous_id=$(podman image inspect --format '{{.Id}}' "$image:$stage" 2>/dev/null || true)
   started=$SECONDS
   # --network=host: RUN steps reach the Debian mirror and PyPI without a bridge or firewall rules.
-  podman build --pull=never --network=host -f "$context/docker/Dockerfile" --target "$stage" \
+  # --format docker: as Docker builds it (podman's default OCI format drops SHELL).
+  podman build --pull=never --network=host --format docker -f "$context/docker/Dockerfile" --target "$stage" \
     -t "$image:$stage" "$context"
   size_mb=$(( $(podman image inspect --format '{{.Size}}' "$image:$stage") / 1000000 ))
   echo "podman_build.sh: built $image:$stage in $((SECONDS - started)) s, $size_mb MB"

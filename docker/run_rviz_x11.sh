@@ -4,9 +4,9 @@
 #   docker/run_rviz_x11.sh [sim.launch arguments...]        e.g. physics_engine:=bullet
 #
 # The container runs as the calling user (root callers: as the image's user conde), with a
-# copy of the caller's X cookie ($XAUTHORITY), with the host's name (the X server looks the
-# cookie up by host name) and with no network at all (the X socket is a file; the ROS master
-# stays on the container's own loopback).
+# copy of the caller's X cookie ($XAUTHORITY, kept in /tmp/conde_sim-x11-<uid>), with the host's
+# name (the X server looks the cookie up by host name) and with no network at all (the X socket
+# is a file; the ROS master stays on the container's own loopback).
 # Environment: CONTAINER_ENGINE (docker, else podman), IMAGE (conde_sim:run).
 set -euo pipefail
 
@@ -21,19 +21,23 @@ esac
 args=(--rm --network=none --hostname "$(hostname)"
       -e DISPLAY -e QT_X11_NO_MITSHM=1
       -v /tmp/.X11-unix:/tmp/.X11-unix:ro)
-cookie="$(mktemp /tmp/conde_sim-xauth.XXXXXX)"
-home="$(mktemp -d /tmp/conde_sim-home.XXXXXX)"   # HOME (ROS logs) of a caller's uid inside
-trap 'rm -rf "$cookie" "$home"' EXIT
+# A copy of the X cookie that the container's user may read, and (non-root callers) a HOME for
+# ROS logs; one of each per caller, reused by the next run, so that the engine can be exec'd
+# (Ctrl-C and kill reach the container and --rm removes it).
+state="${TMPDIR:-/tmp}/conde_sim-x11-$(id -u)"
+mkdir -p "$state/home"
+chmod 700 "$state"
+cookie="$state/Xauthority"
 xauthority="${XAUTHORITY:-$HOME/.Xauthority}"
-[ -f "$xauthority" ] && cp "$xauthority" "$cookie"
+if [ -f "$xauthority" ]; then cp "$xauthority" "$cookie"; else : > "$cookie"; fi
 args+=(-v "$cookie:/tmp/.Xauthority:ro" -e XAUTHORITY=/tmp/.Xauthority)
 if [ "$(id -u)" -eq 0 ]; then
-  chown 1000:1000 "$cookie"                      # the image's user conde reads it
+  chown -R 1000:1000 "$state"                    # the image's user conde reads the cookie
 elif [ "$(basename "$engine")" = podman ]; then
-  args+=(--userns=keep-id -v "$home:/tmp/home" -e HOME=/tmp/home)   # rootless podman: the caller's uid inside
+  args+=(--userns=keep-id -v "$state/home:/tmp/home" -e HOME=/tmp/home)   # rootless podman: the caller's uid inside
 else
-  args+=(--user "$(id -u):$(id -g)" -v "$home:/tmp/home" -e HOME=/tmp/home)
+  args+=(--user "$(id -u):$(id -g)" -v "$state/home:/tmp/home" -e HOME=/tmp/home)
 fi
 [ -t 0 ] && args+=(-it)
 
-"$engine" run "${args[@]}" "${IMAGE:-conde_sim:run}" roslaunch conde_bringup sim.launch rviz:=true "$@"
+exec "$engine" run "${args[@]}" "${IMAGE:-conde_sim:run}" roslaunch conde_bringup sim.launch rviz:=true "$@"

@@ -2,19 +2,24 @@
 
 The base image debian:bookworm is made locally with debootstrap (docker/podman_build.sh) and every
 build runs with --pull=never, so no registry is contacted. Checks: the stages build; the run
-image's default command prints the main job's table for both engines with no network; the test
-command passes inside the dev image with no network; the images run as a non-root user; hadolint
-finds no errors in the Dockerfile. Build times, image sizes and the run image's time to its
-result are printed and written to build/test_results/containers/images.md.
+image's default command (the main job, headless) prints "RESULT: PASS" with no network; the unit
+tier of the test command (tests/run_all_tests.sh --unit: gtest + pure-Python pytest) passes
+inside the dev image with no network; the images run as a non-root user; the SIMULATOR flag
+reaches the nodes' environment; hadolint finds no errors in the Dockerfile. Build times, image
+sizes, the run image's time to its result and each container command's time are printed and
+written to build/test_results/containers/images.md.
 
-Skipped (with the reason) where podman is missing (as in the dev image) or cannot start a
-container. test_novnc_rviz.py uses the same images (built once per pytest session).
+Skipped (with the reason) where podman is missing (as in the dev image), where the caller is not
+root (the podman set-up of docs/docker.md is root's), or where podman cannot start a container.
+A failing build or a failing command fails. test_novnc_rviz.py uses the same images (built once
+per pytest session).
 """
 import json
 import os
 import re
 import shutil
 import subprocess
+import threading
 import time
 
 import pytest
@@ -24,6 +29,7 @@ ARTEFACTS = os.path.join(REPO, "build", "test_results", "containers")
 IMAGE = os.environ.get("CONDE_TEST_IMAGE", "conde_sim_test")
 STAGES = ("dev", "run", "gui")
 BUILD_TIMEOUT_S = 3600
+RUN_TIMEOUT_S = 1800
 BASE_TAG = "docker.io/library/debian:bookworm"
 
 
@@ -56,10 +62,35 @@ def report(line):
 
 
 def skip_reason():
-    """Why no container can run here, or None."""
+    """Why no container can run here before anything is built, or None."""
     if shutil.which("podman") is None:
         return "podman is not installed (scripts/install_dependencies.sh containers)"
+    if os.geteuid() != 0:
+        return "the container tests run podman as root (docs/docker.md); this user is not root"
     return None
+
+
+def run_in_container(name, args, timeout_s):
+    """Runs `podman run --rm --network=none --name <name> <args>` and streams its output.
+    Returns (exit status, output lines, {line prefix seen: seconds after the start}); the
+    container is removed when it is still running after timeout_s."""
+    started = time.monotonic()
+    proc = subprocess.Popen(["podman", "run", "--rm", "--network=none", "--name", name, *args], env=podman_env(),
+                            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    watchdog = threading.Timer(timeout_s, lambda: podman("rm", "-f", "-t", "5", name, check=False))
+    watchdog.start()
+    lines, seen_s = [], {}
+    try:
+        for line in proc.stdout:
+            lines.append(line.rstrip("\n"))
+            for prefix in ("RESULT: ",):
+                if line.startswith(prefix) and prefix not in seen_s:
+                    seen_s[prefix] = time.monotonic() - started
+        proc.wait()
+    finally:
+        watchdog.cancel()
+    seen_s["exit"] = time.monotonic() - started
+    return proc.returncode, lines, seen_s
 
 
 _built = {}  # one build (or one skip or failure) per pytest session, shared with test_novnc_rviz.py
@@ -104,6 +135,7 @@ def build_images(config):
             probe = podman("run", "--rm", "--network=none", BASE_TAG, "true", check=False, timeout=120)
             if probe.returncode != 0:
                 _built["skip"] = f"podman cannot start a container here: {probe.stderr.strip()[-500:]}"
+                report(f"- skipped: {_built['skip']}")
                 pytest.skip(_built["skip"])
             continue
         size_mb = int(podman("image", "inspect", "--format", "{{.Size}}", f"{IMAGE}:{stage}").stdout) / 1e6
@@ -126,48 +158,48 @@ def test_images_build_and_run_as_non_root(images):
         assert uid == "1000", f"{IMAGE}:{stage} runs commands as uid {uid}"
 
 
-def test_run_image_default_command_prints_the_main_job_table(images):
-    started = time.monotonic()
-    proc = podman("run", "--rm", "--network=none", f"{IMAGE}:run", check=False, timeout=1800)
-    run_s = time.monotonic() - started
-    output = proc.stdout + proc.stderr
-    os.makedirs(ARTEFACTS, exist_ok=True)
+def test_run_image_default_command_prints_the_main_job_result(images):
+    status, lines, seen_s = run_in_container(f"conde_sim_run_test_{os.getpid()}", [f"{IMAGE}:run"], RUN_TIMEOUT_S)
+    output = "\n".join(lines)
     with open(os.path.join(ARTEFACTS, "run_image_output.txt"), "w") as f:
-        f.write(output)
-    report(f"- run image, default command (main job, --network=none): exit {proc.returncode} after {run_s:.0f} s")
-    assert proc.returncode == 0, f"the run image's default command exited {proc.returncode}:\n{output[-4000:]}"
-    # The main job (scripts/main_job.sh) prints a table with rows per engine and says where its
-    # results went (CONDE_RESULTS_DIR of the run image).
-    table_rows = [l for l in output.splitlines() if l.startswith("| ")]
-    assert table_rows and table_rows[0].startswith("| engine |"), f"no result table in:\n{output[-4000:]}"
-    for engine in ("ode", "bullet"):
-        rows = [r for r in table_rows if r.startswith(f"| {engine} |")]
-        assert rows, f"no result row for {engine}:\n{output[-4000:]}"
-    assert "written to /home/conde/results/" in output, output[-4000:]
+        f.write(output + "\n")
+    result = [line for line in lines if line.startswith("RESULT: ")]
+    result_s = f"{seen_s['RESULT: ']:.0f} s" if "RESULT: " in seen_s else "never"
+    report(f"- run image, default command (main job, --network=none): '{result[-1] if result else 'no RESULT line'}' "
+           f"printed after {result_s}, exit {status} after {seen_s['exit']:.0f} s "
+           f"(output: build/test_results/containers/run_image_output.txt)")
+    assert result == ["RESULT: PASS"], f"the main job's result line is {result}:\n{output[-4000:]}"
+    assert status == 0, f"the run image's default command exited {status}:\n{output[-4000:]}"
+    # The main job writes its plot, bag and summary to the run image's CONDE_RESULTS_DIR.
+    assert "/home/conde/results/" in output, output[-4000:]
 
 
-def test_dev_image_runs_the_test_command(images):
-    # The dev image has everything installed; with no network the install step must find it all.
-    started = time.monotonic()
-    proc = podman("run", "--rm", "--network=none", f"{IMAGE}:dev", "tests/run_all_tests.sh", check=False, timeout=3600)
-    test_s = time.monotonic() - started
-    output = proc.stdout + proc.stderr
-    os.makedirs(ARTEFACTS, exist_ok=True)
+def test_dev_image_passes_the_unit_tier_of_the_test_command(images):
+    # The dev image has everything installed: with no network the install step must find it all.
+    status, lines, seen_s = run_in_container(f"conde_sim_dev_test_{os.getpid()}",
+                                             [f"{IMAGE}:dev", "tests/run_all_tests.sh", "--unit"], RUN_TIMEOUT_S)
+    output = "\n".join(lines)
     with open(os.path.join(ARTEFACTS, "dev_image_tests.txt"), "w") as f:
-        f.write(output)
+        f.write(output + "\n")
     summary = re.findall(r"^(\d+) passed, (\d+) failed, (\d+) skipped$", output, re.M)
-    report(f"- dev image, tests/run_all_tests.sh (--network=none): {summary[-1] if summary else 'no summary'} "
-           f"in {test_s:.0f} s, exit {proc.returncode}")
+    report(f"- dev image, tests/run_all_tests.sh --unit (--network=none): "
+           f"{', '.join(summary[-1]) + ' (passed, failed, skipped)' if summary else 'no summary line'} "
+           f"in {seen_s['exit']:.0f} s, exit {status}")
     assert summary, f"no summary line in the dev image's test output:\n{output[-4000:]}"
     passed, failed, _ = map(int, summary[-1])
-    assert failed == 0 and passed > 0 and proc.returncode == 0, f"tests in the dev image:\n{output[-6000:]}"
+    assert failed == 0 and passed > 0 and status == 0, f"tests in the dev image:\n{output[-6000:]}"
+    assert re.search(r"run_tests_conde_physics_gtest", output), "the unit tier ran no gtest target"
 
 
-def test_dev_image_is_set_up_for_the_simulator_and_the_editor(images):
-    script = ("test -s build/compile_commands.json && grep -h '^SIMULATOR' build/CMakeCache.txt"
-              " && printenv SIMULATOR && test -f /opt/conde_sim/setup.bash")
-    out = podman("run", "--rm", "--network=none", f"{IMAGE}:dev", "bash", "-c", script).stdout.split()
-    assert out[0].endswith("=ON") and out[1] == "true", out
+def test_images_are_built_for_the_simulator_and_the_editor(images):
+    dev = podman("run", "--rm", "--network=none", f"{IMAGE}:dev", "bash", "-c",
+                 "grep -h '^SIMULATOR:' build/CMakeCache.txt; printenv SIMULATOR; "
+                 "test -s build/compile_commands.json && echo compile_commands; "
+                 "test -f /opt/conde_sim/setup.bash && echo install_space").stdout.split()
+    assert dev == ["SIMULATOR:BOOL=ON", "true", "compile_commands", "install_space"], dev
+    for stage in ("run", "gui"):
+        value = podman("run", "--rm", "--network=none", f"{IMAGE}:{stage}", "printenv", "SIMULATOR").stdout.strip()
+        assert value == "true", f"{IMAGE}:{stage}: SIMULATOR={value!r} (the install space's env hook)"
 
 
 def test_dockerfile_has_no_hadolint_errors():
@@ -190,3 +222,8 @@ def test_dev_container_uses_the_dev_stage():
     settings = config["customizations"]["vscode"]["settings"]
     assert settings["python.defaultInterpreterPath"] == "/usr/bin/python3"
     assert settings["C_Cpp.default.compileCommands"].endswith("build/compile_commands.json")
+    assert "CMAKE_EXPORT_COMPILE_COMMANDS=ON" in config["postCreateCommand"]
+    with open(os.path.join(REPO, ".vscode", "tasks.json")) as f:
+        tasks = {task["label"]: task["command"] for task in json.load(f)["tasks"]}
+    assert tasks["build"].startswith("scripts/build.sh") and "CMAKE_EXPORT_COMPILE_COMMANDS=ON" in tasks["build"]
+    assert tasks["test: all"] == "tests/run_all_tests.sh"

@@ -29,7 +29,7 @@ try:
 except ImportError:  # the dev image has no browser tools; the test skips there
     websocket = None
 
-from test_container_images import ARTEFACTS, IMAGE, REPO, build_images, podman
+from test_container_images import ARTEFACTS, IMAGE, REPO, build_images, podman, report
 
 ROS_MASTER_PORT = 11311
 SCREENSHOT = os.path.join(ARTEFACTS, "novnc_rviz.png")
@@ -138,6 +138,7 @@ def test_novnc_shows_rviz(request):
         os.remove(SCREENSHOT)
     port = free_port()
     name = f"conde_sim_novnc_test_{os.getpid()}"
+    started = time.monotonic()
     # slirp4netns publishes the port from user space: no bridge or firewall rules on the host.
     podman("run", "-d", "--name", name, "--network=slirp4netns:port_handler=slirp4netns",
            "-p", f"127.0.0.1:{port}:6080", f"{IMAGE}:gui")
@@ -182,7 +183,9 @@ def test_novnc_shows_rviz(request):
         assert light_grey_px >= 0.10 * total_px and red_px >= 300, (
             f"rviz is not drawn in {SCREENSHOT}: {light_grey_px} light-grey panel pixels "
             f"(need {0.10 * total_px:.0f}), {red_px} red robot pixels (need 300)")
-        print(f"rviz drawn: {light_grey_px} light-grey panel pixels, {red_px} red robot pixels; {SCREENSHOT}")
+        report(f"- gui image: rviz drawn in noVNC {time.monotonic() - started:.0f} s after podman run "
+               f"({light_grey_px} light-grey panel pixels, {red_px} red robot pixels; "
+               f"build/test_results/containers/novnc_rviz.png)")
 
         inside = podman("exec", name, "cat", "/proc/net/tcp", "/proc/net/tcp6").stdout
         master = listening_addresses(inside, ROS_MASTER_PORT)
