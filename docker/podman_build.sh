@@ -12,7 +12,8 @@
 # this host needs are written to $CONTAINERS_CONF; export the same CONTAINERS_CONF for every
 # other podman call (podman run ...). docs/docker.md says why (runc, ulimits).
 # Environment: IMAGE (conde_sim), CONTAINERS_CONF (/tmp/conde_sim-containers.conf),
-# MIRROR / SECURITY_MIRROR (default: from the host's apt sources).
+# MIRROR / SECURITY_MIRROR (default: from the host's apt sources), BUILD_NICENESS (0; 19 builds
+# at the lowest CPU priority on a shared machine, also when the container tests call this script).
 set -euo pipefail
 
 repo_root="$(cd "$(dirname "$0")/.." && pwd)"
@@ -56,7 +57,7 @@ if ! podman image exists "$base_tag"; then
   trap 'rm -rf "$rootfs"' EXIT
   echo "podman_build.sh: making $base_tag with debootstrap from $mirror"
   started=$SECONDS
-  debootstrap --variant=minbase bookworm "$rootfs" "$mirror" >"$rootfs.log" 2>&1 \
+  nice -n "${BUILD_NICENESS:-0}" debootstrap --variant=minbase bookworm "$rootfs" "$mirror" >"$rootfs.log" 2>&1 \
     || { tail -n 20 "$rootfs.log" >&2; echo "podman_build.sh: error: debootstrap failed (log: $rootfs.log)" >&2; exit 1; }
   rm -f "$rootfs.log" "$rootfs/etc/apt/sources.list" "$rootfs/etc/hostname" "$rootfs"/var/cache/apt/archives/*.deb
   rm -rf "$rootfs"/var/lib/apt/lists/*
@@ -95,7 +96,8 @@ for stage in "${stages[@]}"; do
   started=$SECONDS
   # --network=host: RUN steps reach the Debian mirror and PyPI without a bridge or firewall rules.
   # --format docker: as Docker builds it (podman's default OCI format drops SHELL).
-  podman build --pull=never --network=host --format docker -f "$context/docker/Dockerfile" --target "$stage" \
+  nice -n "${BUILD_NICENESS:-0}" podman build --pull=never --network=host --format docker \
+    -f "$context/docker/Dockerfile" --target "$stage" \
     -t "$image:$stage" "$context"
   size_mb=$(( $(podman image inspect --format '{{.Size}}' "$image:$stage") / 1000000 ))
   echo "podman_build.sh: built $image:$stage in $((SECONDS - started)) s, $size_mb MB"
