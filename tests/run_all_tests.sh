@@ -2,10 +2,33 @@
 # Every test of the workspace from a clean clone: installs what is missing, builds, runs the
 # C++ unit tests (gtest) and the ROS wiring tests (rostest, real roscore on loopback) through
 # catkin, the Python unit tests through pytest, and ends with one line "N passed, N failed".
+#
+# usage: tests/run_all_tests.sh [--unit]
+#   --unit (or CONDE_TEST_TIER=unit): the unit tier only: the gtests and the pure-Python pytest
+#          files (no ROS master, no simulator run): every test_*.py under src/*/test, urdf/test and
+#          worlds/test except the node tests (files named test_*node*.py); tests/ (system tests,
+#          container tests) and the rostests are left out. The Docker dev image is checked with it.
 set -uo pipefail
 cd "$(dirname "$0")/.."
 export PATH="/usr/bin:$PATH"
+
+tier="${CONDE_TEST_TIER:-all}"
+case "${1:-}" in
+  --unit) tier=unit ;;
+  "") ;;
+  *) echo "run_all_tests.sh: unknown option '$1' (usage: tests/run_all_tests.sh [--unit])" >&2; exit 2 ;;
+esac
+case "$tier" in
+  all|unit) ;;
+  *) echo "run_all_tests.sh: CONDE_TEST_TIER='$tier' (expected all or unit)" >&2; exit 2 ;;
+esac
+
 scripts/install_dependencies.sh build || exit 1
+if [ "$tier" = all ]; then
+  # podman, debootstrap, chromium, hadolint for tests/test_container_images.py and test_novnc_rviz.py
+  # (they skip, saying why, where no container runtime can start).
+  scripts/install_dependencies.sh containers || echo "install_dependencies.sh containers failed: the container tests will skip"
+fi
 scripts/build.sh || exit 1
 # shellcheck disable=SC1091
 set +u; source devel/setup.bash; set -u
@@ -13,15 +36,25 @@ results=build/test_results
 rm -rf "$results"
 mkdir -p "$results/pytest"
 
-scripts/build.sh run_tests -j1 || echo "run_tests: make reported a failure (details in the results below)"
+if [ "$tier" = unit ]; then
+  # catkin makes one run_tests_<package>_gtest target per package with gtests.
+  mapfile -t gtest_targets < <(make -C build help | sed -n 's/^\.\.\. \(run_tests_[A-Za-z0-9_]*_gtest\)$/\1/p')
+  [ "${#gtest_targets[@]}" -gt 0 ] || { echo "run_all_tests.sh: no run_tests_<package>_gtest target in build/" >&2; exit 1; }
+  scripts/build.sh "${gtest_targets[@]}" -j1 || echo "gtest: make reported a failure (details in the results below)"
+  python_tests=(src/*/test urdf/test worlds/test)
+  pytest_filter=(--ignore-glob="*/test_*node*.py")
+else
+  scripts/build.sh run_tests -j1 || echo "run_tests: make reported a failure (details in the results below)"
+  python_tests=(src/*/test urdf/test worlds/test tests)
+  pytest_filter=()
+fi
 
-python_tests=(src/*/test urdf/test worlds/test tests)
 existing=()
 for d in "${python_tests[@]}"; do [ -d "$d" ] && ls "$d"/test_*.py >/dev/null 2>&1 && existing+=("$d"); done
 for d in "${existing[@]}"; do
   name=$(echo "$d" | tr '/' '_')
-  /usr/bin/python3 -m pytest -q -p no:cacheprovider -o python_files="test_*.py" "$d" --junit-xml="$results/pytest/$name.xml" \
-    || echo "pytest: failures in $d"
+  /usr/bin/python3 -m pytest -q -p no:cacheprovider -o python_files="test_*.py" "${pytest_filter[@]}" "$d" \
+    --junit-xml="$results/pytest/$name.xml" || echo "pytest: failures in $d"
 done
 
 /usr/bin/python3 tests/summarize_results.py "$results"
