@@ -8,29 +8,17 @@ those of reference/conde-original.md §3.1.
 """
 
 import math
-import os
 import shutil
 import subprocess
-import tempfile
-import xml.etree.ElementTree as ET
 
 import numpy as np
 import pytest
 
-PACKAGE_DIR = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-ROBOT_XACRO = os.path.join(PACKAGE_DIR, 'robots', 'conde.urdf.xacro')
+from description_helpers import XacroRobot, floats, joints, links
 
-# `$(find conde_description)` is resolved through ROS_PACKAGE_PATH: put this package first.
-os.environ['ROS_PACKAGE_PATH'] = os.pathsep.join(
-    p for p in [PACKAGE_DIR, os.environ.get('ROS_PACKAGE_PATH', '')] if p)
-
-import xacro  # noqa: E402  (after ROS_PACKAGE_PATH is set)
-
-try:  # roslaunch caches its RosPack on first use; drop a cache made with another path
-    from roslaunch import substitution_args as _substitution_args
-    _substitution_args._rospack = None
-except ImportError:  # pragma: no cover
-    pass
+ROBOT = XacroRobot('conde.urdf.xacro')
+process = ROBOT.process
+robot = ROBOT.robot
 
 ROOT = 'base_footprint'
 MM = 1e-3
@@ -47,24 +35,6 @@ ARG_SETS = [
 # ----------------------------------------------------------------------------------------------
 # helpers
 # ----------------------------------------------------------------------------------------------
-def process(**args):
-    """Runs xacro on the robot file with the given args; returns the URDF text."""
-    doc = xacro.process_file(ROBOT_XACRO, mappings=dict(args))
-    return doc.toprettyxml(indent='  ')
-
-
-_cache = {}
-
-
-def robot(**args):
-    key = tuple(sorted(args.items()))
-    if key not in _cache:
-        _cache[key] = ET.fromstring(process(**args))
-    return _cache[key]
-
-
-def floats(text):
-    return np.array([float(v) for v in text.split()])
 
 
 def rot_rpy(roll, pitch, yaw):
@@ -86,14 +56,6 @@ def origin_tf(elem):
         t[:3, :3] = rot_rpy(*floats(origin.get('rpy', '0 0 0')))
         t[:3, 3] = floats(origin.get('xyz', '0 0 0'))
     return t
-
-
-def links(root):
-    return {link.get('name'): link for link in root.findall('link')}
-
-
-def joints(root):
-    return {joint.get('name'): joint for joint in root.findall('joint')}
 
 
 def joint_of_child(root, child):

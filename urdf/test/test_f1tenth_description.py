@@ -10,28 +10,17 @@ the ones the issue asks for (0.33 m wheelbase class, 1081-beam 270 degree LiDAR 
 
 import itertools
 import math
-import os
 import shutil
 import subprocess
-import xml.etree.ElementTree as ET
 
 import numpy as np
 import pytest
 
-PACKAGE_DIR = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-ROBOT_XACRO = os.path.join(PACKAGE_DIR, 'robots', 'f1tenth.urdf.xacro')
+from description_helpers import XacroRobot, floats, joints, links, mass, plugin_params
 
-# `$(find conde_description)` is resolved through ROS_PACKAGE_PATH: put this package first.
-os.environ['ROS_PACKAGE_PATH'] = os.pathsep.join(
-    p for p in [PACKAGE_DIR, os.environ.get('ROS_PACKAGE_PATH', '')] if p)
-
-import xacro  # noqa: E402  (after ROS_PACKAGE_PATH is set)
-
-try:  # roslaunch caches its RosPack on first use; drop a cache made with another path
-    from roslaunch import substitution_args as _substitution_args
-    _substitution_args._rospack = None
-except ImportError:  # pragma: no cover
-    pass
+ROBOT = XacroRobot('f1tenth.urdf.xacro')
+process = ROBOT.process
+robot = ROBOT.robot
 
 WHEELBASE_M = 0.33
 TRACK_M = 0.25
@@ -49,33 +38,6 @@ def args_id(args):
     return ','.join('%s=%s' % kv for kv in sorted(args.items())) or 'defaults'
 
 
-def process(**args):
-    """Runs xacro on the robot file with the given args; returns the URDF text."""
-    return xacro.process_file(ROBOT_XACRO, mappings=dict(args)).toprettyxml(indent='  ')
-
-
-_cache = {}
-
-
-def robot(**args):
-    key = tuple(sorted(args.items()))
-    if key not in _cache:
-        _cache[key] = ET.fromstring(process(**args))
-    return _cache[key]
-
-
-def floats(text):
-    return np.array([float(v) for v in text.split()])
-
-
-def links(root):
-    return {link.get('name'): link for link in root.findall('link')}
-
-
-def joints(root):
-    return {joint.get('name'): joint for joint in root.findall('joint')}
-
-
 def position_in_root(root, link_name, root_name='base_footprint'):
     """Position of a link's origin in the root link at zero joint angles (all joint origins of
     this robot have rpy 0 except the camera's, which no other link hangs from)."""
@@ -89,20 +51,9 @@ def position_in_root(root, link_name, root_name='base_footprint'):
     return xyz
 
 
-def plugin_params(root, filename):
-    found = [p for p in root.iter('plugin') if p.get('filename') == filename]
-    assert len(found) == 1, filename
-    return {c.tag: (c.text or '').strip() for c in found[0]}
-
-
 def sensor(root, sensor_type):
     found = root.findall("gazebo/sensor[@type='%s']" % sensor_type)
     return found[0] if found else None
-
-
-def mass(link):
-    inertial = link.find('inertial')
-    return 0.0 if inertial is None else float(inertial.find('mass').get('value'))
 
 
 # ----------------------------------------------------------------------------------------------

@@ -8,7 +8,6 @@ parsed with xml.etree and validated with check_urdf (liburdfdom-tools).
 """
 
 import math
-import os
 import shutil
 import subprocess
 import xml.etree.ElementTree as ET
@@ -16,20 +15,11 @@ import xml.etree.ElementTree as ET
 import numpy as np
 import pytest
 
-PACKAGE_DIR = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-ROBOT_XACRO = os.path.join(PACKAGE_DIR, 'robots', 'major_alvega.urdf.xacro')
+from description_helpers import XacroRobot, floats, joints, links, mass, plugin_params
 
-# `$(find conde_description)` is resolved through ROS_PACKAGE_PATH: put this package first.
-os.environ['ROS_PACKAGE_PATH'] = os.pathsep.join(
-    p for p in [PACKAGE_DIR, os.environ.get('ROS_PACKAGE_PATH', '')] if p)
-
-import xacro  # noqa: E402  (after ROS_PACKAGE_PATH is set)
-
-try:  # roslaunch caches its RosPack on first use; drop a cache made with another path
-    from roslaunch import substitution_args as _substitution_args
-    _substitution_args._rospack = None
-except ImportError:  # pragma: no cover
-    pass
+ROBOT = XacroRobot('major_alvega.urdf.xacro')
+process = ROBOT.process
+robot = ROBOT.robot
 
 WHEELBASE_M = 0.32
 TRACK_M = 0.25
@@ -49,33 +39,6 @@ CAMERAS = [
      (-0.254536654032040, 0.052707476272924, 0.004060325839474, 0.001216492819178, 0.001034739611621),
      (0.486, 0.432)),
 ]
-
-
-def process(**args):
-    """Runs xacro on the robot file with the given args; returns the URDF text."""
-    return xacro.process_file(ROBOT_XACRO, mappings=dict(args)).toprettyxml(indent='  ')
-
-
-_cache = {}
-
-
-def robot(**args):
-    key = tuple(sorted(args.items()))
-    if key not in _cache:
-        _cache[key] = ET.fromstring(process(**args))
-    return _cache[key]
-
-
-def floats(text):
-    return np.array([float(v) for v in text.split()])
-
-
-def links(root):
-    return {link.get('name'): link for link in root.findall('link')}
-
-
-def joints(root):
-    return {joint.get('name'): joint for joint in root.findall('joint')}
 
 
 def rotation(rpy):
@@ -101,19 +64,8 @@ def pose_in_root(root, link_name):
     return position, rot
 
 
-def mass(link):
-    inertial = link.find('inertial')
-    return 0.0 if inertial is None else float(inertial.find('mass').get('value'))
-
-
 def inertia(link):
     return {k: float(v) for k, v in link.find('inertial/inertia').attrib.items()}
-
-
-def plugin_params(root, filename):
-    found = [p for p in root.iter('plugin') if p.get('filename') == filename]
-    assert len(found) == 1, filename
-    return {c.tag: (c.text or '').strip() for c in found[0]}
 
 
 def surface(root, link):
