@@ -774,11 +774,10 @@ struct GroundFrame {
   float u_at_camera = 0.0f, v_at_camera = 0.0f, tex_u_per_m = 0.0f, tex_v_per_m = 0.0f;
   float u_limit = 0.0f, v_limit = 0.0f, footprint_area_scale = 0.0f;
   std::int32_t max_level = 0;
-  // The texture: packed texels (R in the low byte, then G, B), each mipmap level's first texel
-  // and row stride, and the packed colours of the plain ground and the sky.
+  // The texture: packed texels (R in the low byte, then G, B), its mipmap levels,
+  // and the packed colours of the plain ground and the sky.
   const std::uint32_t* texels = nullptr;
-  const std::int32_t* level_first = nullptr;
-  const std::int32_t* level_stride = nullptr;
+  const RenderScene::TextureLevel* levels = nullptr;
   std::uint32_t ground_packed = 0, sky_packed = 0;
 };
 
@@ -791,8 +790,9 @@ struct GroundTile {
 
 // Bilinear read of one pixel's texels: red and blue, then green, in 16-bit lanes of one word.
 inline std::uint32_t bilinearTexel(const GroundFrame& g, const GroundTile& t, int k) {
-  const std::int32_t stride = g.level_stride[t.level[k]];
-  const std::uint32_t* p = g.texels + g.level_first[t.level[k]] + t.texel_v[k] * stride + t.texel_u[k];
+  const RenderScene::TextureLevel& level = g.levels[t.level[k]];
+  const int stride = level.width_px + 1;
+  const std::uint32_t* p = g.texels + level.first_texel + static_cast<size_t>(t.texel_v[k]) * stride + t.texel_u[k];
   const std::uint32_t wu = static_cast<std::uint32_t>(t.weight_u[k]), wv = static_cast<std::uint32_t>(t.weight_v[k]);
   const std::uint32_t p00 = p[0], p01 = p[1], p10 = p[stride], p11 = p[stride + 1];
   constexpr std::uint32_t kPair = 0x00FF00FFu;
@@ -994,14 +994,8 @@ void CameraRenderer::render(const RenderScene& scene, const Pose& world_T_optica
   frame.v_limit = v_limit;
   frame.footprint_area_scale = footprint_area_scale;
   frame.max_level = max_level;
-  std::int32_t level_first[64] = {0}, level_stride[64] = {0};  // a 2^63-texel texture would need more
-  for (size_t l = 0; l < scene.ground_levels_.size() && l < 64; ++l) {
-    level_first[l] = static_cast<std::int32_t>(scene.ground_levels_[l].first_texel);
-    level_stride[l] = scene.ground_levels_[l].width_px + 1;
-  }
   frame.texels = scene.ground_texels_.data();
-  frame.level_first = level_first;
-  frame.level_stride = level_stride;
+  frame.levels = scene.ground_levels_.data();
   auto packed = [](const Vec3& rgb) {
     return static_cast<std::uint32_t>(toByte(rgb.x)) | static_cast<std::uint32_t>(toByte(rgb.y)) << 8 |
            static_cast<std::uint32_t>(toByte(rgb.z)) << 16;

@@ -155,16 +155,17 @@ class RenderScene {
   const RenderObject& object(int index) const { return objects_[index]; }
   int objectCount() const { return static_cast<int>(objects_.size()); }
 
- private:
-  friend class CameraRenderer;
   // The ground texture as a mipmap: level 0 is the image, level L + 1 averages 2x2 texels of
   // level L (its size rounded up, edges repeated). Texels are packed (R in the low byte, then G,
   // B, 0); each level has one more column and row repeating its last ones, so a bilinear read
-  // never leaves it.
+  // never leaves it. (Layout for the renderer.)
   struct TextureLevel {
     int width_px = 0, height_px = 0;  // without the repeated column and row
     size_t first_texel = 0;           // in ground_texels_; rows of width_px + 1 texels
   };
+
+ private:
+  friend class CameraRenderer;
   std::vector<TextureLevel> ground_levels_;  // empty: no texture
   std::vector<std::uint32_t> ground_texels_;
   double ground_x_min_m_ = 0.0, ground_x_max_m_ = 0.0, ground_y_min_m_ = 0.0, ground_y_max_m_ = 0.0;
