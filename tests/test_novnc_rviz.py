@@ -13,6 +13,7 @@ import base64
 import json
 import os
 import shutil
+import signal
 import socket
 import subprocess
 import tempfile
@@ -76,12 +77,14 @@ class HeadlessChromium:
     the page before the first VNC frame arrives)."""
 
     def __init__(self, width_px, height_px):
-        self.profile = tempfile.TemporaryDirectory(prefix="conde_chromium_")
+        # Chromium's helper processes (renderer, crash handler) can still write to the profile after
+        # the browser exits: close() ends the whole process group, and leftovers do not fail a test.
+        self.profile = tempfile.TemporaryDirectory(prefix="conde_chromium_", ignore_cleanup_errors=True)
         self.process = subprocess.Popen(
             ["chromium", "--headless", "--no-sandbox", "--disable-gpu", "--hide-scrollbars",
              "--remote-debugging-port=0", f"--user-data-dir={self.profile.name}",
              f"--window-size={width_px},{height_px}", "about:blank"],
-            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True)
         port_file = os.path.join(self.profile.name, "DevToolsActivePort")
         deadline = time.monotonic() + 60
         while not (os.path.exists(port_file) and open(port_file).read().strip()):
@@ -111,12 +114,24 @@ class HeadlessChromium:
 
     def close(self):
         self.socket.close()
-        self.process.terminate()
-        try:
-            self.process.wait(timeout=30)
-        except subprocess.TimeoutExpired:
-            self.process.kill()
-            self.process.wait()
+        group = self.process.pid  # start_new_session: the browser leads its own process group
+        for sig, grace_s in ((signal.SIGTERM, 30), (signal.SIGKILL, 10)):
+            try:
+                os.killpg(group, sig)
+            except ProcessLookupError:
+                break
+            deadline = time.monotonic() + grace_s
+            while time.monotonic() < deadline:
+                self.process.poll()  # reaps the leader; its helpers are reparented and reaped by init
+                try:
+                    os.killpg(group, 0)
+                except ProcessLookupError:
+                    break
+                time.sleep(0.1)
+            else:
+                continue
+            break
+        self.process.wait()
         self.profile.cleanup()
 
 
