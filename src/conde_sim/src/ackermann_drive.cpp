@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "conde_sim/drive_odometry.h"
 #include "conde_sim/simulation.h"
 
 namespace conde_sim {
@@ -20,16 +21,8 @@ void AckermannOdometry::reset() {
 
 void AckermannOdometry::update(double distance_m, double steering_rad, double dt_s) {
   const double dyaw = distance_m * std::tan(steering_rad) / wheelbase_m_;
-  // The rear-axle centre moves along the car's heading: exact for a constant-curvature arc.
-  if (std::abs(dyaw) < 1e-9) {
-    axle_x_odom_m_ += distance_m * std::cos(yaw_rad_ + dyaw / 2.0);
-    axle_y_odom_m_ += distance_m * std::sin(yaw_rad_ + dyaw / 2.0);
-  } else {
-    const double r = distance_m / dyaw;
-    axle_x_odom_m_ += r * (std::sin(yaw_rad_ + dyaw) - std::sin(yaw_rad_));
-    axle_y_odom_m_ -= r * (std::cos(yaw_rad_ + dyaw) - std::cos(yaw_rad_));
-  }
-  yaw_rad_ = std::remainder(yaw_rad_ + dyaw, 2.0 * M_PI);
+  // The rear-axle centre moves along the car's heading.
+  integrateArc(distance_m, dyaw, axle_x_odom_m_, axle_y_odom_m_, yaw_rad_);
   if (dt_s > 0.0) {
     speed_mps_ = distance_m / dt_s;
     yaw_rate_radps_ = dyaw / dt_s;
@@ -290,11 +283,7 @@ bool AckermannDrive::afterStep() {
     odom_twist_.linear_mps = cp::Vec3(odometry_.linear_x_mps(), odometry_.linear_y_mps(), 0.0);
     odom_twist_.angular_radps = cp::Vec3(0.0, 0.0, odometry_.angular_radps());
   } else {
-    odom_pose_ = sim_.linkPose(robot_, config_.base_link);
-    const cp::Twist world = sim_.linkTwist(robot_, config_.base_link);
-    const cp::Quat to_base = odom_pose_.orientation.conjugate();
-    odom_twist_.linear_mps = to_base.rotate(world.linear_mps);
-    odom_twist_.angular_radps = to_base.rotate(world.angular_radps);
+    groundTruthOdometry(sim_, robot_, config_.base_link, odom_pose_, odom_twist_);
   }
   return true;
 }

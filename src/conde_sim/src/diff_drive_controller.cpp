@@ -4,6 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "conde_sim/drive_odometry.h"
 #include "conde_sim/simulation.h"
 
 namespace conde_sim {
@@ -59,16 +60,7 @@ void DiffDriveOdometry::update(double left_rad, double right_rad, double dt_s) {
   last_right_rad_ = right_rad;
   const double ds = (dl + dr) / 2.0;
   const double dyaw = (dr - dl) / separation_m_;
-  // Exact for a constant-curvature arc; the midpoint heading is the limit for small dyaw.
-  if (std::abs(dyaw) < 1e-9) {
-    x_m_ += ds * std::cos(yaw_rad_ + dyaw / 2.0);
-    y_m_ += ds * std::sin(yaw_rad_ + dyaw / 2.0);
-  } else {
-    const double r = ds / dyaw;
-    x_m_ += r * (std::sin(yaw_rad_ + dyaw) - std::sin(yaw_rad_));
-    y_m_ += -r * (std::cos(yaw_rad_ + dyaw) - std::cos(yaw_rad_));
-  }
-  yaw_rad_ = std::remainder(yaw_rad_ + dyaw, 2.0 * M_PI);
+  integrateArc(ds, dyaw, x_m_, y_m_, yaw_rad_);
   if (dt_s > 0.0) {
     linear_mps_ = ds / dt_s;
     angular_radps_ = dyaw / dt_s;
@@ -134,12 +126,7 @@ bool DiffDrive::afterStep() {
     odom_twist_.linear_mps = cp::Vec3(odometry_.linear_mps(), 0, 0);
     odom_twist_.angular_radps = cp::Vec3(0, 0, odometry_.angular_radps());
   } else {
-    // Ground truth, twist expressed in the base frame (REP 105).
-    odom_pose_ = sim_.linkPose(robot_, config_.base_link);
-    const cp::Twist world = sim_.linkTwist(robot_, config_.base_link);
-    const cp::Quat to_base = odom_pose_.orientation.conjugate();
-    odom_twist_.linear_mps = to_base.rotate(world.linear_mps);
-    odom_twist_.angular_radps = to_base.rotate(world.angular_radps);
+    groundTruthOdometry(sim_, robot_, config_.base_link, odom_pose_, odom_twist_);
   }
   return true;
 }

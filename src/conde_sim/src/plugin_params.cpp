@@ -1,8 +1,39 @@
 #include "conde_sim/plugin_params.h"
 
+#include <optional>
 #include <sstream>
+#include <type_traits>
 
 namespace conde_sim {
+
+namespace {
+
+// The whole of `t` as a T (double or long): nothing for text that is no number, is out of range
+// or goes on after the number ("1.5 m").
+template <class T>
+std::optional<T> wholeNumber(const std::string& t) {
+  try {
+    size_t used = 0;
+    T v;
+    if constexpr (std::is_integral_v<T>) {
+      v = std::stol(t, &used);
+    } else {
+      v = std::stod(t, &used);
+    }
+    if (used == t.size()) return v;
+  } catch (const std::exception&) {
+  }
+  return std::nullopt;
+}
+
+// "true"/"1" and "false"/"0", as gazebo_ros reads booleans; nothing for other text.
+std::optional<bool> boolText(const std::string& t) {
+  if (t == "true" || t == "1") return true;
+  if (t == "false" || t == "0") return false;
+  return std::nullopt;
+}
+
+}  // namespace
 
 PluginParams::PluginParams(const tinyxml2::XMLElement* plugin, const tinyxml2::XMLElement* sensor,
                            std::string source, std::string reference_link)
@@ -36,14 +67,8 @@ std::string PluginParams::text(const tinyxml2::XMLElement* e) const {
 
 double PluginParams::toDouble(const tinyxml2::XMLElement* e, const std::string& key) const {
   const std::string t = text(e);
-  try {
-    size_t used = 0;
-    const double v = std::stod(t, &used);
-    if (used != t.size()) throw std::invalid_argument(t);
-    return v;
-  } catch (const std::exception&) {
-    throw error(key, "expected a number, got '" + t + "'");
-  }
+  if (const std::optional<double> v = wholeNumber<double>(t)) return *v;
+  throw error(key, "expected a number, got '" + t + "'");
 }
 
 bool PluginParams::has(const std::string& key) const { return child(plugin_, key) != nullptr; }
@@ -72,8 +97,7 @@ bool PluginParams::getBool(const std::string& key, bool fallback) {
   const auto* e = child(plugin_, key);
   if (!e) return fallback;
   const std::string t = text(e);
-  if (t == "true" || t == "1") return true;
-  if (t == "false" || t == "0") return false;
+  if (const std::optional<bool> v = boolText(t)) return *v;
   throw error(key, "expected true, false, 1 or 0, got '" + t + "'");
 }
 
@@ -137,14 +161,8 @@ double PluginParams::sensorDouble(const std::string& key, double fallback) {
   const auto* e = sensorElement(key);
   if (!e) return fallback;
   const std::string t = text(e);
-  try {
-    size_t used = 0;
-    const double v = std::stod(t, &used);
-    if (used != t.size()) throw std::invalid_argument(t);
-    return v;
-  } catch (const std::exception&) {
-    throw sensorError(key, "expected a number, got '" + t + "'");
-  }
+  if (const std::optional<double> v = wholeNumber<double>(t)) return *v;
+  throw sensorError(key, "expected a number, got '" + t + "'");
 }
 
 long PluginParams::sensorInt(const std::string& key, long fallback) {
@@ -152,14 +170,8 @@ long PluginParams::sensorInt(const std::string& key, long fallback) {
   const auto* e = sensorElement(key);
   if (!e) return fallback;
   const std::string t = text(e);
-  try {
-    size_t used = 0;
-    const long v = std::stol(t, &used);
-    if (used != t.size()) throw std::invalid_argument(t);
-    return v;
-  } catch (const std::exception&) {
-    throw sensorError(key, "expected an integer, got '" + t + "'");
-  }
+  if (const std::optional<long> v = wholeNumber<long>(t)) return *v;
+  throw sensorError(key, "expected an integer, got '" + t + "'");
 }
 
 bool PluginParams::sensorBool(const std::string& key, bool fallback) {
@@ -167,8 +179,7 @@ bool PluginParams::sensorBool(const std::string& key, bool fallback) {
   const auto* e = sensorElement(key);
   if (!e) return fallback;
   const std::string t = text(e);
-  if (t == "true" || t == "1") return true;
-  if (t == "false" || t == "0") return false;
+  if (const std::optional<bool> v = boolText(t)) return *v;
   throw sensorError(key, "expected true, false, 1 or 0, got '" + t + "'");
 }
 

@@ -9,26 +9,15 @@
 
 #include "conde_sim/ackermann_drive.h"
 #include "conde_sim/simulation.h"
+#include "stepped_robot_setup.h"
 
 namespace cp = conde_physics;
 using conde_sim::AckermannDrive;
 using conde_sim::Simulation;
+using conde_sim_test::addRobot;
+using conde_sim_test::testCarUrdf;
 
 namespace {
-
-// The test car (tests/fixtures/ackermann_car.urdf.xacro) through xacro, as the launch files load it.
-const std::string& carUrdf() {
-  static const std::string urdf = [] {
-    const std::string cmd = std::string("xacro ") + CONDE_REPO_ROOT + "/tests/fixtures/ackermann_car.urdf.xacro 2>&1";
-    std::unique_ptr<FILE, decltype(&pclose)> pipe(popen(cmd.c_str(), "r"), pclose);
-    std::string out;
-    char buffer[4096];
-    size_t n;
-    while ((n = fread(buffer, 1, sizeof buffer, pipe.get())) > 0) out.append(buffer, n);
-    return out;
-  }();
-  return urdf;
-}
 
 cp::WorldDescription flatWorld() {
   cp::WorldDescription w;
@@ -71,13 +60,9 @@ double fitCircle(const std::vector<cp::Vec3>& points, double& cx, double& cy) {
 class AckermannCar : public ::testing::TestWithParam<std::string> {
  protected:
   void SetUp() override {
-    ASSERT_NE(carUrdf().find("<robot"), std::string::npos) << "xacro failed: " << carUrdf();
+    ASSERT_NE(testCarUrdf().find("<robot"), std::string::npos) << "xacro failed: " << testCarUrdf();
     sim_ = std::make_unique<Simulation>(flatWorld(), GetParam(), nullptr);
-    conde_sim::RobotSpec spec;
-    spec.name = "car";
-    spec.source = "ackermann_car.urdf";
-    spec.urdf_xml = carUrdf();
-    sim_->addRobot(spec);
+    addRobot(*sim_, "car", "ackermann_car.urdf", testCarUrdf());
     makeDrive(defaultConfig());
   }
 
@@ -113,11 +98,7 @@ class AckermannCar : public ::testing::TestWithParam<std::string> {
     run(seconds, [&] { drive_->commandDrive(speed, steering); });
   }
 
-  void step() {
-    drive_->beforeStep();
-    sim_->step();
-    drive_->afterStep();
-  }
+  void step() { conde_sim_test::stepWithDrive(*sim_, *drive_); }
 
   cp::Pose truth() const { return sim_->linkPose(0, "base_footprint"); }
   cp::Twist truthTwist() const { return sim_->linkTwist(0, "base_footprint"); }
@@ -266,29 +247,15 @@ TEST_P(AckermannCar, EncoderOdometryFollowsGroundTruth) {
 TEST_P(AckermannCar, SameCommandsGiveTheSameTrajectory) {
   auto trajectory = [&]() {
     Simulation sim(flatWorld(), GetParam(), nullptr);
-    conde_sim::RobotSpec spec;
-    spec.name = "car";
-    spec.source = "ackermann_car.urdf";
-    spec.urdf_xml = carUrdf();
-    sim.addRobot(spec);
+    addRobot(sim, "car", "ackermann_car.urdf", testCarUrdf());
     AckermannDrive drive(sim, 0, defaultConfig());
-    std::vector<double> xs;
-    for (int i = 0; i < 2000; ++i) {
-      if (i % 50 == 0) drive.commandDrive(0.6, 0.3 * std::sin(i * 0.002));
-      drive.beforeStep();
-      sim.step();
-      drive.afterStep();
-      const cp::Pose p = sim.linkPose(0, "base_footprint");
-      xs.push_back(p.position.x);
-      xs.push_back(p.position.y);
-    }
-    return xs;
+    return conde_sim_test::baseTrajectory(sim, drive, 2000,
+                                          [&](int i) { drive.commandDrive(0.6, 0.3 * std::sin(i * 0.002)); });
   };
   EXPECT_EQ(trajectory(), trajectory());
 }
 
-INSTANTIATE_TEST_SUITE_P(BothEngines, AckermannCar, ::testing::Values("ode", "bullet"),
-                         [](const ::testing::TestParamInfo<std::string>& info) { return info.param; });
+INSTANTIATE_TEST_SUITE_P(BothEngines, AckermannCar, conde_sim_test::bothEngines(), conde_sim_test::engineName);
 
 TEST(AckermannOdometry, ArcOfTheRearAxleCentre) {
   // Base frame 0.1 m ahead of the rear axle; quarter circle of radius R = L / tan(delta).

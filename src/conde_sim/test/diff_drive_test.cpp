@@ -3,31 +3,21 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <cstdio>
 #include <memory>
 
 #include "conde_sim/diff_drive_controller.h"
 #include "conde_sim/simulation.h"
+#include "stepped_robot_setup.h"
 
 namespace cp = conde_physics;
 using conde_sim::DiffDrive;
 using conde_sim::Simulation;
+using conde_sim_test::addRobot;
 
 namespace {
 
-std::string runXacro(const std::string& args) {
-  const std::string cmd = std::string("ROS_PACKAGE_PATH=") + CONDE_REPO_ROOT + " xacro " + CONDE_REPO_ROOT +
-                          "/urdf/robots/conde.urdf.xacro " + args + " 2>&1";
-  std::unique_ptr<FILE, decltype(&pclose)> pipe(popen(cmd.c_str(), "r"), pclose);
-  std::string out;
-  char buffer[4096];
-  size_t n;
-  while ((n = fread(buffer, 1, sizeof buffer, pipe.get())) > 0) out.append(buffer, n);
-  return out;
-}
-
 const std::string& condeUrdf() {
-  static const std::string urdf = runXacro("");
+  static const std::string urdf = conde_sim_test::xacroUrdf("urdf/robots/conde.urdf.xacro");
   return urdf;
 }
 
@@ -48,11 +38,7 @@ class ConDiffDrive : public ::testing::TestWithParam<std::string> {
   void SetUp() override {
     ASSERT_NE(condeUrdf().find("<robot"), std::string::npos) << "xacro failed: " << condeUrdf();
     sim_ = std::make_unique<Simulation>(flatWorld(), GetParam(), nullptr);
-    conde_sim::RobotSpec spec;
-    spec.name = "conde";
-    spec.source = "conde.urdf.xacro";
-    spec.urdf_xml = condeUrdf();
-    sim_->addRobot(spec);
+    addRobot(*sim_, "conde", "conde.urdf.xacro", condeUrdf());
     DiffDrive::Config c;
     c.left_joint = "left_wheel_joint";
     c.right_joint = "right_wheel_joint";
@@ -81,11 +67,7 @@ class ConDiffDrive : public ::testing::TestWithParam<std::string> {
     }
   }
 
-  void step() {
-    drive_->beforeStep();
-    sim_->step();
-    drive_->afterStep();
-  }
+  void step() { conde_sim_test::stepWithDrive(*sim_, *drive_); }
 
   cp::Pose truth() const { return sim_->linkPose(0, "base_footprint"); }
 
@@ -164,34 +146,19 @@ TEST_P(ConDiffDrive, NonFiniteCommandsAreIgnored) {
 TEST_P(ConDiffDrive, SameCommandsGiveTheSameTrajectory) {
   auto trajectory = [&]() {
     Simulation sim(flatWorld(), GetParam(), nullptr);
-    conde_sim::RobotSpec spec;
-    spec.name = "conde";
-    spec.source = "conde.urdf.xacro";
-    spec.urdf_xml = condeUrdf();
-    sim.addRobot(spec);
+    addRobot(sim, "conde", "conde.urdf.xacro", condeUrdf());
     DiffDrive::Config c;
     c.left_joint = "left_wheel_joint";
     c.right_joint = "right_wheel_joint";
     c.params.wheel_separation_m = 0.33;
     c.params.wheel_diameter_m = 0.064;
     DiffDrive drive(sim, 0, c);
-    std::vector<double> xs;
-    for (int i = 0; i < 3000; ++i) {
-      if (i % 50 == 0) drive.command(0.4, std::sin(i * 0.001));
-      drive.beforeStep();
-      sim.step();
-      drive.afterStep();
-      const cp::Pose p = sim.linkPose(0, "base_footprint");
-      xs.push_back(p.position.x);
-      xs.push_back(p.position.y);
-    }
-    return xs;
+    return conde_sim_test::baseTrajectory(sim, drive, 3000, [&](int i) { drive.command(0.4, std::sin(i * 0.001)); });
   };
   EXPECT_EQ(trajectory(), trajectory());
 }
 
-INSTANTIATE_TEST_SUITE_P(BothEngines, ConDiffDrive, ::testing::Values("ode", "bullet"),
-                         [](const ::testing::TestParamInfo<std::string>& info) { return info.param; });
+INSTANTIATE_TEST_SUITE_P(BothEngines, ConDiffDrive, conde_sim_test::bothEngines(), conde_sim_test::engineName);
 
 TEST(DiffDriveController, WheelSpeedsFromTwist) {
   conde_sim::DiffDriveParams p;

@@ -4,12 +4,12 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <cstdio>
 #include <memory>
 #include <vector>
 
 #include "conde_sim/joint_controller.h"
 #include "conde_sim/simulation.h"
+#include "stepped_robot_setup.h"
 
 namespace cp = conde_physics;
 using conde_sim::JointController;
@@ -19,17 +19,10 @@ using conde_sim::Simulation;
 
 namespace {
 
+// The test car with ros_control instead of its Ackermann drive plugin.
 const std::string& carUrdf() {
-  static const std::string urdf = [] {
-    const std::string cmd =
-        std::string("xacro ") + CONDE_REPO_ROOT + "/tests/fixtures/ackermann_car.urdf.xacro drive:=ros_control 2>&1";
-    std::unique_ptr<FILE, decltype(&pclose)> pipe(popen(cmd.c_str(), "r"), pclose);
-    std::string out;
-    char buffer[4096];
-    size_t n;
-    while ((n = fread(buffer, 1, sizeof buffer, pipe.get())) > 0) out.append(buffer, n);
-    return out;
-  }();
+  static const std::string urdf =
+      conde_sim_test::xacroUrdf("tests/fixtures/ackermann_car.urdf.xacro", "drive:=ros_control");
   return urdf;
 }
 
@@ -44,11 +37,7 @@ class JointControllers : public ::testing::TestWithParam<std::string> {
     cp::WorldDescription w;
     w.name = "flat";
     sim_ = std::make_unique<Simulation>(w, GetParam(), nullptr);
-    conde_sim::RobotSpec spec;
-    spec.name = "car";
-    spec.source = "ackermann_car.urdf.xacro";
-    spec.urdf_xml = carUrdf();
-    sim_->addRobot(spec);
+    conde_sim_test::addRobot(*sim_, "car", "ackermann_car.urdf.xacro", carUrdf());
   }
 
   JointController& add(const std::string& joint, JointControllerType type, const PidController::Gains& gains = {}) {
@@ -157,8 +146,7 @@ TEST_P(JointControllers, EmergencyStopHoldsAndBrakes) {
   EXPECT_NEAR(position("left_steering_joint"), 0.2, 0.01);
 }
 
-INSTANTIATE_TEST_SUITE_P(BothEngines, JointControllers, ::testing::Values("ode", "bullet"),
-                         [](const ::testing::TestParamInfo<std::string>& info) { return info.param; });
+INSTANTIATE_TEST_SUITE_P(BothEngines, JointControllers, conde_sim_test::bothEngines(), conde_sim_test::engineName);
 
 TEST(JointControllerType, NamesRoundTrip) {
   for (auto t : {JointControllerType::kEffortPosition, JointControllerType::kEffortVelocity, JointControllerType::kEffort,

@@ -2,35 +2,23 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <cstdio>
 #include <memory>
 
 #include "conde_sim/laser_scanner.h"
 #include "conde_sim/simulation.h"
+#include "stepped_robot_setup.h"
 
 namespace cp = conde_physics;
 using conde_sim::LaserScanConfig;
 using conde_sim::LaserScanner;
 using conde_sim::Simulation;
+using conde_sim_test::addRobot;
+using conde_sim_test::testCarUrdf;
 
 namespace {
 
 constexpr double kFrontWallFace_m = 2.0;  // world x of the wall ahead of the car
 constexpr double kLeftWallFace_m = 1.0;   // world y of the wall on the car's left
-
-// The test car (tests/fixtures/ackermann_car.urdf.xacro) through xacro, as the launch files load it.
-const std::string& carUrdf() {
-  static const std::string urdf = [] {
-    const std::string cmd = std::string("xacro ") + CONDE_REPO_ROOT + "/tests/fixtures/ackermann_car.urdf.xacro 2>&1";
-    std::unique_ptr<FILE, decltype(&pclose)> pipe(popen(cmd.c_str(), "r"), pclose);
-    std::string out;
-    char buffer[4096];
-    size_t n;
-    while ((n = fread(buffer, 1, sizeof buffer, pipe.get())) > 0) out.append(buffer, n);
-    return out;
-  }();
-  return urdf;
-}
 
 cp::WorldObject wall(const std::string& name, double x, double y, double size_x, double size_y) {
   cp::WorldObject o;
@@ -69,13 +57,9 @@ LaserScanConfig fixtureLidar(double noise_stddev_m) {
 class Lidar : public ::testing::TestWithParam<std::string> {
  protected:
   void build(bool walls) {
-    ASSERT_NE(carUrdf().find("<robot"), std::string::npos) << "xacro failed: " << carUrdf();
+    ASSERT_NE(testCarUrdf().find("<robot"), std::string::npos) << "xacro failed: " << testCarUrdf();
     sim_ = std::make_unique<Simulation>(world(walls), GetParam(), nullptr);
-    conde_sim::RobotSpec spec;
-    spec.name = "car";
-    spec.source = "ackermann_car.urdf";
-    spec.urdf_xml = carUrdf();
-    sim_->addRobot(spec);
+    addRobot(*sim_, "car", "ackermann_car.urdf", testCarUrdf());
     for (int i = 0; i < 300; ++i) sim_->step();  // settle on the wheels
   }
 
@@ -170,12 +154,8 @@ TEST_P(Lidar, TheCarryingRobotIsInvisible) {
 
 TEST_P(Lidar, OtherRobotsAreSeen) {
   build(false);
-  conde_sim::RobotSpec spec;
-  spec.name = "other";
-  spec.source = "ackermann_car.urdf";
-  spec.urdf_xml = carUrdf();
-  spec.spawn_pose = cp::Pose(cp::Vec3(1.5, 0.0, 0.0), cp::Quat());  // 1.5 m ahead, rear axle first
-  sim_->addRobot(spec);
+  // 1.5 m ahead, rear axle first.
+  addRobot(*sim_, "other", "ackermann_car.urdf", testCarUrdf(), cp::Pose(cp::Vec3(1.5, 0.0, 0.0), cp::Quat()));
   LaserScanConfig c = fixtureLidar(0.0);
   c.link = "base_link";
   c.sensor_in_link = cp::Pose(cp::Vec3(0.4, 0.0, 0.045), cp::Quat());  // in its own front bumper
@@ -185,16 +165,11 @@ TEST_P(Lidar, OtherRobotsAreSeen) {
   EXPECT_NEAR(lidar.scan()[540], other_rear_x - bumper_x, 0.01);
 }
 
-INSTANTIATE_TEST_SUITE_P(BothEngines, Lidar, ::testing::Values("ode", "bullet"),
-                         [](const ::testing::TestParamInfo<std::string>& info) { return info.param; });
+INSTANTIATE_TEST_SUITE_P(BothEngines, Lidar, conde_sim_test::bothEngines(), conde_sim_test::engineName);
 
 TEST(LaserScanner, RejectsBadConfigurations) {
   Simulation sim(world(false), "ode", nullptr);
-  conde_sim::RobotSpec spec;
-  spec.name = "car";
-  spec.source = "ackermann_car.urdf";
-  spec.urdf_xml = carUrdf();
-  sim.addRobot(spec);
+  addRobot(sim, "car", "ackermann_car.urdf", testCarUrdf());
   LaserScanConfig c = fixtureLidar(0.0);
   c.beam_count = 0;
   EXPECT_THROW(LaserScanner(sim, 0, c), std::invalid_argument);

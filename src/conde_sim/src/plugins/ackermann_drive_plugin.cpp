@@ -31,27 +31,18 @@
 // <cmdTimeout> s [0 = never] without a command the wheels brake to 0 and the steering holds.
 #include <conde_msgs/AckermannDriveStamped.h>
 #include <geometry_msgs/Twist.h>
-#include <nav_msgs/Odometry.h>
 #include <sensor_msgs/JointState.h>
 
 #include <cmath>
 
 #include "conde_sim/ackermann_drive.h"
+#include "conde_sim/odometry_publisher.h"
 #include "conde_sim/plugin.h"
 
 namespace conde_sim {
 namespace {
 
 namespace cp = conde_physics;
-
-geometry_msgs::Quaternion toMsg(const cp::Quat& q) {
-  geometry_msgs::Quaternion m;
-  m.w = q.w;
-  m.x = q.x;
-  m.y = q.y;
-  m.z = q.z;
-  return m;
-}
 
 PidController::Gains readGains(PluginParams& params, const std::string& prefix, const PidController::Gains& fallback) {
   const std::string gains_key = prefix + "PidGains", clamp_key = prefix + "PidIClamp", torque_key = prefix + "Torque";
@@ -110,18 +101,15 @@ class AckermannDrivePlugin : public SimPlugin {
     c.command_timeout_s = nonNegative(params, "cmdTimeout", c.command_timeout_s);
     c.update_rate_hz = nonNegative(params, "updateRate", c.update_rate_hz);
     c.base_link = params.getString("robotBaseFrame", "base_footprint");
-    const std::string source = params.getString("odometrySource", "world");
-    if (source != "world" && source != "encoder") {
-      throw params.error("odometrySource", "expected 'world' or 'encoder', got '" + source + "'");
-    }
-    c.encoder_odometry = source == "encoder";
+    c.encoder_odometry = readEncoderOdometry(params);
     const std::string command_topic = params.getString("commandTopic", "ackermann_cmd");
     const std::string twist_topic = params.getString("twistTopic", "cmd_vel");
     const std::string odometry_topic = params.getString("odometryTopic", "odom");
-    odom_frame_ = ctx.frame(params.getString("odometryFrame", "odom"));
-    base_frame_ = ctx.frame(c.base_link);
-    publish_odom_tf_ = params.getBool("publishOdomTF", true);
-    publish_world_odom_tf_ = params.getBool("publishWorldToOdomTF", true);
+    OdometryPublisher::Options odom;
+    odom.odom_frame = ctx.frame(params.getString("odometryFrame", "odom"));
+    odom.base_frame = ctx.frame(c.base_link);
+    odom.publish_odom_tf = params.getBool("publishOdomTF", true);
+    odom.publish_world_to_odom_tf = params.getBool("publishWorldToOdomTF", true);
     const bool publish_joint_states = params.getBool("publishJointStates", true);
     try {
       drive_ = std::make_unique<AckermannDrive>(*ctx.sim, ctx.robot, c);
@@ -132,7 +120,8 @@ class AckermannDrivePlugin : public SimPlugin {
     robot_name_ = ctx.sim->robot(ctx.robot).spec.name;
     if (!command_topic.empty()) drive_sub_ = nh.subscribe(command_topic, 1, &AckermannDrivePlugin::onDrive, this);
     if (!twist_topic.empty()) twist_sub_ = nh.subscribe(twist_topic, 1, &AckermannDrivePlugin::onTwist, this);
-    odom_pub_ = nh.advertise<nav_msgs::Odometry>(odometry_topic, 10);
+    odometry_ = OdometryPublisher(ctx, odom);
+    odometry_.advertise(nh, odometry_topic);
     if (publish_joint_states) {
       joint_pub_ = nh.advertise<sensor_msgs::JointState>("joint_states", 10);
       const cp::ArticulatedModel& model = ctx.sim->robot(ctx.robot).model;
@@ -144,20 +133,21 @@ class AckermannDrivePlugin : public SimPlugin {
       joint_state_.position.resize(joint_indices_.size());
       joint_state_.velocity.resize(joint_indices_.size());
     }
-    publishWorldToOdom();
+    odometry_.publishWorldToOdom(drive_->encoderOdometry(), drive_->startPose());
     const AckermannGeometry& g = drive_->geometry();
     ROS_INFO("%s: Ackermann drive, wheelbase %.4f m, tracks %.4f/%.4f m, wheel radius %.4f m, max steering %.3f rad, "
              "%s-wheel drive, command %s, twist %s, odometry %s (%s) in %s -> %s, command timeout %.2f s",
              robot_name_.c_str(), g.wheelbase_m, 2 * g.front_half_track_m, 2 * g.rear_half_track_m, g.wheel_radius_m,
              drive_->maxSteeringAngle(), drive_wheels.c_str(),
              command_topic.empty() ? "(off)" : drive_sub_.getTopic().c_str(),
-             twist_topic.empty() ? "(off)" : twist_sub_.getTopic().c_str(), odom_pub_.getTopic().c_str(),
-             source.c_str(), odom_frame_.c_str(), base_frame_.c_str(), c.command_timeout_s);
+             twist_topic.empty() ? "(off)" : twist_sub_.getTopic().c_str(), odometry_.topic().c_str(),
+             c.encoder_odometry ? "encoder" : "world", odom.odom_frame.c_str(), odom.base_frame.c_str(),
+             c.command_timeout_s);
   }
 
   void reset() override {
     drive_->reset();
-    publishWorldToOdom();
+    odometry_.publishWorldToOdom(drive_->encoderOdometry(), drive_->startPose());
   }
 
   void beforeStep() override {
@@ -170,7 +160,7 @@ class AckermannDrivePlugin : public SimPlugin {
 
   void afterStep() override {
     if (!drive_->afterStep()) return;
-    publishOdometry();
+    odometry_.publish(drive_->odomPose(), drive_->odomTwist());
     if (joint_pub_ && joint_pub_.getNumSubscribers() > 0) publishJointStates();
   }
 
@@ -195,56 +185,6 @@ class AckermannDrivePlugin : public SimPlugin {
     timeout_reported_ = false;
   }
 
-  // Encoder odometry starts at zero where the car starts; world odometry is the world frame.
-  void publishWorldToOdom() {
-    if (!publish_world_odom_tf_ || !publish_odom_tf_) return;
-    const cp::Pose odom_in_world = drive_->encoderOdometry() ? drive_->startPose() : cp::Pose();
-    geometry_msgs::TransformStamped t;
-    t.header.stamp = ctx_.now();
-    t.header.frame_id = "world";
-    t.child_frame_id = odom_frame_;
-    t.transform.translation.x = odom_in_world.position.x;
-    t.transform.translation.y = odom_in_world.position.y;
-    t.transform.translation.z = odom_in_world.position.z;
-    t.transform.rotation = toMsg(odom_in_world.orientation);
-    ctx_.static_tf->sendTransform(t);
-  }
-
-  void publishOdometry() {
-    const cp::Pose& pose = drive_->odomPose();
-    const cp::Twist& twist = drive_->odomTwist();
-    nav_msgs::Odometry odom;
-    odom.header.stamp = ctx_.now();
-    odom.header.frame_id = odom_frame_;
-    odom.child_frame_id = base_frame_;
-    odom.pose.pose.position.x = pose.position.x;
-    odom.pose.pose.position.y = pose.position.y;
-    odom.pose.pose.position.z = pose.position.z;
-    odom.pose.pose.orientation = toMsg(pose.orientation);
-    odom.twist.twist.linear.x = twist.linear_mps.x;
-    odom.twist.twist.linear.y = twist.linear_mps.y;
-    odom.twist.twist.linear.z = twist.linear_mps.z;
-    odom.twist.twist.angular.x = twist.angular_radps.x;
-    odom.twist.twist.angular.y = twist.angular_radps.y;
-    odom.twist.twist.angular.z = twist.angular_radps.z;
-    const double cov[6] = {1e-5, 1e-5, 1e12, 1e12, 1e12, 1e-3};  // planar motion, as the diff drive
-    for (int i = 0; i < 6; ++i) {
-      odom.pose.covariance[i * 7] = cov[i];
-      odom.twist.covariance[i * 7] = cov[i];
-    }
-    odom_pub_.publish(odom);
-    if (publish_odom_tf_) {
-      geometry_msgs::TransformStamped t;
-      t.header = odom.header;
-      t.child_frame_id = base_frame_;
-      t.transform.translation.x = pose.position.x;
-      t.transform.translation.y = pose.position.y;
-      t.transform.translation.z = pose.position.z;
-      t.transform.rotation = odom.pose.pose.orientation;
-      ctx_.tf->sendTransform(t);
-    }
-  }
-
   void publishJointStates() {
     const cp::PhysicsEngine& e = ctx_.sim->engine();
     const cp::ModelId id = ctx_.sim->robot(ctx_.robot).id;
@@ -258,10 +198,11 @@ class AckermannDrivePlugin : public SimPlugin {
 
   PluginContext ctx_;
   std::unique_ptr<AckermannDrive> drive_;
-  std::string robot_name_, odom_frame_, base_frame_;
-  bool publish_odom_tf_ = true, publish_world_odom_tf_ = true, timeout_reported_ = false;
+  std::string robot_name_;
+  bool timeout_reported_ = false;
   ros::Subscriber drive_sub_, twist_sub_;
-  ros::Publisher odom_pub_, joint_pub_;
+  OdometryPublisher odometry_;
+  ros::Publisher joint_pub_;
   sensor_msgs::JointState joint_state_;
   std::vector<int> joint_indices_;
 };

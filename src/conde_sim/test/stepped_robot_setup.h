@@ -1,0 +1,76 @@
+// Set-up shared by the tests that build a world in-process with one of this repository's robots
+// and step it, once per physics engine (diff drive, Ackermann drive, joint controllers, LiDAR).
+// Needs CONDE_REPO_ROOT, the repository root (CMakeLists.txt defines it for these tests).
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "conde_sim/simulation.h"
+
+namespace conde_sim_test {
+
+// A xacro file of this repository (`path` from the repository root) expanded with `args`, as the
+// launch files load it; $(find ...) finds this repository's packages. On failure, xacro's message.
+inline std::string xacroUrdf(const std::string& path, const std::string& args = "") {
+  const std::string cmd = std::string("ROS_PACKAGE_PATH=") + CONDE_REPO_ROOT + " xacro " + CONDE_REPO_ROOT + "/" +
+                          path + " " + args + " 2>&1";
+  std::unique_ptr<FILE, decltype(&pclose)> pipe(popen(cmd.c_str(), "r"), pclose);
+  std::string out;
+  char buffer[4096];
+  size_t n;
+  while ((n = fread(buffer, 1, sizeof buffer, pipe.get())) > 0) out.append(buffer, n);
+  return out;
+}
+
+// The test car (tests/fixtures/ackermann_car.urdf.xacro) with its Ackermann drive plugin,
+// expanded once.
+inline const std::string& testCarUrdf() {
+  static const std::string urdf = xacroUrdf("tests/fixtures/ackermann_car.urdf.xacro");
+  return urdf;
+}
+
+// Adds the robot `name` from `urdf` at `spawn_pose`; `source` names the description in messages.
+inline int addRobot(conde_sim::Simulation& sim, const std::string& name, const std::string& source,
+                    const std::string& urdf, const conde_physics::Pose& spawn_pose = conde_physics::Pose()) {
+  conde_sim::RobotSpec spec;
+  spec.name = name;
+  spec.source = source;
+  spec.urdf_xml = urdf;
+  spec.spawn_pose = spawn_pose;
+  return sim.addRobot(spec);
+}
+
+// One physics step with a drive's hooks around it, as the simulator calls its plugins.
+template <class Drive>
+void stepWithDrive(conde_sim::Simulation& sim, Drive& drive) {
+  drive.beforeStep();
+  sim.step();
+  drive.afterStep();
+}
+
+// x, y of robot 0's base_footprint after each of `steps` steps of `drive`; `command(step)` runs
+// every 50th step (20 Hz at the 1 ms step, like a driver node).
+template <class Drive, class Command>
+std::vector<double> baseTrajectory(conde_sim::Simulation& sim, Drive& drive, int steps, Command command) {
+  std::vector<double> xy;
+  for (int i = 0; i < steps; ++i) {
+    if (i % 50 == 0) command(i);
+    stepWithDrive(sim, drive);
+    const conde_physics::Pose p = sim.linkPose(0, "base_footprint");
+    xy.push_back(p.position.x);
+    xy.push_back(p.position.y);
+  }
+  return xy;
+}
+
+// Every physics behaviour is tested on both engines:
+//   INSTANTIATE_TEST_SUITE_P(BothEngines, Suite, bothEngines(), engineName);
+inline auto bothEngines() { return ::testing::Values("ode", "bullet"); }
+inline std::string engineName(const ::testing::TestParamInfo<std::string>& info) { return info.param; }
+
+}  // namespace conde_sim_test
