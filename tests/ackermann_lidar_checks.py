@@ -146,8 +146,9 @@ class AckermannLidarTest(unittest.TestCase):
             "left_steering_joint", "right_steering_joint", "left_front_wheel_joint", "right_front_wheel_joint",
             "left_rear_wheel_joint", "right_rear_wheel_joint"})
         for car in ("car1", "car2"):
-            wait_for(lambda: buffer.can_transform(f"{car}/odom", f"{car}/base_footprint", rospy.Time(0)),
-                     f"TF {car}/odom -> {car}/base_footprint")
+            # The listener may have connected to /tf after the steps above published odom -> base.
+            self.sim.step_until(lambda: buffer.can_transform(f"{car}/odom", f"{car}/base_footprint", rospy.Time(0)),
+                                f"TF {car}/odom -> {car}/base_footprint")
             wait_for(lambda: buffer.can_transform("world", f"{car}/odom", rospy.Time(0)), f"TF world -> {car}/odom")
 
 

@@ -33,6 +33,18 @@ class SteppedSim:
         self.time_s = response.sim_time_s
         return self.time_s
 
+    def step_until(self, predicate, what, steps=10, timeout_s=WALL_TIMEOUT_S):
+        """Steps `steps` at a time until `predicate()` holds. For what only arrives while simulated
+        time runs and has no connection to wait for first (a TF listener subscribes in the
+        background: messages published before it is connected are lost)."""
+        end = time.monotonic() + timeout_s
+        while not predicate():
+            if time.monotonic() > end or rospy.is_shutdown():
+                raise AssertionError(f"timed out after {timeout_s} s stepping until {what}")
+            self.step(steps)
+            time.sleep(0.01)  # delivery of what the steps published
+        return self.time_s
+
     def run(self, seconds, every_s=0.05, before_chunk=None, step_s=0.001):
         """Steps `seconds` of simulated time in chunks of `every_s`, calling `before_chunk()`
         before each one (to re-send a command like a driver node at 1 / every_s Hz)."""
