@@ -1,12 +1,12 @@
 """Bad input stops conde_sim_node at start-up with a message naming the file and the field, and
 a non-zero exit. Each case runs the real node against a real roscore on a free loopback port."""
 import os
-import socket
 import subprocess
-import time
 
 import pytest
 import rosgraph
+
+from conde_testing.ros_harness import Roscore
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 FIXTURES = os.path.join(HERE, "fixtures")
@@ -18,25 +18,11 @@ GOOD_URDF = """<robot name="box_bot">
 </robot>"""
 
 
-def free_port():
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
-
-
 @pytest.fixture(scope="module")
 def master():
-    port = free_port()
-    env = dict(os.environ, ROS_MASTER_URI=f"http://127.0.0.1:{port}", ROS_IP="127.0.0.1")
-    core = subprocess.Popen(["roscore", "-p", str(port)], env=env, stdout=subprocess.DEVNULL,
-                            stderr=subprocess.DEVNULL)
-    deadline = time.monotonic() + 60
-    while subprocess.run(["rosparam", "list"], env=env, capture_output=True).returncode != 0:
-        assert time.monotonic() < deadline, "roscore did not come up"
-        time.sleep(0.2)
-    yield env
-    core.terminate()
-    core.wait(timeout=30)
+    """A roscore on a free loopback port; yields the environment the nodes run in against it."""
+    with Roscore("conde_sim") as core:
+        yield core.env
 
 
 def run_node(env, urdf=GOOD_URDF, **params):

@@ -14,7 +14,6 @@ import json
 import os
 import shutil
 import signal
-import socket
 import subprocess
 import tempfile
 import time
@@ -30,17 +29,12 @@ try:
 except ImportError:  # the dev image has no browser tools; the test skips there
     websocket = None
 
+from conde_testing.ros_harness import free_port
 from test_container_images import ARTEFACTS, IMAGE, REPO, build_images, podman, report
 
 ROS_MASTER_PORT = 11311
 SCREENSHOT = os.path.join(ARTEFACTS, "novnc_rviz.png")
 SCREEN_W_PX, SCREEN_H_PX = 1280, 900  # conde-rviz-novnc's default Xvfb screen
-
-
-def free_port():
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
 
 
 def listening_addresses(proc_net_tcp_text, port):

@@ -3,18 +3,16 @@ free loopback port: the four namespaced cars come up, each answers only its own 
 TF has no two frames of the same name, and the lap timer reports a lap of car0 driven by its
 reference driver (gap_follower), in the CSV too. The simulation starts paused and is stepped
 one LiDAR period at a time by racing_checks.py, which prints its measurements as JSON."""
-import contextlib
 import csv
 import json
 import os
 import signal
 import subprocess
 import sys
-import time
 
 import pytest
 
-from test_bad_input import free_port
+from conde_testing.ros_harness import Roscore
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, "..", "src", "conde_racing", "src"))
@@ -29,33 +27,16 @@ MAX_SPEED_MPS = 2.0          # racetrack.launch's default max_speed of the drive
 SIM_TIME_LIMIT_S = 90.0      # for car0's lap (about 15 s at 2 m/s)
 
 
-@contextlib.contextmanager
-def roscore():
-    """A roscore of its own on a free loopback port for each engine's run, so that nothing the
-    first run left registered (a node not unregistered yet) can answer the second run's calls."""
-    port = free_port()
-    env = dict(os.environ, ROS_MASTER_URI="http://127.0.0.1:%d" % port, ROS_IP="127.0.0.1")
-    env.pop("ROS_HOSTNAME", None)
-    core = subprocess.Popen(["roscore", "-p", str(port)], env=env, stdout=subprocess.DEVNULL,
-                            stderr=subprocess.DEVNULL)
-    try:
-        deadline = time.monotonic() + 60
-        while subprocess.run(["rosparam", "list"], env=env, capture_output=True).returncode != 0:
-            assert core.poll() is None and time.monotonic() < deadline, "roscore did not come up"
-            time.sleep(0.2)
-        yield env
-    finally:
-        core.terminate()
-        core.wait(timeout=30)
-
-
 @pytest.fixture(scope="module", params=ENGINES)
 def run(request, tmp_path_factory):
     engine = request.param
     out_dir = tmp_path_factory.mktemp("racing_" + engine)
     laps_csv = out_dir / "laps.csv"
     log_path = out_dir / "roslaunch.log"
-    with roscore() as master, open(log_path, "w") as log:
+    # A roscore of its own for each engine's run, so that nothing the first run left registered (a
+    # node not unregistered yet) can answer the second run's calls.
+    with Roscore("conde_racing") as core, open(log_path, "w") as log:
+        master = core.env
         launch = subprocess.Popen(
             ["roslaunch", "conde_racing", "racetrack.launch", "cars:=4", "physics_engine:=" + engine, "paused:=true",
              "real_time_factor:=0", "drivers_enabled:=false", "laps_csv:=%s" % laps_csv],

@@ -7,13 +7,14 @@ The regions come from the layout that conde.rviz fixes (window 1200x846 at (60, 
 1280x900 screen; camera panes docked left under the display list, 3D view in the middle)."""
 import os
 import shutil
-import socket
 import subprocess
 import time
 
 import numpy as np
 import pytest
 import rosgraph
+
+from conde_testing.ros_harness import free_port
 
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 ARTEFACT = os.path.join(REPO, "build", "test_results", "rviz_screenshot.png")
@@ -23,12 +24,6 @@ SCREEN = (1280, 900)
 VIEW_3D = (430, 130, 960, 800)
 PANES = [(65, 445, 398, 542), (65, 577, 398, 674), (65, 708, 398, 805)]  # image areas of the docked panes
 TIMEOUT_S = 150.0
-
-
-def free_port():
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
 
 
 def start_xvfb():

@@ -7,18 +7,10 @@ import xml.etree.ElementTree as ET
 
 import numpy as np
 
+from conde_testing.ros_harness import xacro_finding
+
 PACKAGE_DIR = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-
-os.environ['ROS_PACKAGE_PATH'] = os.pathsep.join(
-    p for p in [PACKAGE_DIR, os.environ.get('ROS_PACKAGE_PATH', '')] if p)
-
-import xacro  # noqa: E402  (after ROS_PACKAGE_PATH is set)
-
-try:  # roslaunch caches its RosPack on first use; drop a cache made with another path
-    from roslaunch import substitution_args as _substitution_args
-    _substitution_args._rospack = None
-except ImportError:  # pragma: no cover
-    pass
+xacro = xacro_finding(PACKAGE_DIR)
 
 
 class XacroRobot:

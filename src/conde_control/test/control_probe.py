@@ -5,7 +5,6 @@ references for a while and then stops, and prints every /cmd_vel (with the clock
 as JSON on stdout."""
 
 import json
-import sys
 import time
 
 import rospy
@@ -13,17 +12,14 @@ from conde_msgs.msg import ControlReference
 from geometry_msgs.msg import Twist
 from rosgraph_msgs.msg import Clock
 
+from conde_testing.ros_harness import wait_or_exit
+
 WAIT_S = 60.0  # wall-clock patience (a busy machine)
 PERIOD = rospy.Duration(0, 33333334)  # one period of the node's 30 Hz loop (rounded up)
 
 
 def wait_for(condition, what):
-    deadline = time.monotonic() + WAIT_S
-    while not condition():
-        if time.monotonic() > deadline or rospy.is_shutdown():
-            sys.stderr.write("control_probe: timed out waiting for %s\n" % what)
-            sys.exit(2)
-        time.sleep(0.002)
+    wait_or_exit("control_probe", condition, what, WAIT_S, poll_s=0.002)
 
 
 def main():

@@ -6,12 +6,11 @@ line at shutdown."""
 import json
 import os
 import re
-import signal
 import subprocess
 
 import pytest
 
-from control_ros import PYTHON, Roscore
+from conde_testing.ros_harness import Roscore, run_probe
 from conde_control.control_law import ControlConfig
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -22,23 +21,15 @@ TIMING_LINE = re.compile(r"conde_control: timing: (\d+) frames, mean (\d+\.\d\d)
 
 @pytest.fixture(scope="module")
 def core():
-    core = Roscore("conde_control")
-    yield core
-    core.stop()
+    with Roscore("conde_control") as core:
+        yield core
 
 
 def test_reference_in_cmd_vel_out_and_braking_when_stale(core):
     core.set_params({"/use_sim_time": True}, clear=["/conde_control"])
-    node = subprocess.Popen(["rosrun", "conde_control", "conde_control"], env=core.env, stdout=subprocess.PIPE,
-                            stderr=subprocess.STDOUT, text=True)
-    try:
-        probe = subprocess.run([PYTHON, os.path.join(HERE, "control_probe.py")], env=core.env, capture_output=True,
-                               text=True, timeout=300)
-    finally:
-        node.send_signal(signal.SIGINT)
-        log = node.communicate(timeout=60)[0]
-    assert probe.returncode == 0, probe.stderr + "\nnode log:\n" + log
-    log_rows = json.loads(probe.stdout)
+    probe_out, log = run_probe(os.path.join(HERE, "control_probe.py"), ["rosrun", "conde_control", "conde_control"],
+                               core.env, timeout_s=300)
+    log_rows = json.loads(probe_out)
     follow = [(v, w) for phase, _, v, w in log_rows if phase == "follow"]
     silent = [(v, w) for phase, _, v, w in log_rows if phase == "silent"]
     assert len(follow) == 60 and len(silent) == 60

@@ -4,7 +4,6 @@ process): it owns /clock, feeds conde_decision lane measurements and panel signa
 what came out as one JSON object on stdout."""
 
 import json
-import sys
 import time
 
 import rospy
@@ -12,16 +11,13 @@ from conde_msgs.msg import ControlReference, DecisionState, LaneMeasurement, Pan
 from rosgraph_msgs.msg import Clock
 from visualization_msgs.msg import Marker
 
+from conde_testing.ros_harness import wait_or_exit
+
 WAIT_S = 60.0  # wall-clock patience for anything to arrive (a busy machine)
 
 
 def wait_for(condition, what):
-    deadline = time.monotonic() + WAIT_S
-    while not condition():
-        if time.monotonic() > deadline or rospy.is_shutdown():
-            sys.stderr.write("decision_probe: timed out waiting for %s\n" % what)
-            sys.exit(2)
-        time.sleep(0.005)
+    wait_or_exit("decision_probe", condition, what, WAIT_S, poll_s=0.005)
 
 
 def main():

@@ -5,12 +5,11 @@ bad input stops it with the message and a non-zero exit; the CPU timing line at 
 import json
 import os
 import re
-import signal
 import subprocess
 
 import pytest
 
-from decision_ros import PYTHON, Roscore
+from conde_testing.ros_harness import Roscore, run_probe
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 FIXTURES = os.path.join(HERE, "fixtures")
@@ -19,9 +18,8 @@ TIMING_LINE = re.compile(r"conde_decision: timing: (\d+) frames, mean (\d+\.\d\d
 
 @pytest.fixture(scope="module")
 def core():
-    core = Roscore("conde_decision")
-    yield core
-    core.stop()
+    with Roscore("conde_decision") as core:
+        yield core
 
 
 def run_node(core, **params):
@@ -40,16 +38,9 @@ def error_line(stderr):
 
 def test_lane_and_signal_in_reference_and_state_out(core):
     core.set_params({"/use_sim_time": True}, clear=["/conde_decision"])
-    node = subprocess.Popen(["rosrun", "conde_decision", "conde_decision"], env=core.env, stdout=subprocess.PIPE,
-                            stderr=subprocess.STDOUT, text=True)
-    try:
-        probe = subprocess.run([PYTHON, os.path.join(HERE, "decision_probe.py")], env=core.env, capture_output=True,
-                               text=True, timeout=300)
-    finally:
-        node.send_signal(signal.SIGINT)
-        log = node.communicate(timeout=60)[0]
-    assert probe.returncode == 0, probe.stderr + "\nnode log:\n" + log
-    result = json.loads(probe.stdout)
+    probe_out, log = run_probe(os.path.join(HERE, "decision_probe.py"), ["rosrun", "conde_decision", "conde_decision"],
+                               core.env, timeout_s=300)
+    result = json.loads(probe_out)
     refs, states, markers = result["refs"], result["states"], result["markers"]
 
     # One reference per lane message, stamped with the measurement's time, measurement passed on.

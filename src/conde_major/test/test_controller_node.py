@@ -3,12 +3,12 @@ problem stops it with exit status 1 and one line naming the file or parameter an
 (The node driving the simulated robot: tests/major_alvega.test.)"""
 
 import os
-import socket
 import subprocess
-import time
 
 import pytest
 import yaml
+
+from conde_testing.ros_harness import Roscore
 
 PACKAGE_DIR = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 WORKSPACE = os.path.normpath(os.path.join(PACKAGE_DIR, '..', '..'))
@@ -18,55 +18,10 @@ XACRO = os.path.join(WORKSPACE, 'urdf', 'robots', 'major_alvega.urdf.xacro')
 NODE = 'major_ackermann_controller'
 
 
-def workspace_env():
-    """The environment in which the built workspace's nodes run."""
-    env = dict(os.environ, PATH='/usr/bin:' + os.environ.get('PATH', ''))
-    if subprocess.run(['rospack', 'find', 'conde_major'], env=env, capture_output=True).returncode == 0:
-        return env
-    setup = os.path.join(WORKSPACE, 'devel', 'setup.bash')
-    assert os.path.isfile(setup), 'build the workspace first (scripts/build.sh): no %s' % setup
-    out = subprocess.run(['bash', '-c', "set +u; source '%s' && env -0" % setup], env=env, capture_output=True,
-                         check=True).stdout
-    return dict(item.split('=', 1) for item in out.decode().split('\0') if '=' in item)
-
-
-class Roscore:
-    """roscore on a free port; `env` runs processes against it."""
-
-    def __init__(self):
-        with socket.socket() as s:
-            s.bind(('127.0.0.1', 0))
-            port = s.getsockname()[1]
-        self.env = dict(workspace_env(), ROS_MASTER_URI='http://127.0.0.1:%d' % port, ROS_IP='127.0.0.1')
-        self.env.pop('ROS_HOSTNAME', None)
-        self.proc = subprocess.Popen(['roscore', '-p', str(port)], env=self.env, stdout=subprocess.DEVNULL,
-                                     stderr=subprocess.DEVNULL)
-        deadline = time.monotonic() + 60
-        while subprocess.run(['rosparam', 'list'], env=self.env, capture_output=True).returncode != 0:
-            assert self.proc.poll() is None, 'roscore exited'
-            assert time.monotonic() < deadline, 'roscore did not come up'
-            time.sleep(0.2)
-        import rosgraph  # here: the other tests of the package must not need ROS
-        self.master = rosgraph.Master('/test_setup', master_uri=self.env['ROS_MASTER_URI'])
-
-    def set_params(self, params):
-        """Clears what the tests set on the parameter server, then sets `params`."""
-        tops = {'/' + name.split('/')[1] for name in self.master.getParamNames()}
-        for top in tops - {'/rosdistro', '/rosversion', '/run_id', '/roslaunch'}:
-            self.master.deleteParam(top)
-        for name, value in params.items():
-            self.master.setParam(name, value)
-
-    def stop(self):
-        self.proc.terminate()
-        self.proc.wait(timeout=30)
-
-
 @pytest.fixture(scope='module')
 def core():
-    core = Roscore()
-    yield core
-    core.stop()
+    with Roscore('conde_major') as core:
+        yield core
 
 
 @pytest.fixture(scope='module')
@@ -79,6 +34,11 @@ def robot_description(core):
 def joint_controllers():
     with open(JOINT_CONTROLLERS) as f:
         return {'/' + name: value for name, value in yaml.safe_load(f).items()}
+
+
+def reset_params(core, params):
+    """Clears what the tests set on the parameter server, then sets `params`."""
+    core.set_params(params, clear=core.param_namespaces())
 
 
 def run_node(core, *args):
@@ -109,7 +69,7 @@ def shipped_config():
 ])
 def test_a_wheel_file_without_a_controller_name(core, robot_description, joint_controllers, tmp_path, old, new,
                                                  field, what):
-    core.set_params(dict(joint_controllers, **{'/robot_description': robot_description}))
+    reset_params(core, dict(joint_controllers, **{'/robot_description': robot_description}))
     text = shipped_config()
     assert old in text
     path = write_config(tmp_path, text.replace(old, new))
@@ -119,7 +79,7 @@ def test_a_wheel_file_without_a_controller_name(core, robot_description, joint_c
 
 
 def test_a_controller_that_is_not_configured(core, robot_description, joint_controllers, tmp_path):
-    core.set_params(dict(joint_controllers, **{'/robot_description': robot_description}))
+    reset_params(core, dict(joint_controllers, **{'/robot_description': robot_description}))
     path = write_config(tmp_path, shipped_config().replace('left_rear_wheel_ctrlr', 'left_rear_ctrlr'))
     proc = run_node(core, '_config_file:=' + path)
     assert proc.returncode == 1
@@ -130,7 +90,7 @@ def test_a_controller_that_is_not_configured(core, robot_description, joint_cont
 
 
 def test_a_link_the_robot_does_not_have(core, robot_description, joint_controllers, tmp_path):
-    core.set_params(dict(joint_controllers, **{'/robot_description': robot_description}))
+    reset_params(core, dict(joint_controllers, **{'/robot_description': robot_description}))
     path = write_config(tmp_path, shipped_config().replace('steering_link_name: right_front_wheel',
                                                            'steering_link_name: right_front_tyre'))
     proc = run_node(core, '_config_file:=' + path)
@@ -157,7 +117,7 @@ def test_a_link_the_robot_does_not_have(core, robot_description, joint_controlle
 def test_bad_parameters(core, robot_description, joint_controllers, params, args, message):
     setup = dict(joint_controllers, **{'/robot_description': robot_description})
     setup.update(params)
-    core.set_params({k: v for k, v in setup.items() if v is not None})
+    reset_params(core, {k: v for k, v in setup.items() if v is not None})
     proc = run_node(core, *args)
     assert proc.returncode == 1
     assert error_lines(proc.stderr) == ['%s: error: %s' % (NODE, message)]

@@ -10,19 +10,11 @@ import yaml
 
 from conde_major.controller_config import load_wheel_config
 from conde_major.urdf_geometry import GeometryError, UrdfTree, car_dimensions
+from conde_testing.ros_harness import xacro_finding
 
 PACKAGE_DIR = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 DESCRIPTION_DIR = os.path.join(os.path.dirname(os.path.dirname(PACKAGE_DIR)), 'urdf')
-os.environ['ROS_PACKAGE_PATH'] = os.pathsep.join(
-    p for p in [DESCRIPTION_DIR, os.environ.get('ROS_PACKAGE_PATH', '')] if p)
-
-import xacro  # noqa: E402  (after ROS_PACKAGE_PATH is set)
-
-try:  # roslaunch caches its RosPack on first use; drop a cache made with another path
-    from roslaunch import substitution_args as _substitution_args
-    _substitution_args._rospack = None
-except ImportError:  # pragma: no cover
-    pass
+xacro = xacro_finding(DESCRIPTION_DIR)  # $(find conde_description) is this checkout's urdf/
 
 
 @pytest.fixture(scope='module')

@@ -15,16 +15,15 @@ import time
 
 import pytest
 
-from racing_ros import Roscore
+from conde_testing.ros_harness import Roscore
 
 TOPIC = "/car9/ackermann_cmd"
 
 
 @pytest.fixture(scope="module")
 def core():
-    core = Roscore()
-    yield core
-    core.stop()
+    with Roscore("conde_racing") as core:
+        yield core
 
 
 def read_until(fd, text, timeout_s=60.0):

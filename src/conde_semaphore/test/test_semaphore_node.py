@@ -7,9 +7,7 @@ Needs the built workspace: `source devel/setup.bash` (the node is started with r
 import os
 import re
 import signal
-import socket
 import subprocess
-import threading
 import time
 
 import cv2
@@ -24,6 +22,7 @@ except ImportError as error:
     raise ImportError("%s: build the workspace and source devel/setup.bash first" % error) from None
 
 from conde_semaphore.panel_classifier import SIGNAL_CODES
+from conde_testing.ros_harness import Roscore, TopicLog, joined_as_node, stop_process, wait_until
 
 IMAGES_DIR = os.path.join(os.path.dirname(os.path.abspath(__file__)), "images")
 IMAGE_TOPIC = "/conde_camera_signalling_panel/image_raw"
@@ -31,70 +30,22 @@ TIMEOUT_S = 60.0  # generous: the machine may be busy
 TIMING_LINE = re.compile(r"conde_semaphore: timing: (\d+) frames, mean (\d+\.\d\d) ms, max (\d+\.\d\d) ms CPU per frame")
 
 
-def free_port():
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
-
-
-def wait_until(condition, what, timeout_s=TIMEOUT_S):
-    deadline = time.monotonic() + timeout_s
-    while not condition():
-        assert time.monotonic() < deadline, "timed out waiting for " + what
-        time.sleep(0.05)
-
-
-class Collector:
-    def __init__(self, topic, message_type):
-        self.lock = threading.Lock()
-        self.messages = []
-        self.subscriber = rospy.Subscriber(topic, message_type, self.on_message, queue_size=100)
-
-    def on_message(self, msg):
-        with self.lock:
-            self.messages.append(msg)
-
-    def snapshot(self):
-        with self.lock:
-            return list(self.messages)
-
-
 @pytest.fixture(scope="module")
 def ros():
     """roscore on a free port, this process as a ROS node, and conde_semaphore started by rosrun;
-    yields (image publisher, /conde_signal collector, /rosout collector)."""
-    port = free_port()
-    uri = "http://127.0.0.1:%d" % port
-    env = dict(os.environ, ROS_MASTER_URI=uri, ROS_IP="127.0.0.1")
-    env.pop("ROS_HOSTNAME", None)
-    core = subprocess.Popen(["roscore", "-p", str(port)], env=env, stdout=subprocess.DEVNULL,
-                            stderr=subprocess.DEVNULL, start_new_session=True)
-    node = None
-    try:
-        wait_until(lambda: subprocess.run(["rosparam", "list"], env=env, capture_output=True).returncode == 0,
-                   "roscore to come up")
-        os.environ.update(ROS_MASTER_URI=uri, ROS_IP="127.0.0.1")
-        os.environ.pop("ROS_HOSTNAME", None)
-        rospy.init_node("conde_semaphore_test", anonymous=True, disable_signals=True)
-        rosout = Collector("/rosout", Log)
-        signals = Collector("/conde_signal", PanelSignal)
+    yields (image publisher, /conde_signal log, /rosout log)."""
+    with Roscore("conde_semaphore") as core, joined_as_node(core.uri, "conde_semaphore_test"):
+        rosout = TopicLog("/rosout", Log)
+        signals = TopicLog("/conde_signal", PanelSignal)
         publisher = rospy.Publisher(IMAGE_TOPIC, Image, queue_size=10)
-        node = subprocess.Popen(["rosrun", "conde_semaphore", "conde_semaphore"], env=env,
+        node = subprocess.Popen(["rosrun", "conde_semaphore", "conde_semaphore"], env=core.env,
                                 stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True)
-        wait_until(lambda: publisher.get_num_connections() > 0 and signals.subscriber.get_num_connections() > 0,
-                   "conde_semaphore to connect")
-        yield publisher, signals, rosout
-    finally:
-        for process in (node, core):
-            if process is None:
-                continue
-            os.killpg(process.pid, signal.SIGINT)
-            try:
-                process.wait(timeout=30)
-            except subprocess.TimeoutExpired:
-                os.killpg(process.pid, signal.SIGKILL)
-                process.wait()
-        rospy.signal_shutdown("tests done")
+        try:
+            wait_until(lambda: publisher.get_num_connections() > 0 and signals.subscriber.get_num_connections() > 0,
+                       "conde_semaphore to connect")
+            yield publisher, signals, rosout
+        finally:
+            stop_process(node, group=True)
 
 
 def image_message(file_name, encoding, stamp_s):

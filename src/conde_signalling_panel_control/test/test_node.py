@@ -3,20 +3,14 @@ service and the topic, latched pictures on both monitor topics, schedule mode on
 clock published by the test, the menu on a real pseudo-terminal, and bad configuration.
 
 Needs the built workspace: `source devel/setup.bash` (the node is started with rosrun)."""
-import os
-import pty
 import signal
-import socket
 import subprocess
 import termios
-import threading
-import time
 
 import numpy as np
 import pytest
 
 try:
-    import rosgraph
     import rospy
     from conde_msgs.msg import PanelSignal
     from conde_msgs.srv import SetPanelSignal
@@ -26,6 +20,8 @@ except ImportError as error:
     raise ImportError("%s: build the workspace and source devel/setup.bash first" % error) from None
 
 from conde_signalling_panel_control.panel_images import draw_signal
+from conde_testing.pseudo_terminal import Terminal
+from conde_testing.ros_harness import LoggedProcess, Roscore, TopicLog, joined_as_node, wait_until
 
 NODE = "/signalling_panel_controller"
 MONITOR_TOPICS = ("/monitor1/image1", "/monitor2/image2")
@@ -34,75 +30,16 @@ TIMEOUT_S = 60.0  # generous: the machine may be busy
 VALID_NAMES = "none, left, right, forward, stop, end_of_trial, parking"
 
 
-def free_port():
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
-
-
-def wait_until(condition, what, timeout_s=TIMEOUT_S):
-    deadline = time.monotonic() + timeout_s
-    while not condition():
-        assert time.monotonic() < deadline, "timed out waiting for " + what
-        time.sleep(0.05)
-
-
 @pytest.fixture(scope="module")
 def master():
     """A roscore on a free port; this test process joins it as a ROS node (wall-clock time)."""
-    port = free_port()
-    uri = "http://127.0.0.1:%d" % port
-    env = dict(os.environ, ROS_MASTER_URI=uri, ROS_IP="127.0.0.1")
-    env.pop("ROS_HOSTNAME", None)
-    core = subprocess.Popen(["roscore", "-p", str(port)], env=env, stdout=subprocess.DEVNULL,
-                            stderr=subprocess.DEVNULL, start_new_session=True)
-    try:
-        wait_until(lambda: subprocess.run(["rosparam", "list"], env=env, capture_output=True).returncode == 0,
-                   "roscore to come up")
-        os.environ.update(ROS_MASTER_URI=uri, ROS_IP="127.0.0.1")
-        os.environ.pop("ROS_HOSTNAME", None)
-        rospy.init_node("signalling_panel_test", anonymous=True, disable_signals=True)
-        yield env
-    finally:
-        rospy.signal_shutdown("tests done")
-        os.killpg(core.pid, signal.SIGINT)
-        try:
-            core.wait(timeout=30)
-        except subprocess.TimeoutExpired:
-            os.killpg(core.pid, signal.SIGKILL)
-            core.wait()
+    with Roscore("conde_signalling_panel_control") as core, joined_as_node(core.uri, "signalling_panel_test"):
+        yield core
 
 
-class Collector:
+def topic_log(topic, message_type):
     """Every message received on a topic, and waiting for one that matches."""
-
-    def __init__(self, topic, message_type):
-        self.topic = topic
-        self.messages = []
-        self._changed = threading.Condition()
-        self._subscriber = rospy.Subscriber(topic, message_type, self._on_message, queue_size=100)
-
-    def _on_message(self, message):
-        with self._changed:
-            self.messages.append(message)
-            self._changed.notify_all()
-
-    def wait_for(self, predicate, what, since=0, timeout_s=TIMEOUT_S):
-        """The first message received (from the since-th on, so far or later) for which
-        predicate holds."""
-        deadline = time.monotonic() + timeout_s
-        with self._changed:
-            while True:
-                for message in self.messages[since:]:
-                    if predicate(message):
-                        return message
-                remaining = deadline - time.monotonic()
-                assert remaining > 0, "%s: timed out waiting for %s; received %s" % (
-                    self.topic, what, [describe(m) for m in self.messages])
-                self._changed.wait(remaining)
-
-    def close(self):
-        self._subscriber.unregister()
+    return TopicLog(topic, message_type, describe=describe)
 
 
 def describe(message):
@@ -116,44 +53,17 @@ def pixels(image):
     return np.frombuffer(image.data, np.uint8).reshape(image.height, image.width, 3)
 
 
-class Node:
+def start_node(master, tmp_path, params, stdin=subprocess.DEVNULL, stdout=None, sim_time=False,
+               controlling_terminal=False):
     """The node under test, started with rosrun and private parameters `_name:=value`."""
-
-    def __init__(self, env, tmp_path, params, stdin=subprocess.DEVNULL, stdout=None, sim_time=False,
-                 controlling_terminal=False):
-        master_api = rosgraph.Master("/signalling_panel_test_setup", master_uri=env["ROS_MASTER_URI"])
-        if master_api.hasParam(NODE):  # private parameters of an earlier case stay on the master
-            master_api.deleteParam(NODE)
-        if sim_time:
-            master_api.setParam("/use_sim_time", True)
-        elif master_api.hasParam("/use_sim_time"):
-            master_api.deleteParam("/use_sim_time")
-        command = ["rosrun", "conde_signalling_panel_control", "signalling_panel_controller"]
-        command += ["_%s:=%s" % item for item in params.items()]
-        if controlling_terminal:  # stdin's terminal becomes the controlling one: Ctrl-C sends SIGINT
-            command = ["setsid", "-c"] + command
-        self.stdout_path = tmp_path / "node_stdout.txt"
-        self.stderr_path = tmp_path / "node_stderr.txt"
-        with open(self.stdout_path, "w") as out, open(self.stderr_path, "w") as err:
-            self.process = subprocess.Popen(command, env=env, stdin=stdin, stdout=stdout or out, stderr=err)
-
-    def stderr(self):
-        return self.stderr_path.read_text()
-
-    def output(self):
-        return self.stdout_path.read_text() + self.stderr_path.read_text()
-
-    def wait(self, timeout_s=TIMEOUT_S):
-        return self.process.wait(timeout=timeout_s)
-
-    def stop(self):
-        if self.process.poll() is None:
-            self.process.send_signal(signal.SIGINT)
-            try:
-                self.process.wait(timeout=30)
-            except subprocess.TimeoutExpired:
-                self.process.kill()
-                self.process.wait()
+    # Private parameters of an earlier case stay on the master: delete them.
+    master.set_params({"/use_sim_time": True} if sim_time else {},
+                      clear=[NODE] if sim_time else [NODE, "/use_sim_time"])
+    command = ["rosrun", "conde_signalling_panel_control", "signalling_panel_controller"]
+    command += ["_%s:=%s" % item for item in params.items()]
+    if controlling_terminal:  # stdin's terminal becomes the controlling one: Ctrl-C sends SIGINT
+        command = ["setsid", "-c"] + command
+    return LoggedProcess(command, master.env, tmp_path, stdin=stdin, stdout=stdout)
 
 
 def set_signal(name):
@@ -163,13 +73,13 @@ def set_signal(name):
 
 def test_service_sets_latched_pictures_and_ground_truth(master, tmp_path):
     # No ~mode: the default (menu) with stdin not a terminal falls back to service mode.
-    node = Node(master, tmp_path, {})
+    node = start_node(master, tmp_path, {})
     try:
         response = set_signal("stop")
         assert response.success, response.message
         # Subscribing only now: latched topics still deliver the current picture.
-        monitors = [Collector(topic, Image) for topic in MONITOR_TOPICS]
-        truth = Collector(SIGNAL_TOPIC, PanelSignal)
+        monitors = [topic_log(topic, Image) for topic in MONITOR_TOPICS]
+        truth = topic_log(SIGNAL_TOPIC, PanelSignal)
         expected = draw_signal("stop")
         for monitor in monitors:
             image = monitor.wait_for(lambda m: m.width == 1022 and m.height == 757 and pixels(m)[385, 511, 0] == 255,
@@ -239,8 +149,8 @@ steps:
   - {at_s: 20.0, signal: end_of_trial}
 """)
     clock = SimClock()
-    truth = Collector(SIGNAL_TOPIC, PanelSignal)
-    node = Node(master, tmp_path, {"mode": "schedule", "schedule": path, "image_width_px": 320,
+    truth = topic_log(SIGNAL_TOPIC, PanelSignal)
+    node = start_node(master, tmp_path, {"mode": "schedule", "schedule": path, "image_width_px": 320,
                                    "image_height_px": 240}, sim_time=True)
     try:
         # No /clock yet: ROS time is 0, and the schedule's step at 0 s shows at once.
@@ -249,7 +159,7 @@ steps:
         clock.publish(1.0, 4.9, 4.999, 5.0)
         # Stamped with the ROS time of the switch: 5.0 exactly, not one of the earlier clocks.
         assert stamp_s(truth.wait_for(lambda m: m.signal == PanelSignal.FORWARD, "FORWARD")) == 5.0
-        monitor = Collector(MONITOR_TOPICS[1], Image)
+        monitor = topic_log(MONITOR_TOPICS[1], Image)
         image = monitor.wait_for(lambda m: m.header.stamp.to_sec() == 5.0, "the forward picture")
         assert (image.width, image.height) == (320, 240)
         assert np.array_equal(pixels(image), draw_signal("forward", 320, 240))
@@ -275,8 +185,8 @@ steps:
   - {at_s: 5.0, signal: right}
 """)
     clock = SimClock()
-    truth = Collector(SIGNAL_TOPIC, PanelSignal)
-    node = Node(master, tmp_path, {"mode": "schedule", "schedule": path, "image_width_px": 64,
+    truth = topic_log(SIGNAL_TOPIC, PanelSignal)
+    node = start_node(master, tmp_path, {"mode": "schedule", "schedule": path, "image_width_px": 64,
                                    "image_height_px": 48}, sim_time=True)
     try:
         truth.wait_for(lambda m: m.signal == PanelSignal.NONE, "the initial NONE")
@@ -293,7 +203,7 @@ steps:
 
 
 def run_to_exit(master, tmp_path, params):
-    node = Node(master, tmp_path, params)
+    node = start_node(master, tmp_path, params)
     try:
         code = node.wait()
     finally:
@@ -327,43 +237,10 @@ def test_bad_parameters_exit_with_their_message(master, tmp_path):
         assert "signalling_panel_controller: error: " + message in stderr.splitlines(), stderr
 
 
-class Terminal:
-    """A pseudo-terminal: the node gets its slave side as stdin and stdout; the test types on
-    the master side and reads what the node prints."""
-
-    def __init__(self):
-        self.master_fd, self.slave_fd = pty.openpty()
-        self.saved = termios.tcgetattr(self.slave_fd)
-        self.output = b""
-        self._reader = threading.Thread(target=self._read, daemon=True)
-        self._reader.start()
-
-    def _read(self):
-        while True:
-            try:
-                data = os.read(self.master_fd, 4096)
-            except OSError:
-                return
-            if not data:
-                return
-            self.output += data
-
-    def type(self, keys):
-        os.write(self.master_fd, keys)
-
-    def in_cbreak_mode(self):
-        lflag = termios.tcgetattr(self.slave_fd)[3]
-        return not lflag & termios.ICANON and not lflag & termios.ECHO
-
-    def close(self):
-        os.close(self.slave_fd)
-        os.close(self.master_fd)
-
-
 def test_menu_keys_on_a_terminal(master, tmp_path):
     terminal = Terminal()
-    truth = Collector(SIGNAL_TOPIC, PanelSignal)
-    node = Node(master, tmp_path, {"mode": "menu", "image_width_px": 64, "image_height_px": 48},
+    truth = topic_log(SIGNAL_TOPIC, PanelSignal)
+    node = start_node(master, tmp_path, {"mode": "menu", "image_width_px": 64, "image_height_px": 48},
                 stdin=terminal.slave_fd, stdout=terminal.slave_fd)
     try:
         # As in the original, the menu starts on stop.
@@ -396,8 +273,8 @@ def test_menu_keys_on_a_terminal(master, tmp_path):
 
 def test_menu_restores_the_terminal_on_ctrl_c(master, tmp_path):
     terminal = Terminal()
-    truth = Collector(SIGNAL_TOPIC, PanelSignal)
-    node = Node(master, tmp_path, {"mode": "menu", "image_width_px": 64, "image_height_px": 48},
+    truth = topic_log(SIGNAL_TOPIC, PanelSignal)
+    node = start_node(master, tmp_path, {"mode": "menu", "image_width_px": 64, "image_height_px": 48},
                 stdin=terminal.slave_fd, stdout=terminal.slave_fd, controlling_terminal=True)
     try:
         truth.wait_for(lambda m: m.signal == PanelSignal.STOP, "the initial STOP")
@@ -417,8 +294,8 @@ def test_node_stops_on_sigterm(master, tmp_path, mode):
     without an exception, so every wait of the node must check for shutdown (here a schedule
     step an hour ahead on the wall clock)."""
     path = write_schedule(tmp_path, "steps:\n  - {at_s: 0.0, signal: stop}\n  - {at_s: 3600.0, signal: left}\n")
-    truth = Collector(SIGNAL_TOPIC, PanelSignal)
-    node = Node(master, tmp_path, {"mode": mode, "schedule": path, "initial_signal": "stop",
+    truth = topic_log(SIGNAL_TOPIC, PanelSignal)
+    node = start_node(master, tmp_path, {"mode": mode, "schedule": path, "initial_signal": "stop",
                                    "image_width_px": 64, "image_height_px": 48})
     try:
         truth.wait_for(lambda m: m.signal == PanelSignal.STOP, "STOP")

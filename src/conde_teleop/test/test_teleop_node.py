@@ -7,224 +7,69 @@ is not a terminal, with the exact message and exit status 1.
 The nodes are started with rosrun/roslaunch: the workspace must be built (scripts/build.sh); its
 devel/setup.bash is sourced for them if the current environment does not find conde_teleop."""
 
-import os
-import pty
 import signal
-import socket
-import subprocess
-import termios
-import threading
-import time
 
 import pytest
 
 try:
-    import rosgraph
-    import rospy
     from geometry_msgs.msg import Twist
 except ImportError as error:
     raise ImportError("%s: run the tests with /usr/bin/python3 (the Python that has rospy)" % error) from None
 
-WORKSPACE = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", ".."))
+from conde_testing.pseudo_terminal import Terminal
+from conde_testing.ros_harness import LoggedProcess, Roscore, TopicLog, joined_as_node, wait_until
+
 TIMEOUT_S = 60.0  # generous: the machine may be busy
 HELP_FIRST_LINE = b"Conde keyboard teleop: one key at a time, no Enter."
 UP, DOWN, RIGHT, LEFT = b"\x1b[A", b"\x1b[B", b"\x1b[C", b"\x1b[D"
 
 
-def free_port():
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
-
-
-def wait_until(condition, what, timeout_s=TIMEOUT_S):
-    deadline = time.monotonic() + timeout_s
-    while not condition():
-        assert time.monotonic() < deadline, "timed out waiting for " + what
-        time.sleep(0.02)
-
-
-def workspace_env():
-    """The current environment if rospack finds conde_teleop, else the built workspace's."""
-    env = dict(os.environ, PATH="/usr/bin:" + os.environ.get("PATH", ""))
-    if subprocess.run(["rospack", "find", "conde_teleop"], env=env, capture_output=True).returncode == 0:
-        return env
-    setup = os.path.join(WORKSPACE, "devel", "setup.bash")
-    assert os.path.isfile(setup), "build the workspace first (scripts/build.sh): no %s" % setup
-    out = subprocess.run(["bash", "-c", "set +u; source '%s' && env -0" % setup], env=env, capture_output=True,
-                         check=True).stdout
-    return dict(item.split("=", 1) for item in out.decode().split("\0") if "=" in item)
-
-
-def master_parent_pid(uri):
-    """The parent process of the master answering at uri (the roscore that started it), or None."""
-    try:
-        pid = rosgraph.Master("/teleop_test_setup", master_uri=uri).getPid()
-        with open("/proc/%d/stat" % pid) as stat:
-            return int(stat.read().rsplit(")", 1)[1].split()[1])
-    except Exception:  # no master (yet) at uri, or it is not on this machine
-        return None
-
-
-def start_roscore(env):
-    """(process, environment) of a roscore on a free port.  Another test run may take the port
-    between the check and roscore's start: that roscore then exits, and another port is tried."""
-    for _ in range(5):
-        uri = "http://127.0.0.1:%d" % free_port()
-        core_env = dict(env, ROS_MASTER_URI=uri)
-        core = subprocess.Popen(["roscore", "-p", uri.rsplit(":", 1)[1]], env=core_env, stdout=subprocess.DEVNULL,
-                                stderr=subprocess.DEVNULL, start_new_session=True)
-        deadline = time.monotonic() + TIMEOUT_S
-        while core.poll() is None and master_parent_pid(uri) != core.pid:
-            assert time.monotonic() < deadline, "timed out waiting for roscore to come up at " + uri
-            time.sleep(0.2)
-        if core.poll() is None:
-            return core, core_env
-    raise AssertionError("roscore did not start on any of 5 free ports")
-
-
 @pytest.fixture(scope="module")
 def master():
     """A roscore on a free port (ours: not another test run's); this test process joins it as a
-    ROS node.  Yields the environment the nodes under test run in."""
-    env = dict(workspace_env(), ROS_IP="127.0.0.1")
-    env.pop("ROS_HOSTNAME", None)
-    env.pop("ROS_NAMESPACE", None)
-    core, env = start_roscore(env)
-    try:
-        os.environ.update(ROS_MASTER_URI=env["ROS_MASTER_URI"], ROS_IP="127.0.0.1")
-        os.environ.pop("ROS_HOSTNAME", None)
-        rospy.init_node("teleop_test", anonymous=True, disable_signals=True)
-        yield env
-    finally:
-        rospy.signal_shutdown("tests done")
-        os.killpg(core.pid, signal.SIGINT)
-        try:
-            core.wait(timeout=30)
-        except subprocess.TimeoutExpired:
-            os.killpg(core.pid, signal.SIGKILL)
-            core.wait()
-
-
-def clear_private_parameters(env, node_name):
-    """Private parameters of an earlier case stay on the master: delete them."""
-    master_api = rosgraph.Master("/teleop_test_setup", master_uri=env["ROS_MASTER_URI"])
-    if master_api.hasParam(node_name):
-        master_api.deleteParam(node_name)
+    ROS node.  Yields the Roscore; its `env` is the environment the nodes under test run in."""
+    with Roscore("conde_teleop") as core, joined_as_node(core.uri, "teleop_test"):
+        yield core
 
 
 def command_of(message):
     return (message.linear.x, message.angular.z)
 
 
-class Commands:
+class Commands(TopicLog):
     """Every Twist received on a topic, and waiting for one that matches."""
 
     def __init__(self, topic):
-        self.topic = topic
-        self.messages = []
-        self._changed = threading.Condition()
-        self._subscriber = rospy.Subscriber(topic, Twist, self._on_message, queue_size=1000)
+        super().__init__(topic, Twist, queue_size=1000)
 
-    def _on_message(self, message):
-        with self._changed:
-            self.messages.append(message)
-            self._changed.notify_all()
-
-    def wait_for(self, command, since=0, count=1, timeout_s=TIMEOUT_S):
+    def wait_for_command(self, command, since=0, count=1, timeout_s=TIMEOUT_S):
         """Waits until `count` messages with `command` (linear [m/s], angular [rad/s]) have
         arrived from the since-th message on."""
-        deadline = time.monotonic() + timeout_s
-        with self._changed:
-            while sum(1 for m in self.messages[since:] if command_of(m) == pytest.approx(command)) < count:
-                remaining = deadline - time.monotonic()
-                assert remaining > 0, "%s: timed out waiting for %d x %s; received %s" % (
-                    self.topic, count, command, self.distinct())
-                self._changed.wait(remaining)
+        self.wait_for(lambda m: command_of(m) == pytest.approx(command), "%d x %s" % (count, command), since=since,
+                      count=count, timeout_s=timeout_s)
 
     def distinct(self):
         """The commands received, consecutive repeats dropped."""
-        with self._changed:
-            commands = [command_of(m) for m in self.messages]
+        commands = [command_of(m) for m in self.snapshot()]
         return [c for i, c in enumerate(commands) if i == 0 or c != commands[i - 1]]
 
-    def close(self):
-        self._subscriber.unregister()
+    def received(self):  # what a time-out shows
+        return self.distinct()
 
 
-class Terminal:
-    """A pseudo-terminal: the node gets its slave side as stdin and stdout; the test types on the
-    master side and collects what the node prints."""
-
-    def __init__(self):
-        self.master_fd, self.slave_fd = pty.openpty()
-        self.saved = termios.tcgetattr(self.slave_fd)
-        self.output = b""
-        self._reader = threading.Thread(target=self._read, daemon=True)
-        self._reader.start()
-
-    def _read(self):
-        while True:
-            try:
-                data = os.read(self.master_fd, 4096)
-            except OSError:
-                return
-            if not data:
-                return
-            self.output += data
-
-    def type(self, keys):
-        os.write(self.master_fd, keys)
-
-    def in_cbreak_mode(self):
-        lflag = termios.tcgetattr(self.slave_fd)[3]
-        return not lflag & termios.ICANON and not lflag & termios.ECHO
-
-    def restored(self):
-        return termios.tcgetattr(self.slave_fd) == self.saved
-
-    def close(self):
-        os.close(self.slave_fd)
-        os.close(self.master_fd)
-
-
-class Process:
-    """A command under test; stdin and stdout the given files, stderr collected in a file."""
-
-    def __init__(self, command, env, tmp_path, stdin=subprocess.DEVNULL, stdout=None):
-        self.stderr_path = tmp_path / "stderr.txt"
-        with open(self.stderr_path, "w") as err:
-            self.process = subprocess.Popen(command, env=env, stdin=stdin, stdout=stdout or err, stderr=err)
-
-    def stderr(self):
-        return self.stderr_path.read_text()
-
-    def wait(self, timeout_s=TIMEOUT_S):
-        return self.process.wait(timeout=timeout_s)
-
-    def stop(self):
-        if self.process.poll() is None:
-            self.process.send_signal(signal.SIGINT)
-            try:
-                self.process.wait(timeout=30)
-            except subprocess.TimeoutExpired:
-                self.process.kill()
-                self.process.wait()
-
-
-def start_teleop(env, tmp_path, terminal, args=(), controlling_terminal=False, namespace=None):
-    clear_private_parameters(env, "/%s/conde_teleop" % namespace if namespace else "/conde_teleop")
+def start_teleop(master, tmp_path, terminal, args=(), controlling_terminal=False, namespace=None):
+    # Private parameters of an earlier case stay on the master: delete them.
+    master.set_params({}, clear=["/%s/conde_teleop" % namespace if namespace else "/conde_teleop"])
     command = ["rosrun", "conde_teleop", "conde_teleop"] + list(args)
     if controlling_terminal:  # the terminal on stdin becomes the node's: Ctrl-C there sends SIGINT
         command = ["setsid", "-w", "-c"] + command
-    if namespace:
-        env = dict(env, ROS_NAMESPACE=namespace)
-    return Process(command, env, tmp_path, stdin=terminal.slave_fd, stdout=terminal.slave_fd)
+    env = dict(master.env, ROS_NAMESPACE=namespace) if namespace else master.env
+    return LoggedProcess(command, env, tmp_path, stdin=terminal.slave_fd, stdout=terminal.slave_fd)
 
 
 def wait_until_ready(commands, terminal):
     """The node publishes (the initial zero reached this subscriber) and reads keys."""
-    commands.wait_for((0.0, 0.0))
+    commands.wait_for_command((0.0, 0.0))
     wait_until(terminal.in_cbreak_mode, "the terminal in cbreak mode")
     wait_until(lambda: HELP_FIRST_LINE in terminal.output, "the help text")
 
@@ -258,16 +103,16 @@ def test_every_key_on_the_terminal_within_the_limits(master, tmp_path):
         for keys, command in steps:
             count = len(commands.messages)
             terminal.type(keys)
-            commands.wait_for(command, since=count)
+            commands.wait_for_command(command, since=count)
         # Republished without keys, so the diff drive's command timeout does not brake.
         count = len(commands.messages)
-        commands.wait_for((0.2, 0.0), since=count, count=5)
+        commands.wait_for_command((0.2, 0.0), since=count, count=5)
         assert node.process.poll() is None
 
         count = len(commands.messages)
         terminal.type(b"q")
         assert node.wait() == 0, node.stderr()
-        commands.wait_for((0.0, 0.0), since=count)
+        commands.wait_for_command((0.0, 0.0), since=count)
         assert terminal.restored()
         expected = [(0.0, 0.0), (0.2, 0.0), (0.3, 0.0), (0.2, 0.0), (0.0, 0.0), (-0.2, 0.0), (-0.2, 0.5),
                     (-0.2, 0.75), (-0.2, 0.5), (-0.2, 0.0), (-0.2, -0.5), (-0.2, -0.75), (0.0, 0.0), (0.2, 0.0),
@@ -294,11 +139,11 @@ def test_ctrl_c_stops_the_robot_and_restores_the_terminal(master, tmp_path):
         assert "  j or Left    turn left         angular +0.25 rad/s (up to 1.5 rad/s)" in terminal.output.decode()
         count = len(commands.messages)
         terminal.type(b"i" + LEFT)  # the defaults: 0.1 m/s and 0.25 rad/s per key
-        commands.wait_for((0.1, 0.25), since=count)
+        commands.wait_for_command((0.1, 0.25), since=count)
         count = len(commands.messages)
         terminal.type(b"\x03")  # Ctrl-C: the terminal sends SIGINT to the node
         assert node.wait() == 0, node.stderr()
-        commands.wait_for((0.0, 0.0), since=count)
+        commands.wait_for_command((0.0, 0.0), since=count)
         assert command_of(commands.messages[-1]) == (0.0, 0.0)
         assert terminal.restored()
         assert "conde_teleop: signal SIGINT: stopping the robot and quitting" in terminal.output.decode()
@@ -318,11 +163,11 @@ def test_sigterm_in_a_namespace(master, tmp_path):
         wait_until_ready(commands, terminal)
         count = len(commands.messages)
         terminal.type(b"lll")
-        commands.wait_for((0.0, -0.25), since=count)
+        commands.wait_for_command((0.0, -0.25), since=count)
         count = len(commands.messages)
         node.process.send_signal(signal.SIGTERM)
         assert node.wait() == 0, node.stderr()
-        commands.wait_for((0.0, 0.0), since=count)
+        commands.wait_for_command((0.0, 0.0), since=count)
         assert command_of(commands.messages[-1]) == (0.0, 0.0)
         assert commands.distinct() == [(0.0, 0.0), (0.0, -0.25), (0.0, 0.0)]
         assert terminal.restored()
@@ -337,20 +182,20 @@ def test_launch_file(master, tmp_path):
     """roslaunch with a limit and a remapped topic; stopping roslaunch stops the robot."""
     terminal = Terminal()
     commands = Commands("/teleop/cmd_vel")
-    clear_private_parameters(master, "/conde_teleop")
-    launch = Process(["roslaunch", "conde_teleop", "conde_teleop.launch", "max_linear_mps:=0.15",
-                      "cmd_vel:=/teleop/cmd_vel"], master, tmp_path, stdin=terminal.slave_fd,
-                     stdout=terminal.slave_fd)
+    master.set_params({}, clear=["/conde_teleop"])
+    launch = LoggedProcess(["roslaunch", "conde_teleop", "conde_teleop.launch", "max_linear_mps:=0.15",
+                            "cmd_vel:=/teleop/cmd_vel"], master.env, tmp_path, stdin=terminal.slave_fd,
+                           stdout=terminal.slave_fd)
     try:
         wait_until_ready(commands, terminal)
         for keys, command in ((b"i", (0.1, 0.0)), (b"ii", (0.15, 0.0)), (b"j", (0.15, 0.25))):
             count = len(commands.messages)
             terminal.type(keys)
-            commands.wait_for(command, since=count)
+            commands.wait_for_command(command, since=count)
         count = len(commands.messages)
         launch.process.send_signal(signal.SIGINT)  # as Ctrl-C in roslaunch's terminal does
         assert launch.wait() == 0, launch.stderr()
-        commands.wait_for((0.0, 0.0), since=count)
+        commands.wait_for_command((0.0, 0.0), since=count)
         assert commands.distinct() == pytest.approx([(0.0, 0.0), (0.1, 0.0), (0.15, 0.0), (0.15, 0.25), (0.0, 0.0)])
         assert terminal.restored()
     finally:
@@ -383,8 +228,8 @@ def test_bad_parameter_exits_with_its_message(master, tmp_path, arg, message):
 
 
 def test_stdin_not_a_terminal_exits_with_its_message(master, tmp_path):
-    clear_private_parameters(master, "/conde_teleop")
-    node = Process(["rosrun", "conde_teleop", "conde_teleop"], master, tmp_path)  # stdin: /dev/null
+    master.set_params({}, clear=["/conde_teleop"])
+    node = LoggedProcess(["rosrun", "conde_teleop", "conde_teleop"], master.env, tmp_path)  # stdin: /dev/null
     try:
         assert node.wait() == 1, node.stderr()
         errors = [line for line in node.stderr().splitlines() if line.startswith("conde_teleop: error: ")]

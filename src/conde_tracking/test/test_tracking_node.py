@@ -14,7 +14,6 @@ import math
 import os
 import re
 import signal
-import socket
 import subprocess
 import threading
 import time
@@ -30,6 +29,7 @@ from geometry_msgs.msg import TransformStamped
 from nav_msgs.msg import Odometry
 from sensor_msgs.msg import CameraInfo, Image
 
+from conde_testing.ros_harness import free_port, joined_as_node
 from conde_worlds.track_geometry import LANE_OFFSET, X_REF, build_track
 
 DATA = os.path.join(os.path.dirname(os.path.abspath(__file__)), "data")
@@ -41,12 +41,6 @@ TIMING_LINE = re.compile(
     r"conde_tracking: timing: (\d+) frames, mean (\d+\.\d\d) ms, max (\d+\.\d\d) ms CPU per frame$")
 
 SIM_IMAGE_TOPICS = ("/conde_camera_tracking_left/image_raw", "/conde_camera_tracking_right/image_raw")
-
-
-def free_port():
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
 
 
 def wrap(angle_rad):
@@ -158,9 +152,6 @@ def sim():
     env.pop("ROS_HOSTNAME", None)
     launch = Process(["roslaunch", "-p", str(port), "conde_bringup", "sim.launch", "paused:=true",
                       "real_time_factor:=0", "clock_rate:=100"], env)
-    # rospy reads the master's address at init_node, but some of its calls (wait_for_service,
-    # service proxies) look it up in the environment each time: keep it set while the module runs.
-    saved_env = {k: os.environ.get(k) for k in ("ROS_MASTER_URI", "ROS_IP", "ROS_HOSTNAME")}
     try:
         master = rosgraph.Master("/test_tracking_node", master_uri=master_uri)
 
@@ -169,24 +160,15 @@ def sim():
             return master.is_online()
 
         wait_until(master_up, lambda: f"the master of sim.launch on port {port}\n{launch.output()}", STARTUP_TIMEOUT_S)
-        os.environ.update(ROS_MASTER_URI=master_uri, ROS_IP="127.0.0.1")
-        os.environ.pop("ROS_HOSTNAME", None)
-        rospy.init_node("test_tracking_node", anonymous=True, disable_signals=True)
-        for service in ("/conde_sim/step", "/conde_sim/set_start_pose"):
-            try:
-                rospy.wait_for_service(service, timeout=STARTUP_TIMEOUT_S)
-            except rospy.ROSException:
-                pytest.fail(f"no service {service} within {STARTUP_TIMEOUT_S:.0f} s:\n{launch.output()}")
-        yield Simulation(env, master_uri)
+        with joined_as_node(master_uri, "test_tracking_node"):
+            for service in ("/conde_sim/step", "/conde_sim/set_start_pose"):
+                try:
+                    rospy.wait_for_service(service, timeout=STARTUP_TIMEOUT_S)
+                except rospy.ROSException:
+                    pytest.fail(f"no service {service} within {STARTUP_TIMEOUT_S:.0f} s:\n{launch.output()}")
+            yield Simulation(env, master_uri)
     finally:
-        if rospy.core.is_initialized():
-            rospy.signal_shutdown("test_tracking_node: module done")
         launch.stop()
-        for k, v in saved_env.items():
-            if v is None:
-                os.environ.pop(k, None)
-            else:
-                os.environ[k] = v
 
 
 @pytest.fixture
