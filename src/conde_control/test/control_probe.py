@@ -12,7 +12,7 @@ from conde_msgs.msg import ControlReference
 from geometry_msgs.msg import Twist
 from rosgraph_msgs.msg import Clock
 
-from conde_testing.ros_harness import wait_or_exit
+from conde_testing.ros_harness import publishes_to, wait_or_exit
 
 WAIT_S = 60.0  # wall-clock patience (a busy machine)
 PERIOD = rospy.Duration(0, 33333334)  # one period of the node's 30 Hz loop (rounded up)
@@ -29,7 +29,8 @@ def main():
     ref_pub = rospy.Publisher("/conde_control_reference", ControlReference, queue_size=10)
     sub = rospy.Subscriber("/cmd_vel", Twist, cmds.append)
     wait_for(lambda: clock_pub.get_num_connections() > 0 and ref_pub.get_num_connections() > 0
-             and sub.get_num_connections() > 0, "the connections to conde_control")
+             and sub.get_num_connections() > 0 and publishes_to("/conde_control", "/cmd_vel", rospy.get_name()),
+             "the connections to conde_control")
     now = rospy.Time(10, 0)
     clock_pub.publish(Clock(clock=now))
 

@@ -11,7 +11,7 @@ from conde_msgs.msg import ControlReference, DecisionState, LaneMeasurement, Pan
 from rosgraph_msgs.msg import Clock
 from visualization_msgs.msg import Marker
 
-from conde_testing.ros_harness import wait_or_exit
+from conde_testing.ros_harness import publishes_to, wait_or_exit
 
 WAIT_S = 60.0  # wall-clock patience for anything to arrive (a busy machine)
 
@@ -35,7 +35,8 @@ def main():
         clock_pub.publish(Clock(clock=t))
 
     wait_for(lambda: clock_pub.get_num_connections() > 0 and lane_pub.get_num_connections() > 0
-             and signal_pub.get_num_connections() > 0 and all(s.get_num_connections() > 0 for s in subs),
+             and signal_pub.get_num_connections() > 0 and all(s.get_num_connections() > 0 for s in subs)
+             and publishes_to("/conde_decision", "/conde_control_reference", rospy.get_name()),
              "the connections to conde_decision")
     set_clock(now)
     wait_for(lambda: states and markers, "the latched state and marker")

@@ -193,6 +193,25 @@ def joined_as_node(master_uri, name):
                 os.environ[k] = v
 
 
+def publishes_to(node, topic, subscriber):
+    """Whether the node `node` publishes `topic` to the node `subscriber` already, as the
+    publisher's own connection list says (getBusInfo). A subscriber's get_num_connections() counts
+    a connection once the publisher has answered the handshake, but rospy's publisher adds it to
+    the connections it publishes on only after answering: a message published in between is lost.
+    A test that expects one message per input waits for this first."""
+    import xmlrpc.client
+
+    import rosgraph  # here: the pure tests must not need ROS
+
+    try:
+        uri = rosgraph.Master(subscriber).lookupNode(node)
+        code, _, connections = xmlrpc.client.ServerProxy(uri).getBusInfo(subscriber)
+    except (rosgraph.MasterError, OSError):  # not registered (yet), or gone
+        return False
+    # (connection id, the other node, direction "o" for outbound, transport, topic, ...)
+    return code == 1 and any(c[1] == subscriber and c[2] == "o" and c[4] == topic for c in connections)
+
+
 def run_probe(probe_path, node_command, env, timeout_s=300.0):
     """Runs the probe script probe_path (a ROS node of its own: rospy allows one node per process)
     with PYTHON to its end while node_command (the node under test) runs, then stops the node with
