@@ -36,14 +36,17 @@ def main():
 
     log = []
     for phase, steps in (("follow", 60), ("silent", 60)):
-        for _ in range(steps):
+        for i in range(steps):
             if phase == "follow":
                 ref = ControlReference()
                 ref.header.stamp = now
                 ref.lateral_offset_m = 0.1  # left of the lane centre
                 ref.linear_velocity_mps = 0.5
                 ref_pub.publish(ref)
-                time.sleep(0.005)  # let it arrive before the clock moves on
+                # Let it arrive before the clock moves on. The node times the reference by its
+                # arrival, and the test checks the braking to the period after the last one: that
+                # one gets far more time (nothing tells the probe that it has arrived).
+                time.sleep(0.5 if i == steps - 1 else 0.005)
             count = len(cmds)
             now += PERIOD
             clock_pub.publish(Clock(clock=now))
