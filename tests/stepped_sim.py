@@ -37,12 +37,13 @@ class SteppedSim:
         """Steps `steps` at a time until `predicate()` holds. For what only arrives while simulated
         time runs and has no connection to wait for first (a TF listener subscribes in the
         background: messages published before it is connected are lost)."""
-        end = time.monotonic() + timeout_s
-        while not predicate():
-            if time.monotonic() > end or rospy.is_shutdown():
-                raise AssertionError(f"timed out after {timeout_s} s stepping until {what}")
+        def holds_or_step():
+            if predicate():
+                return True
             self.step(steps)
-            time.sleep(0.01)  # delivery of what the steps published
+            return False
+
+        wait_for(holds_or_step, f"{what} (stepping {steps} at a time)", timeout_s)
         return self.time_s
 
     def run(self, seconds, every_s=0.05, before_chunk=None, step_s=0.001):
