@@ -1,3 +1,4 @@
+# shellcheck shell=bash
 # Sourced by ~/.bashrc in the dev image and the dev container: ROS Python comes with
 # /usr/bin/python3, and the workspace's devel space once it has been built (scripts/build.sh).
 export PATH="/usr/bin:$PATH"

@@ -30,6 +30,7 @@ build_packages=(
   liburdfdom-dev liburdf-dev libbullet-dev libode-dev libyaml-cpp-dev libopencv-dev
   libimage-transport-dev libcv-bridge-dev
   googletest libgtest-dev python3-pytest python3-pip
+  clang-format flake8 shellcheck
 )
 
 viewer_packages=(xvfb x11vnc novnc websockify)

@@ -6,8 +6,10 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 export PATH="/usr/bin:$PATH"
 SETUP="${CONDE_SETUP:-devel/setup.bash}"
+set +u
 # shellcheck disable=SC1090
-set +u; source "$SETUP"; set -u
+source "$SETUP"
+set -u
 OUTPUT_DIR="${CONDE_RESULTS_DIR:-$PWD/results}"
 # Conde drives two laps on its own (ODE; --engine bullet for the other engine); exit 0 on pass.
 rosrun conde_eval autonomous_run --output-dir "$OUTPUT_DIR" "$@"

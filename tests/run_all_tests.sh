@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Every test of the workspace from a clean clone: installs what is missing, builds, runs the
-# C++ unit tests (gtest) and the ROS wiring tests (rostest, real roscore on loopback) through
+# linters, the C++ unit tests (gtest) and the ROS wiring tests (rostest, real roscore on loopback) through
 # catkin, the Python unit tests through pytest, and ends with one line "N passed, N failed".
 #
 # usage: tests/run_all_tests.sh [--unit]
@@ -9,7 +9,7 @@
 #          worlds/test except the node tests (files named test_*node*.py); tests/ (system tests,
 #          container tests) and the rostests are left out. The Docker dev image is checked with it.
 set -uo pipefail
-cd "$(dirname "$0")/.."
+cd "$(dirname "$0")/.." || exit 1
 export PATH="/usr/bin:$PATH"
 
 tier="${CONDE_TEST_TIER:-all}"
@@ -30,11 +30,19 @@ if [ "$tier" = all ]; then
   scripts/install_dependencies.sh containers || echo "install_dependencies.sh containers failed: the container tests will skip"
 fi
 scripts/build.sh || exit 1
+set +u
 # shellcheck disable=SC1091
-set +u; source devel/setup.bash; set -u
+source devel/setup.bash
+set -u
 results=build/test_results
 rm -rf "$results"
 mkdir -p "$results/pytest"
+
+# The linters first (clang-format, flake8, catkin_lint, shellcheck; on the files of the git
+# checkout): a finding fails the run.
+if [ "$tier" = all ]; then
+  scripts/lint.sh "$results/lint" || echo "lint: findings (listed above)"
+fi
 
 if [ "$tier" = unit ]; then
   # catkin makes one run_tests_<package>_gtest target per package with gtests.
