@@ -16,7 +16,7 @@ run_packages=(
   ros-base python3-rospy python3-rostest python3-roslaunch rosbash python3-rosbag
   python3-tf2-ros ros-robot-state-publisher python3-cv-bridge python3-opencv python3-numpy
   python3-yaml python3-rospkg python3-matplotlib python3-pip
-  python3-nav-msgs python3-geometry-msgs python3-sensor-msgs python3-std-srvs python3-visualization-msgs python3-rosgraph-msgs
+  python3-nav-msgs python3-trajectory-msgs python3-geometry-msgs python3-sensor-msgs python3-std-srvs python3-visualization-msgs python3-rosgraph-msgs
   liburdfdom-tools libbullet3.24 libode8 libyaml-cpp0.7
   rviz xvfb
 )
@@ -25,7 +25,7 @@ build_packages=(
   ros-base-dev libroscpp-dev catkin catkin-tools catkin-lint
   colcon python3-colcon-ros
   libtf2-ros-dev libtf2-dev libtf2-msgs-dev libgeometry-msgs-dev libsensor-msgs-dev libnav-msgs-dev
-  libros-rosgraph-msgs-dev libstd-srvs-dev libstd-msgs-dev
+  libros-rosgraph-msgs-dev libstd-srvs-dev libstd-msgs-dev libtrajectory-msgs-dev
   ros-message-generation ros-message-runtime
   liburdfdom-dev liburdf-dev libbullet-dev libode-dev libyaml-cpp-dev libopencv-dev
   libimage-transport-dev libcv-bridge-dev
