@@ -62,8 +62,7 @@ std::uint8_t toByte(double unit_value) {
 }
 
 void checkImage(const RgbImage& image, const std::string& what) {
-  if (image.width < 0 || image.height < 0 ||
-      image.data.size() != static_cast<size_t>(image.width) * image.height * 3)
+  if (image.width < 0 || image.height < 0 || image.data.size() != static_cast<size_t>(image.width) * image.height * 3)
     throw std::invalid_argument(what + ": image data size " + std::to_string(image.data.size()) + " does not match " +
                                 std::to_string(image.width) + "x" + std::to_string(image.height) + " RGB");
 }
@@ -224,17 +223,20 @@ struct ObjectInView {
   double angular_radius_rad = 0.0, cos_angular = 1.0, sin_angular = 0.0;
   bool surrounds_camera = false;  // the camera is inside the bounding sphere: test every tile
   double local_R_optical[3][3];
-  double origin_local[3];         // camera position in the object frame
+  double origin_local[3];  // camera position in the object frame
   Vec3 to_sun_local;
-  std::uint8_t face_rgb[6][3];    // box faces +x, -x, +y, -y, +z, -z, lit
+  std::uint8_t face_rgb[6][3];  // box faces +x, -x, +y, -y, +z, -z, lit
 };
 
 double boundingRadius(const RenderObject& o) {
   switch (o.shape) {
-    case RenderShape::kBox: return 0.5 * o.size_m.norm();
+    case RenderShape::kBox:
+      return 0.5 * o.size_m.norm();
     case RenderShape::kCylinder:
-    case RenderShape::kCone: return std::hypot(o.radius_m, 0.5 * o.length_m);
-    case RenderShape::kSphere: return o.radius_m;
+    case RenderShape::kCone:
+      return std::hypot(o.radius_m, 0.5 * o.length_m);
+    case RenderShape::kSphere:
+      return o.radius_m;
   }
   return 0.0;
 }
@@ -251,8 +253,8 @@ void shadeInto(const ObjectInView& view, const Vec3& normal_local, std::uint8_t*
 // t in [t_near, t_limit] and writes its colour. Back faces count, so a near clip that cuts an
 // object shows its inside.
 
-bool hitBox(const ObjectInView& view, const double o[3], const double d[3], double t_near, double t_limit,
-            double& t, std::uint8_t* rgb) {
+bool hitBox(const ObjectInView& view, const double o[3], const double d[3], double t_near, double t_limit, double& t,
+            std::uint8_t* rgb) {
   const RenderObject& box = *view.object;
   const double half[3] = {0.5 * box.size_m.x, 0.5 * box.size_m.y, 0.5 * box.size_m.z};
   double t_enter = -std::numeric_limits<double>::infinity(), t_exit = std::numeric_limits<double>::infinity();
@@ -302,8 +304,8 @@ bool hitBox(const ObjectInView& view, const double o[3], const double d[3], doub
   return true;
 }
 
-bool hitSphere(const ObjectInView& view, const double o[3], const double d[3], double t_near, double t_limit,
-               double& t, std::uint8_t* rgb) {
+bool hitSphere(const ObjectInView& view, const double o[3], const double d[3], double t_near, double t_limit, double& t,
+               std::uint8_t* rgb) {
   const double r = view.object->radius_m;
   const double b = o[0] * d[0] + o[1] * d[1] + o[2] * d[2];
   const double c = o[0] * o[0] + o[1] * o[1] + o[2] * o[2] - r * r;
@@ -318,8 +320,8 @@ bool hitSphere(const ObjectInView& view, const double o[3], const double d[3], d
 }
 
 // Cylinder (cone = false) or cone (apex at z = +length/2, base at -length/2) around local z.
-bool hitRound(const ObjectInView& view, bool cone, const double o[3], const double d[3], double t_near,
-              double t_limit, double& t, std::uint8_t* rgb) {
+bool hitRound(const ObjectInView& view, bool cone, const double o[3], const double d[3], double t_near, double t_limit,
+              double& t, std::uint8_t* rgb) {
   const double r = view.object->radius_m;
   const double h = 0.5 * view.object->length_m;
   double best = t_limit;
@@ -387,10 +389,14 @@ bool hitObject(const ObjectInView& view, const Vec3& ray_optical, double t_near,
                        m[1][0] * ray_optical.x + m[1][1] * ray_optical.y + m[1][2] * ray_optical.z,
                        m[2][0] * ray_optical.x + m[2][1] * ray_optical.y + m[2][2] * ray_optical.z};
   switch (view.object->shape) {
-    case RenderShape::kBox: return hitBox(view, view.origin_local, d, t_near, t_limit, t, rgb);
-    case RenderShape::kSphere: return hitSphere(view, view.origin_local, d, t_near, t_limit, t, rgb);
-    case RenderShape::kCylinder: return hitRound(view, false, view.origin_local, d, t_near, t_limit, t, rgb);
-    case RenderShape::kCone: return hitRound(view, true, view.origin_local, d, t_near, t_limit, t, rgb);
+    case RenderShape::kBox:
+      return hitBox(view, view.origin_local, d, t_near, t_limit, t, rgb);
+    case RenderShape::kSphere:
+      return hitSphere(view, view.origin_local, d, t_near, t_limit, t, rgb);
+    case RenderShape::kCylinder:
+      return hitRound(view, false, view.origin_local, d, t_near, t_limit, t, rgb);
+    case RenderShape::kCone:
+      return hitRound(view, true, view.origin_local, d, t_near, t_limit, t, rgb);
   }
   return false;
 }
@@ -452,9 +458,12 @@ LensMapping LensMapping::custom(double c1, double c2, double c3, const std::stri
 double LensMapping::radius(double theta_rad) const {
   const double a = theta_rad / c2 + c3;
   switch (fun) {
-    case LensFunction::kTan: return c1 * std::tan(a);
-    case LensFunction::kSin: return c1 * std::sin(a);
-    case LensFunction::kIdentity: break;
+    case LensFunction::kTan:
+      return c1 * std::tan(a);
+    case LensFunction::kSin:
+      return c1 * std::sin(a);
+    case LensFunction::kIdentity:
+      break;
   }
   return c1 * a;
 }
@@ -468,12 +477,16 @@ bool LensMapping::rayAt(double x, double y, Vec3& ray) const {
   const double r = std::hypot(x, y), q = r / c1;
   double a = 0.0;
   switch (fun) {
-    case LensFunction::kTan: a = std::atan(q); break;
+    case LensFunction::kTan:
+      a = std::atan(q);
+      break;
     case LensFunction::kSin:
       if (std::abs(q) > 1.0) return false;
       a = std::asin(q);
       break;
-    case LensFunction::kIdentity: a = q; break;
+    case LensFunction::kIdentity:
+      a = q;
+      break;
   }
   const double theta = c2 * (a - c3);
   if (!(theta >= 0.0 && theta <= cutoff_angle_rad)) return false;
@@ -557,8 +570,8 @@ bool CameraModel::project(const Vec3& p, double& u_px, double& v_px) const {
 
 // --- Scene -------------------------------------------------------------------------------------
 
-void RenderScene::setGround(const RgbImage& texture, double x_min_m, double x_max_m, double y_min_m,
-                            double y_max_m, const Vec3& ground_rgb) {
+void RenderScene::setGround(const RgbImage& texture, double x_min_m, double x_max_m, double y_min_m, double y_max_m,
+                            const Vec3& ground_rgb) {
   checkImage(texture, "ground texture");
   if (texture.width > 0 && texture.height > 0 && !(x_min_m < x_max_m && y_min_m < y_max_m))
     throw std::invalid_argument("ground texture ranges must have min < max (got x [" + text(x_min_m) + ", " +
@@ -630,8 +643,7 @@ int RenderScene::addObject(const RenderObject& object) {
     case RenderShape::kSphere:
       if (!(object.radius_m > 0.0))
         throw std::invalid_argument(what + ": radius must be positive (got " + text(object.radius_m) + " m)");
-      if (object.face_image.width > 0)
-        throw std::invalid_argument(what + ": only boxes show a face image");
+      if (object.face_image.width > 0) throw std::invalid_argument(what + ": only boxes show a face image");
       break;
   }
   checkImage(object.face_image, what + " face image");
@@ -664,10 +676,18 @@ RenderScene renderSceneFromWorld(const WorldDescription& world) {
   for (const WorldObject& w : world.objects) {
     RenderObject o;
     switch (w.shape) {
-      case ObjectShape::kBox: o.shape = RenderShape::kBox; break;
-      case ObjectShape::kCylinder: o.shape = RenderShape::kCylinder; break;
-      case ObjectShape::kCone: o.shape = RenderShape::kCone; break;
-      case ObjectShape::kSphere: o.shape = RenderShape::kSphere; break;
+      case ObjectShape::kBox:
+        o.shape = RenderShape::kBox;
+        break;
+      case ObjectShape::kCylinder:
+        o.shape = RenderShape::kCylinder;
+        break;
+      case ObjectShape::kCone:
+        o.shape = RenderShape::kCone;
+        break;
+      case ObjectShape::kSphere:
+        o.shape = RenderShape::kSphere;
+        break;
     }
     o.size_m = w.size_m;
     o.radius_m = w.radius_m;
@@ -712,8 +732,8 @@ CameraRenderer::CameraRenderer(const CameraModel& model) : model_(model) {
       if (!lens.isZero() && !undistort(lens, x, y, x, y))
         throw std::invalid_argument("camera distortion (k1 " + text(lens.k1) + ", k2 " + text(lens.k2) + ", k3 " +
                                     text(lens.k3) + ", p1 " + text(lens.p1) + ", p2 " + text(lens.p2) +
-                                    ") cannot be inverted at pixel (" + std::to_string(u) + ", " +
-                                    std::to_string(v) + "): the lens model folds over inside the image");
+                                    ") cannot be inverted at pixel (" + std::to_string(u) + ", " + std::to_string(v) +
+                                    "): the lens model folds over inside the image");
       Vec3& ray = rays_optical_[static_cast<size_t>(v) * w + u];
       if (!model.lens.rayAt(x * unit_x / model.fx_px, y * unit_y / model.fy_px, ray)) {
         unseen_pixels_.push_back(v * w + u);
@@ -769,7 +789,7 @@ constexpr std::int32_t kSky = 0, kPlainGround = 1, kTexture = 2;
 
 // The per-frame numbers of the ground pass (see render()).
 struct GroundFrame {
-  float rot[3][3];                      // world_R_optical
+  float rot[3][3];  // world_R_optical
   float camera_height = 0.0f, near = 0.0f, far = 0.0f;
   float u_at_camera = 0.0f, v_at_camera = 0.0f, tex_u_per_m = 0.0f, tex_v_per_m = 0.0f;
   float u_limit = 0.0f, v_limit = 0.0f, footprint_area_scale = 0.0f;
@@ -809,8 +829,8 @@ inline std::uint32_t bilinearTexel(const GroundFrame& g, const GroundTile& t, in
 // vector of lanes at a time.
 template <typename F, typename I>
 __attribute__((always_inline)) inline void groundPass(const GroundFrame& g, const float* __restrict rx,
-                                                      const float* __restrict ry, const float* __restrict rz,
-                                                      int count, const GroundTile& out) {
+                                                      const float* __restrict ry, const float* __restrict rz, int count,
+                                                      const GroundTile& out) {
   constexpr int kWidth = sizeof(F) / sizeof(float);
   for (int i = 0; i < count; i += kWidth) {
     const F x = loadLanes<F>(rx + i), y = loadLanes<F>(ry + i), z = loadLanes<F>(rz + i);
@@ -897,8 +917,7 @@ bool CameraRenderer::wideVectorsAvailable() { return haveAvx2(); }
 void CameraRenderer::render(const RenderScene& scene, const Pose& world_T_optical, int exclude_group,
                             std::mt19937* noise_rng, RgbImage& image) const {
   const int w = model_.width_px, h = model_.height_px;
-  if (image.width != w || image.height != h || image.data.size() != static_cast<size_t>(w) * h * 3)
-    image.resize(w, h);
+  if (image.width != w || image.height != h || image.data.size() != static_cast<size_t>(w) * h * 3) image.resize(w, h);
   const double near_m = model_.near_clip_m, far_m = model_.far_clip_m;
 
   double world_R_optical[3][3];
@@ -976,8 +995,8 @@ void CameraRenderer::render(const RenderScene& scene, const Pose& world_T_optica
   // level = round(log2 rho) = floor(log2(2 rho^2) / 2): the level whose texel matches the
   // footprint's area (sharper than a GPU's choice by the longer axis, a little aliasing at
   // grazing angles instead of a blur).
-  const double footprint_m = std::max(tex_u_per_m, tex_v_per_m) / std::min(model_.fx_px, model_.fy_px) *
-                             std::max(camera_world.z, 0.0);
+  const double footprint_m =
+      std::max(tex_u_per_m, tex_v_per_m) / std::min(model_.fx_px, model_.fy_px) * std::max(camera_world.z, 0.0);
   const float footprint_area_scale = static_cast<float>(2.0 * footprint_m * footprint_m);
   const std::int32_t max_level = textured ? static_cast<std::int32_t>(scene.ground_levels_.size()) - 1 : 0;
   GroundFrame frame;
@@ -1013,8 +1032,8 @@ void CameraRenderer::render(const RenderScene& scene, const Pose& world_T_optica
   for (size_t tile_index = 0; tile_index < tiles_.size(); ++tile_index) {
     const Tile& tile = tiles_[tile_index];
     const size_t first = tile_index * kTilePixels;
-    ground_pass(frame, tile_ray_x_.data() + first, tile_ray_y_.data() + first, tile_ray_z_.data() + first,
-                kTilePixels, ground);
+    ground_pass(frame, tile_ray_x_.data() + first, tile_ray_y_.data() + first, tile_ray_z_.data() + first, kTilePixels,
+                ground);
     for (int j = 0; j < tile.height; ++j) {
       std::uint8_t* out = image.pixel(tile.u0, tile.v0 + j);
       for (int i = 0; i < tile.width; ++i, out += 3) {

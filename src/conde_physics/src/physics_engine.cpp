@@ -5,8 +5,8 @@
 
 namespace conde_physics {
 
-void PhysicsEngine::castRays(const std::vector<Vec3>& origins, const std::vector<Vec3>& directions,
-                             double max_range_m, ModelId ignore_model, std::vector<RayHit>& hits) const {
+void PhysicsEngine::castRays(const std::vector<Vec3>& origins, const std::vector<Vec3>& directions, double max_range_m,
+                             ModelId ignore_model, std::vector<RayHit>& hits) const {
   if (origins.size() != directions.size())
     throw std::invalid_argument(name() + ": castRays needs one direction per origin");
   ray_scene_.cast([this](int model, int body) { return bodyPose(model, body); }, origins, directions, max_range_m,

@@ -107,9 +107,15 @@ bool hitMesh(const Shape& mesh, const Vec3& o, const Vec3& d, double t_max, doub
 void boundingSphere(const Shape& s, Vec3& centre, double& radius) {
   centre = Vec3();
   switch (s.type) {
-    case ShapeType::kBox: radius = 0.5 * s.box_size_m.norm(); return;
-    case ShapeType::kCylinder: radius = std::hypot(s.radius_m, 0.5 * s.length_m); return;
-    case ShapeType::kSphere: radius = s.radius_m; return;
+    case ShapeType::kBox:
+      radius = 0.5 * s.box_size_m.norm();
+      return;
+    case ShapeType::kCylinder:
+      radius = std::hypot(s.radius_m, 0.5 * s.length_m);
+      return;
+    case ShapeType::kSphere:
+      radius = s.radius_m;
+      return;
     case ShapeType::kMesh: {
       if (s.mesh_vertices_m.empty()) {
         radius = 0.0;
@@ -163,7 +169,9 @@ int azimuthBin(double pseudo) {
   return std::min(std::max(bin, 0), kAzimuthBins - 1);
 }
 
-int azimuthBinOfAngle(double azimuth_rad) { return azimuthBin(pseudoAzimuth(std::cos(azimuth_rad), std::sin(azimuth_rad))); }
+int azimuthBinOfAngle(double azimuth_rad) {
+  return azimuthBin(pseudoAzimuth(std::cos(azimuth_rad), std::sin(azimuth_rad)));
+}
 
 // Half-width [rad] of the azimuth interval around `centre_rad` that a box covers seen from the
 // origin (its eight corners relative to the origin given), or a negative number when the origin
@@ -184,10 +192,14 @@ double boxAzimuthHalfWidth(const Vec3 corners[8], double centre_rad) {
 
 bool RayScene::hitShape(const Shape& shape, const Vec3& o, const Vec3& d, double t_max, double& t) {
   switch (shape.type) {
-    case ShapeType::kBox: return hitBox(shape.box_size_m * 0.5, o, d, t_max, t);
-    case ShapeType::kSphere: return hitSphere(shape.radius_m, o, d, t_max, t);
-    case ShapeType::kCylinder: return hitCylinder(shape.radius_m, 0.5 * shape.length_m, o, d, t_max, t);
-    case ShapeType::kMesh: return hitMesh(shape, o, d, t_max, t);
+    case ShapeType::kBox:
+      return hitBox(shape.box_size_m * 0.5, o, d, t_max, t);
+    case ShapeType::kSphere:
+      return hitSphere(shape.radius_m, o, d, t_max, t);
+    case ShapeType::kCylinder:
+      return hitCylinder(shape.radius_m, 0.5 * shape.length_m, o, d, t_max, t);
+    case ShapeType::kMesh:
+      return hitMesh(shape, o, d, t_max, t);
   }
   return false;
 }

@@ -8,9 +8,9 @@
 // core. With save_dir, writes the first frame of each camera as PNG.
 #include <algorithm>
 #include <chrono>
-#include <ctime>
 #include <cstdio>
 #include <cstdlib>
+#include <ctime>
 #include <string>
 #include <vector>
 
@@ -45,14 +45,13 @@ std::vector<CameraSpec> condeCameras() {
   cp::LensDistortion top{-0.275678598507515, 0.045106260288961, 0.0, 0.004883645512607, 0.001092737340199};
   return {
       {"tracking_left", 160, 120, 1.0865,
-       cp::Pose::fromXyzRpy(bx - 0.1242802892, 0.09985, bz + 0.48372014861, 0.319455, 0.531892, 0.56147), left,
-       0.001, 50.0},
+       cp::Pose::fromXyzRpy(bx - 0.1242802892, 0.09985, bz + 0.48372014861, 0.319455, 0.531892, 0.56147), left, 0.001,
+       50.0},
       {"tracking_right", 160, 120, 1.0965,
-       cp::Pose::fromXyzRpy(bx - 0.12403780772, -0.1015, bz + 0.48372007433, -0.239603, 0.564592, -0.4785536732),
-       right, 0.001, 50.0},
+       cp::Pose::fromXyzRpy(bx - 0.12403780772, -0.1015, bz + 0.48372007433, -0.239603, 0.564592, -0.4785536732), right,
+       0.001, 50.0},
       {"signalling_panel", 320, 240, 1.5707963,
-       cp::Pose::fromXyzRpy(bx - 0.079244135856401, 0.0, bz + 0.562431407758936, 0.0, -0.28, 0.0), top, 0.01,
-       1000.0},
+       cp::Pose::fromXyzRpy(bx - 0.079244135856401, 0.0, bz + 0.562431407758936, 0.0, -0.28, 0.0), top, 0.01, 1000.0},
   };
 }
 
@@ -145,12 +144,14 @@ int main(int argc, char** argv) {
     // Gazebo camera frame -> REP 103 optical frame.
     const cp::Pose camera_T_optical = cp::Pose::fromXyzRpy(0, 0, 0, -kPi / 2, 0, -kPi / 2);
 
-    std::printf("World %s: %d objects, ground texture %s; Conde from (%.2f, %.2f) yaw %.4f rad, %d frames per "
-                "camera, 1 cm apart.\n\n",
-                world.name.c_str(), scene.objectCount(), world.ground.texture_path.c_str(), start.position.x,
-                start.position.y, start.orientation.yaw(), frames);
-    std::printf("| camera | resolution | distortion | ground pass | mean [ms] | p95 [ms] | CPU mean [ms] | "
-                "frames/s (wall) | frames/s (CPU) |\n");
+    std::printf(
+        "World %s: %d objects, ground texture %s; Conde from (%.2f, %.2f) yaw %.4f rad, %d frames per "
+        "camera, 1 cm apart.\n\n",
+        world.name.c_str(), scene.objectCount(), world.ground.texture_path.c_str(), start.position.x, start.position.y,
+        start.orientation.yaw(), frames);
+    std::printf(
+        "| camera | resolution | distortion | ground pass | mean [ms] | p95 [ms] | CPU mean [ms] | "
+        "frames/s (wall) | frames/s (CPU) |\n");
     std::printf("|---|---|---|---|---|---|---|---|---|\n");
     // Three cameras, one frame each, without and with distortion, the ground pass on eight lanes
     // (AVX2, when the CPU has it) and on four: wall and CPU time.
@@ -171,9 +172,9 @@ int main(int argc, char** argv) {
           const Timing t = timeFrames(renderer, scene, start, spec.base_T_camera * camera_T_optical, frames, image);
           set_ms[distorted][variant] += t.mean_ms;
           set_cpu_ms[distorted][variant] += t.cpu_mean_ms;
-          std::printf("| %s | %dx%d | %s | %s | %.3f | %.3f | %.3f | %.0f | %.0f |\n", spec.name.c_str(),
-                      spec.width_px, spec.height_px, distorted ? "on" : "off", lanes(variant), t.mean_ms, t.p95_ms,
-                      t.cpu_mean_ms, 1000.0 / t.mean_ms, 1000.0 / t.cpu_mean_ms);
+          std::printf("| %s | %dx%d | %s | %s | %.3f | %.3f | %.3f | %.0f | %.0f |\n", spec.name.c_str(), spec.width_px,
+                      spec.height_px, distorted ? "on" : "off", lanes(variant), t.mean_ms, t.p95_ms, t.cpu_mean_ms,
+                      1000.0 / t.mean_ms, 1000.0 / t.cpu_mean_ms);
         }
         cp::CameraRenderer::allowWideVectors(true);
         if (!save_dir.empty()) {
@@ -183,9 +184,10 @@ int main(int argc, char** argv) {
         }
       }
     }
-    std::printf("\n| three cameras at %.0f Hz, one core | ground pass | render time per simulated second, wall / CPU "
-                "[ms] | max real-time factor (rendering only), wall / CPU |\n|---|---|---|---|\n",
-                kCameraRateHz);
+    std::printf(
+        "\n| three cameras at %.0f Hz, one core | ground pass | render time per simulated second, wall / CPU "
+        "[ms] | max real-time factor (rendering only), wall / CPU |\n|---|---|---|---|\n",
+        kCameraRateHz);
     for (int distorted = 0; distorted < 2; ++distorted) {
       for (int variant = 0; variant < lane_variants; ++variant) {
         const double wall_ms = kCameraRateHz * set_ms[distorted][variant];
@@ -197,9 +199,10 @@ int main(int argc, char** argv) {
 
     // Major Alvega from its spawn pose in the original launch files (x 2.17, y -0.58, yaw 1.57).
     const cp::Pose major_start = cp::Pose::fromXyzRpy(2.17, -0.58, 0.0, 0.0, 0.0, 1.57);
-    std::printf("\nMajor Alvega's wide-angle cameras (stereographic lens, hfov 2.6 rad, Gazebo-style distortion), "
-                "from (2.17, -0.58) yaw 1.57 rad:\n\n| camera | resolution | mean [ms] | p95 [ms] | CPU mean [ms] | "
-                "frames/s (CPU) |\n|---|---|---|---|---|---|\n");
+    std::printf(
+        "\nMajor Alvega's wide-angle cameras (stereographic lens, hfov 2.6 rad, Gazebo-style distortion), "
+        "from (2.17, -0.58) yaw 1.57 rad:\n\n| camera | resolution | mean [ms] | p95 [ms] | CPU mean [ms] | "
+        "frames/s (CPU) |\n|---|---|---|---|---|---|\n");
     for (const WideAngleSpec& spec : majorCameras()) {
       cp::CameraModel model = cp::CameraModel::fromWideAngle(spec.width_px, spec.height_px, 2.6,
                                                              cp::LensMapping::ofType("stereographic"), true);

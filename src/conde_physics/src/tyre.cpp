@@ -23,7 +23,8 @@ bool isWheelCollision(const ArticulatedModel& model, int body, const CollisionSp
     const Pose joint = model.bodies[j.parent_body].initial_pose_in_model * j.pose_in_parent;
     const Vec3 joint_axis = joint.orientation.rotate(j.axis.normalized());
     const double off_axis_m = (cylinder.position - joint.position).cross(joint_axis).norm();
-    if (std::abs(cylinder_axis.dot(joint_axis)) > 1.0 - 1e-6 && off_axis_m < 0.01 * collision.shape.radius_m) return true;
+    if (std::abs(cylinder_axis.dot(joint_axis)) > 1.0 - 1e-6 && off_axis_m < 0.01 * collision.shape.radius_m)
+      return true;
   }
   return false;
 }

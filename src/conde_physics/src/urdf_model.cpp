@@ -22,11 +22,29 @@ constexpr double kTinyInertiaKgm2 = 1e-6;
 // Keys of <gazebo reference="link"> blocks: those physics reads, and those other parts of the
 // simulator read or that are accepted and ignored (Gazebo rendering/solver hints).
 const std::set<std::string> kSurfaceKeys = {"mu1", "mu2", "kp", "kd"};
-const std::set<std::string> kOtherReferenceKeys = {
-    "sensor", "material", "selfCollide", "gravity", "turnGravityOff", "maxVel", "minDepth", "fdir1",
-    "maxContacts", "provideFeedback", "implicitSpringDamper", "dampingFactor", "laserRetro", "visual",
-    "stopCfm", "stopErp", "cfmDamping", "springStiffness", "springReference", "preserveFixedJoint",
-    "disableFixedJointLumping", "kinematic", "static"};
+const std::set<std::string> kOtherReferenceKeys = {"sensor",
+                                                   "material",
+                                                   "selfCollide",
+                                                   "gravity",
+                                                   "turnGravityOff",
+                                                   "maxVel",
+                                                   "minDepth",
+                                                   "fdir1",
+                                                   "maxContacts",
+                                                   "provideFeedback",
+                                                   "implicitSpringDamper",
+                                                   "dampingFactor",
+                                                   "laserRetro",
+                                                   "visual",
+                                                   "stopCfm",
+                                                   "stopErp",
+                                                   "cfmDamping",
+                                                   "springStiffness",
+                                                   "springReference",
+                                                   "preserveFixedJoint",
+                                                   "disableFixedJointLumping",
+                                                   "kinematic",
+                                                   "static"};
 
 // Collects console_bridge messages (urdfdom reports parse errors through it).
 class CapturingOutputHandler : public console_bridge::OutputHandler {
@@ -44,7 +62,7 @@ Pose toPose(const urdf::Pose& p) {
 
 struct MassProps {
   double mass_kg = 0.0;
-  Vec3 com;       // in the body's link frame
+  Vec3 com;         // in the body's link frame
   Inertia inertia;  // about `com`, body link axes
 };
 
@@ -245,7 +263,8 @@ ArticulatedModel buildModelFromUrdf(const std::string& urdf_xml, const std::stri
           spec.shape.type = ShapeType::kCylinder;
           spec.shape.radius_m = cyl->radius;
           spec.shape.length_m = cyl->length;
-          if (cyl->radius <= 0 || cyl->length <= 0) throw ModelError(where + ": cylinder radius and length must be positive");
+          if (cyl->radius <= 0 || cyl->length <= 0)
+            throw ModelError(where + ": cylinder radius and length must be positive");
           break;
         }
         case urdf::Geometry::SPHERE: {
@@ -286,9 +305,15 @@ ArticulatedModel buildModelFromUrdf(const std::string& urdf_xml, const std::stri
       JointSpec j;
       j.name = joint->name;
       switch (joint->type) {
-        case urdf::Joint::REVOLUTE: j.type = JointType::kRevolute; break;
-        case urdf::Joint::CONTINUOUS: j.type = JointType::kContinuous; break;
-        case urdf::Joint::PRISMATIC: j.type = JointType::kPrismatic; break;
+        case urdf::Joint::REVOLUTE:
+          j.type = JointType::kRevolute;
+          break;
+        case urdf::Joint::CONTINUOUS:
+          j.type = JointType::kContinuous;
+          break;
+        case urdf::Joint::PRISMATIC:
+          j.type = JointType::kPrismatic;
+          break;
         default:
           throw ModelError(source + ": joint '" + joint->name + "': type " +
                            (joint->type == urdf::Joint::FLOATING ? "floating" : "planar") + " is not supported");
@@ -340,9 +365,9 @@ ArticulatedModel buildModelFromUrdf(const std::string& urdf_xml, const std::stri
     Quat axes;
     principalAxes(m.inertia, body.principal_inertia_kgm2, axes);
     const double floor = kTinyInertiaKgm2 * 1e-3;  // keep engines away from zero moments
-    body.principal_inertia_kgm2 = Vec3(std::max(body.principal_inertia_kgm2.x, floor),
-                                       std::max(body.principal_inertia_kgm2.y, floor),
-                                       std::max(body.principal_inertia_kgm2.z, floor));
+    body.principal_inertia_kgm2 =
+        Vec3(std::max(body.principal_inertia_kgm2.x, floor), std::max(body.principal_inertia_kgm2.y, floor),
+             std::max(body.principal_inertia_kgm2.z, floor));
     body.inertial_frame = Pose(m.com, axes);
   }
   return model;

@@ -2,6 +2,8 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <sys/stat.h>
+#include <unistd.h>
 #include <cctype>
 #include <cerrno>
 #include <cmath>
@@ -9,8 +11,6 @@
 #include <cstring>
 #include <filesystem>
 #include <map>
-#include <sys/stat.h>
-#include <unistd.h>
 
 #include <opencv2/imgcodecs.hpp>
 
@@ -32,24 +32,24 @@ std::string joinKeys(const std::vector<std::string>& keys) {
   return s;
 }
 
-std::string child(const std::string& where, const std::string& key) {
-  return where.empty() ? key : where + "." + key;
-}
+std::string child(const std::string& where, const std::string& key) { return where.empty() ? key : where + "." + key; }
 
-std::string item(const std::string& where, size_t i) {
-  return where + "[" + std::to_string(i) + "]";
-}
+std::string item(const std::string& where, size_t i) { return where + "[" + std::to_string(i) + "]"; }
 
 // How a value that has the wrong type looks, for "expected X, got Y".
 std::string describe(const YAML::Node& n) {
   switch (n.Type()) {
-    case YAML::NodeType::Null: return "nothing";
-    case YAML::NodeType::Sequence: return "a list";
-    case YAML::NodeType::Map: return "a map";
+    case YAML::NodeType::Null:
+      return "nothing";
+    case YAML::NodeType::Sequence:
+      return "a list";
+    case YAML::NodeType::Map:
+      return "a map";
     case YAML::NodeType::Scalar:
       // Quoted scalars carry the tag "!": show them quoted, "0.5" is not a number here.
       return n.Tag() == "!" ? "\"" + n.Scalar() + "\"" : "'" + n.Scalar() + "'";
-    default: return "an undefined value";
+    default:
+      return "an undefined value";
   }
 }
 
@@ -214,7 +214,8 @@ class Loader {
         const std::string k = key.Scalar();
         for (const auto& e : entries_) {
           if (e.name == k)
-            loader.fail(key_line, where_, "duplicate key '" + k + "' (first at line " + std::to_string(e.key_line) + ")");
+            loader.fail(key_line, where_,
+                        "duplicate key '" + k + "' (first at line " + std::to_string(e.key_line) + ")");
         }
         const YAML::Node value = it->second;
         // A null value is marked at the next token; point at its key instead.
@@ -303,8 +304,7 @@ class Loader {
     if (!error.empty()) fail(v, error);
     path = std::filesystem::path(path).lexically_normal().string();
     struct stat st {};
-    if (::stat(path.c_str(), &st) != 0)
-      fail(v, "cannot load image '" + path + "': " + std::strerror(errno));
+    if (::stat(path.c_str(), &st) != 0) fail(v, "cannot load image '" + path + "': " + std::strerror(errno));
     if (!S_ISREG(st.st_mode)) fail(v, "cannot load image '" + path + "': not a regular file");
     if (::access(path.c_str(), R_OK) != 0) fail(v, "cannot load image '" + path + "': " + std::strerror(errno));
     if (!textureLoads(path)) fail(v, "cannot load image '" + path + "': not a decodable image");
@@ -351,16 +351,21 @@ class Loader {
     o.name = name(m.require("name"));
     m.rename(v.where + " (" + o.name + ")");
     name_value = m.require("name");
-    m.allowOnly({"name", "shape", "size_m", "radius_m", "length_m", "pose", "color_rgb", "texture",
-                 "display_topic", "static", "mass_kg", "collision", "friction"});
+    m.allowOnly({"name", "shape", "size_m", "radius_m", "length_m", "pose", "color_rgb", "texture", "display_topic",
+                 "static", "mass_kg", "collision", "friction"});
 
     const Value& shape = m.require("shape");
     const std::string shape_name = string(shape);
-    if (shape_name == "box") o.shape = ObjectShape::kBox;
-    else if (shape_name == "cylinder") o.shape = ObjectShape::kCylinder;
-    else if (shape_name == "cone") o.shape = ObjectShape::kCone;
-    else if (shape_name == "sphere") o.shape = ObjectShape::kSphere;
-    else fail(shape, "unknown shape " + describe(shape.node) + " (expected one of: box, cylinder, cone, sphere)");
+    if (shape_name == "box")
+      o.shape = ObjectShape::kBox;
+    else if (shape_name == "cylinder")
+      o.shape = ObjectShape::kCylinder;
+    else if (shape_name == "cone")
+      o.shape = ObjectShape::kCone;
+    else if (shape_name == "sphere")
+      o.shape = ObjectShape::kSphere;
+    else
+      fail(shape, "unknown shape " + describe(shape.node) + " (expected one of: box, cylinder, cone, sphere)");
 
     // Which dimension keys each shape takes; the others are errors, not silently ignored.
     const bool box = o.shape == ObjectShape::kBox;
@@ -530,8 +535,7 @@ Shape collisionShapeOf(const WorldObject& object) {
 }
 
 ArticulatedModel modelOfDynamicObject(const WorldObject& object) {
-  if (object.is_static)
-    throw std::invalid_argument("modelOfDynamicObject: object '" + object.name + "' is static");
+  if (object.is_static) throw std::invalid_argument("modelOfDynamicObject: object '" + object.name + "' is static");
   const double m = object.mass_kg;
   const double r = object.radius_m;
   const double h = object.length_m;
@@ -542,9 +546,15 @@ ArticulatedModel modelOfDynamicObject(const WorldObject& object) {
   body.mass_kg = m;
   Inertia inertia;
   switch (object.shape) {
-    case ObjectShape::kBox: inertia = boxInertia(m, object.size_m); break;
-    case ObjectShape::kCylinder: inertia = cylinderInertia(m, r, h); break;
-    case ObjectShape::kSphere: inertia = sphereInertia(m, r); break;
+    case ObjectShape::kBox:
+      inertia = boxInertia(m, object.size_m);
+      break;
+    case ObjectShape::kCylinder:
+      inertia = cylinderInertia(m, r, h);
+      break;
+    case ObjectShape::kSphere:
+      inertia = sphereInertia(m, r);
+      break;
     case ObjectShape::kCone:
       // Solid cone, apex at +z: centre of mass h/4 above the base, i.e. h/4 below the centre.
       body.inertial_frame.position = Vec3(0.0, 0.0, -h / 4.0);

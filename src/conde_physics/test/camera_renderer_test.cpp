@@ -305,7 +305,7 @@ TEST(WideAngleLensTest, BadLensesAreNamed) {
 // several viewpoints (the patch well off the image centre, where distortion moves it most).
 TEST(CameraRendererTest, GroundPointLandsWhereTheModelProjectsIt) {
   cp::RgbImage texture = solid(200, 200, 0, 0, 0);
-  fill(texture, 140, 60, 144, 64, 255, 255, 255);       // columns 140..143, rows 60..63
+  fill(texture, 140, 60, 144, 64, 255, 255, 255);             // columns 140..143, rows 60..63
   const cp::Vec3 patch_centre(-1.0 + 1.42, 1.0 - 0.62, 0.0);  // column 0 at x = -1, row 0 at y = +1
   cp::RenderScene scene;
   scene.setGround(texture, -1.0, 1.0, -1.0, 1.0, {0, 0, 0});
@@ -640,8 +640,7 @@ void boardSpans(const std::vector<cv::Point2f>& c, const Board& board, double& h
   vertical_px = 0.0;
   for (int j = 0; j < board.inner_y; ++j)
     horizontal_px += cv::norm(c[j * board.inner_x + board.inner_x - 1] - c[j * board.inner_x]);
-  for (int i = 0; i < board.inner_x; ++i)
-    vertical_px += cv::norm(c[(board.inner_y - 1) * board.inner_x + i] - c[i]);
+  for (int i = 0; i < board.inner_x; ++i) vertical_px += cv::norm(c[(board.inner_y - 1) * board.inner_x + i] - c[i]);
   horizontal_px /= board.inner_y;
   vertical_px /= board.inner_x;
 }
@@ -663,8 +662,9 @@ TEST(CameraRendererTest, FieldOfViewMatchesThePinholePrediction) {
                             {"signalling_panel", 320, 240, 1.5707963}};
   // One board (5 cm squares) at 0.7 m for all three, as a printed board in front of each camera.
   const double distance_m = 0.7;
-  std::printf("\n| camera | image | hfov [rad] | fx [px] | board span H predicted / measured [px] | "
-              "V predicted / measured [px] |\n|---|---|---|---|---|---|\n");
+  std::printf(
+      "\n| camera | image | hfov [rad] | fx [px] | board span H predicted / measured [px] | "
+      "V predicted / measured [px] |\n|---|---|---|---|---|---|\n");
   for (const Camera& c : cameras) {
     SCOPED_TRACE(c.name);
     const cp::CameraModel model = cp::CameraModel::fromHorizontalFov(c.width, c.height, c.hfov_rad);
@@ -728,9 +728,10 @@ TEST(CameraRendererTest, DistortedBoardUndistortsToThePinholeImage) {
     max_pinhole = std::max(max_pinhole, nearest(pinhole_expected, undistorted[i]));
     max_shift = std::max(max_shift, nearest(pinhole_expected, found[i]));
   }
-  std::printf("\ndistorted board: corner error vs project() %.3f px, undistorted vs pinhole %.3f px "
-              "(distortion moves corners up to %.1f px)\n",
-              max_distorted, max_pinhole, max_shift);
+  std::printf(
+      "\ndistorted board: corner error vs project() %.3f px, undistorted vs pinhole %.3f px "
+      "(distortion moves corners up to %.1f px)\n",
+      max_distorted, max_pinhole, max_shift);
   EXPECT_LT(max_distorted, 0.5);
   EXPECT_LT(max_pinhole, 0.5);
   EXPECT_GT(max_shift, 3.0) << "the distortion is not visible";
@@ -846,7 +847,7 @@ TEST(CameraRendererTest, RoundShapesAreDrawnWhereProjectionPutsThem) {
     const Silhouette s = shape(cp::RenderShape::kCone, cp::Quat());
     const double apex_v = model.cy_px - f * (length / 2) / d;        // apex on the axis
     const double base_v = model.cy_px + f * (length / 2) / (d - r);  // nearest point of the base rim
-    EXPECT_NEAR(s.v_min, apex_v, 2.0);  // the tip is thinner than a pixel
+    EXPECT_NEAR(s.v_min, apex_v, 2.0);                               // the tip is thinner than a pixel
     EXPECT_NEAR(s.v_max, base_v, 1.0);
     EXPECT_NEAR(s.u_centroid, model.cx_px, 0.25);
     EXPECT_GT(s.v_centroid, model.cy_px + 5) << "the wide base must be at the bottom";
@@ -1026,12 +1027,12 @@ TEST(CameraRendererTest, BadImagesAndObjectsAreRejectedWithClearMessages) {
   EXPECT_EQ(messageOf<std::runtime_error>([] { cp::loadRgbImage("/nonexistent/panel.png"); }),
             "cannot decode image '/nonexistent/panel.png'");
   const std::string corrupt = std::string(CONDE_WORLD_TEST_DIR) + "/textures/corrupt.png";
-  EXPECT_EQ(messageOf<std::runtime_error>([&] { cp::loadRgbImage(corrupt); }),
-            "cannot decode image '" + corrupt + "'");
+  EXPECT_EQ(messageOf<std::runtime_error>([&] { cp::loadRgbImage(corrupt); }), "cannot decode image '" + corrupt + "'");
 
   cp::RenderScene scene;
-  EXPECT_EQ(messageOf<std::invalid_argument>(
-                [&] { scene.addObject(box({1, 0, 1}, cp::Pose(), {1, 1, 1})); }),
+  EXPECT_EQ(messageOf<std::invalid_argument>([&] {
+              scene.addObject(box({1, 0, 1}, cp::Pose(), {1, 1, 1}));
+            }),
             "render object 0: box size must be positive (got 1 x 0 x 1 m)");
   cp::RenderObject sphere;
   sphere.shape = cp::RenderShape::kSphere;
@@ -1046,9 +1047,13 @@ TEST(CameraRendererTest, BadImagesAndObjectsAreRejectedWithClearMessages) {
   cp::RgbImage broken;
   broken.width = 4;
   broken.height = 4;
-  EXPECT_EQ(messageOf<std::invalid_argument>([&] { scene.setGround(broken, 0, 1, 0, 1, {0, 0, 0}); }),
+  EXPECT_EQ(messageOf<std::invalid_argument>([&] {
+              scene.setGround(broken, 0, 1, 0, 1, {0, 0, 0});
+            }),
             "ground texture: image data size 0 does not match 4x4 RGB");
-  EXPECT_EQ(messageOf<std::invalid_argument>([&] { scene.setGround(solid(2, 2, 0, 0, 0), 1, 1, 0, 1, {0, 0, 0}); }),
+  EXPECT_EQ(messageOf<std::invalid_argument>([&] {
+              scene.setGround(solid(2, 2, 0, 0, 0), 1, 1, 0, 1, {0, 0, 0});
+            }),
             "ground texture ranges must have min < max (got x [1, 1] m, y [0, 1] m)");
 }
 

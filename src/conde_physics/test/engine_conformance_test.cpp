@@ -41,7 +41,7 @@ cp::ArticulatedModel makeCube() {
   return m;
 }
 
-constexpr double kWheelRadius = 0.032;   // Conde's drive wheels [m]
+constexpr double kWheelRadius = 0.032;  // Conde's drive wheels [m]
 constexpr double kWheelSeparation = 0.33;
 
 // Conde-like cart: a chassis box, two driven wheels on continuous joints about +y and a
@@ -65,9 +65,9 @@ cp::ArticulatedModel makeCart() {
     const cp::Pose wheel_pose(cp::Vec3(0, y, kWheelRadius), cp::Quat());
     // Cylinder inertia about its own z axis, rotated so the spin axis is the link's y axis.
     const cp::Quat cyl_to_link = cp::Quat::fromRpy(M_PI / 2, 0, 0);
-    cp::BodySpec wheel = makeBody(side == 0 ? "left_wheel" : "right_wheel", 0.1,
-                                  cp::rotateInertia(cp::cylinderInertia(0.1, kWheelRadius, 0.03), cyl_to_link),
-                                  wheel_pose);
+    cp::BodySpec wheel =
+        makeBody(side == 0 ? "left_wheel" : "right_wheel", 0.1,
+                 cp::rotateInertia(cp::cylinderInertia(0.1, kWheelRadius, 0.03), cyl_to_link), wheel_pose);
     cp::CollisionSpec tyre;
     tyre.shape.type = cp::ShapeType::kCylinder;
     tyre.shape.radius_m = kWheelRadius;

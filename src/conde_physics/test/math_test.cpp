@@ -48,7 +48,8 @@ TEST(Math, PrincipalAxesDiagonaliseATiltedBox) {
   EXPECT_NEAR(back.ixx, moments.x, 1e-10);
   double m[3][3];
   axes.toMatrix(m);
-  const double det = m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
+  const double det = m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) -
+                     m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
                      m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
   EXPECT_NEAR(det, 1.0, 1e-10);
 }

@@ -135,8 +135,8 @@ TEST(RayCaster, FanMatchesRayByRayOnRandomScenes) {
     scene.addStatic(box(0.1, 2 * half, 0.5), cp::Pose::fromXyzRpy(half, 0, 0.25, 0, 0, 0));
     scene.addStatic(box(0.1, 2 * half, 0.5), cp::Pose::fromXyzRpy(-half, 0, 0.25, 0, 0, 0));
     for (int k = 0; k < 25; ++k) {
-      const cp::Pose pose = cp::Pose::fromXyzRpy(3.5 * u(rng), 3.5 * u(rng), 0.3 + 0.3 * u(rng), u(rng), u(rng),
-                                                 kPi * u(rng));
+      const cp::Pose pose =
+          cp::Pose::fromXyzRpy(3.5 * u(rng), 3.5 * u(rng), 0.3 + 0.3 * u(rng), u(rng), u(rng), kPi * u(rng));
       const int kind = k % 4;
       const cp::Shape s = kind == 0   ? box(0.05 + 0.4 * (1 + u(rng)), 0.05 + 0.2 * (1 + u(rng)), 0.3)
                           : kind == 1 ? cylinder(0.05 + 0.1 * (1 + u(rng)), 0.3)
@@ -149,8 +149,9 @@ TEST(RayCaster, FanMatchesRayByRayOnRandomScenes) {
     const double elevation = scene_index % 3 == 0 ? 0.0 : 0.3 * u(rng);
     for (int i = 0; i < 1081; ++i) {
       const double az = -0.75 * kPi + 1.5 * kPi * i / 1080.0 + scene_index;
-      dirs.push_back(cp::Vec3(std::cos(az) * std::cos(elevation + 0.01 * u(rng)),
-                              std::sin(az) * std::cos(elevation), std::sin(elevation)).normalized());
+      dirs.push_back(cp::Vec3(std::cos(az) * std::cos(elevation + 0.01 * u(rng)), std::sin(az) * std::cos(elevation),
+                              std::sin(elevation))
+                         .normalized());
       // Half the scenes start their rays 6 cm out, as a LiDAR with a minimum range does.
       origins.push_back(origin + dirs.back() * (scene_index % 2 == 0 ? 0.0 : 0.06));
     }

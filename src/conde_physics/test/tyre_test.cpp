@@ -117,8 +117,7 @@ TEST(Tyre, WheelLyingOnItsSideIsLeftToTheCylinderCollider) {
   cp::TyreContact c;
   EXPECT_EQ(cp::tyreOnPlane(cp::Vec3(0, 0, 0.02), kUp, kRadius, kWidth, kUp, 0.0, c), cp::TyreOnPlane::kOnFace);
   const cp::Vec3 nearly_flat = cp::Vec3(0, std::sin(0.2), std::cos(0.2));  // 11 degrees off the normal
-  EXPECT_EQ(cp::tyreOnPlane(cp::Vec3(0, 0, 0.02), nearly_flat, kRadius, kWidth, kUp, 0.0, c),
-            cp::TyreOnPlane::kOnFace);
+  EXPECT_EQ(cp::tyreOnPlane(cp::Vec3(0, 0, 0.02), nearly_flat, kRadius, kWidth, kUp, 0.0, c), cp::TyreOnPlane::kOnFace);
 }
 
 }  // namespace

@@ -69,7 +69,7 @@ TEST(UrdfModel, JointsAndSurfaces) {
   EXPECT_FALSE(j.has_position_limits);
   EXPECT_EQ(j.parent_body, 0);
   EXPECT_EQ(j.child_body, 1);
-  EXPECT_NEAR(j.pose_in_parent.position.x, 0.0, 1e-12);   // -0.1 + 0.1
+  EXPECT_NEAR(j.pose_in_parent.position.x, 0.0, 1e-12);  // -0.1 + 0.1
   EXPECT_NEAR(j.pose_in_parent.position.y, 0.15, 1e-12);
   EXPECT_NEAR(j.pose_in_parent.position.z, 0.03, 1e-12);  // 0.1 - 0.07: on the ground for r = 0.03
   EXPECT_DOUBLE_EQ(j.effort_limit, 5.0);
@@ -134,8 +134,9 @@ TEST(UrdfModel, MissingMeshFileIsAnError) {
   const std::string msg = errorOf(
       "<robot name=\"r\"><link name=\"a\"><collision><geometry><mesh filename=\"package://nowhere/m.stl\"/>"
       "</geometry></collision></link></robot>");
-  EXPECT_EQ(msg, "bad.urdf: link 'a' <collision>: mesh 'package://nowhere/m.stl': unknown package 'nowhere' in "
-                 "'package://nowhere/m.stl'");
+  EXPECT_EQ(msg,
+            "bad.urdf: link 'a' <collision>: mesh 'package://nowhere/m.stl': unknown package 'nowhere' in "
+            "'package://nowhere/m.stl'");
 }
 
 }  // namespace

@@ -14,9 +14,7 @@ namespace {
 const std::string kDir = CONDE_WORLD_TEST_DIR;
 
 // Resolves only "fixture_pkg", to the fixture folder.
-std::string fixturePackages(const std::string& package) {
-  return package == "fixture_pkg" ? kDir : std::string();
-}
+std::string fixturePackages(const std::string& package) { return package == "fixture_pkg" ? kDir : std::string(); }
 
 std::string fixture(const std::string& name) { return kDir + "/" + name + ".world.yaml"; }
 
@@ -235,17 +233,11 @@ TEST(WorldFile, DirectoryInsteadOfFile) {
   EXPECT_EQ(errorOf(kDir), "cannot open world file '" + kDir + "': Is a directory");
 }
 
-TEST(WorldFile, SyntaxError) {
-  expectError("syntax_error", 5, "YAML syntax error: end of sequence flow not found");
-}
+TEST(WorldFile, SyntaxError) { expectError("syntax_error", 5, "YAML syntax error: end of sequence flow not found"); }
 
-TEST(WorldFile, EmptyFile) {
-  expectError("empty", 1, "expected a map with keys format, name, ..., got nothing");
-}
+TEST(WorldFile, EmptyFile) { expectError("empty", 1, "expected a map with keys format, name, ..., got nothing"); }
 
-TEST(WorldFile, NotAMap) {
-  expectError("not_a_map", 1, "expected a map with keys format, name, ..., got a list");
-}
+TEST(WorldFile, NotAMap) { expectError("not_a_map", 1, "expected a map with keys format, name, ..., got a list"); }
 
 // --- Top level -----------------------------------------------------------------------------------
 
@@ -268,13 +260,9 @@ TEST(WorldFile, SolverIterationsOutOfRange) {
   expectError("bad_solver_iterations", 4, "physics.solver_iterations: must be in 1..1000, got 0");
 }
 
-TEST(WorldFile, NonInteger) {
-  expectError("non_integer", 4, "physics.max_contacts: expected an integer, got '2.5'");
-}
+TEST(WorldFile, NonInteger) { expectError("non_integer", 4, "physics.max_contacts: expected an integer, got '2.5'"); }
 
-TEST(WorldFile, QuotedNumber) {
-  expectError("quoted_number", 4, "physics.step_s: expected a number, got \"0.001\"");
-}
+TEST(WorldFile, QuotedNumber) { expectError("quoted_number", 4, "physics.step_s: expected a number, got \"0.001\""); }
 
 TEST(WorldFile, NotFinite) {
   expectError("not_finite", 4, "physics.gravity_mps2[2]: expected a finite number, got '.nan'");
@@ -311,11 +299,14 @@ TEST(WorldFile, UnknownObjectKey) {
 }
 
 TEST(WorldFile, CorruptTexture) {
-  expectError("corrupt_texture", 9,
-              "objects[0] (sign).texture: cannot load image '" + kDir + "/textures/corrupt.png': not a decodable image");
+  expectError(
+      "corrupt_texture", 9,
+      "objects[0] (sign).texture: cannot load image '" + kDir + "/textures/corrupt.png': not a decodable image");
 }
 
-TEST(WorldFile, NegativeSize) { expectError("negative_size", 7, "objects[0] (plate).size_m[2]: must be > 0, got -0.1"); }
+TEST(WorldFile, NegativeSize) {
+  expectError("negative_size", 7, "objects[0] (plate).size_m[2]: must be > 0, got -0.1");
+}
 
 TEST(WorldFile, WrongType) {
   expectError("wrong_type", 8, "objects[0] (plate).pose.xyz[1]: expected a number, got 'two'");

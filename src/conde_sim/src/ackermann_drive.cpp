@@ -55,7 +55,8 @@ cp::Pose baseInModel(const Robot& robot, const std::string& base_link) {
   int body = -1;
   cp::Pose link_in_body;
   if (!robot.model.linkInBody(base_link, body, link_in_body)) {
-    throw AckermannConfigError("robotBaseFrame", "robot '" + robot.spec.name + "' has no link named '" + base_link + "'");
+    throw AckermannConfigError("robotBaseFrame",
+                               "robot '" + robot.spec.name + "' has no link named '" + base_link + "'");
   }
   return robot.model.bodies[body].initial_pose_in_model * link_in_body;
 }
@@ -91,13 +92,15 @@ MeasuredCarGeometry measureCarGeometry(const Robot& robot, const std::string& ba
   m.axle_y_in_base_m = (p_rl.y + p_rr.y) / 2.0;
   const cp::BodySpec& wheel = robot.model.bodies[robot.model.joints[rl].child_body];
   for (const cp::CollisionSpec& c : wheel.collisions) {
-    if (c.shape.type == cp::ShapeType::kCylinder) m.geometry.wheel_radius_m = std::max(m.geometry.wheel_radius_m, c.shape.radius_m);
-    if (c.shape.type == cp::ShapeType::kSphere) m.geometry.wheel_radius_m = std::max(m.geometry.wheel_radius_m, c.shape.radius_m);
+    if (c.shape.type == cp::ShapeType::kCylinder)
+      m.geometry.wheel_radius_m = std::max(m.geometry.wheel_radius_m, c.shape.radius_m);
+    if (c.shape.type == cp::ShapeType::kSphere)
+      m.geometry.wheel_radius_m = std::max(m.geometry.wheel_radius_m, c.shape.radius_m);
   }
   const cp::JointSpec& left = robot.model.joints[sl];
   const cp::JointSpec& right = robot.model.joints[sr];
-  m.steering_has_limits = left.has_position_limits && right.has_position_limits && left.type == cp::JointType::kRevolute &&
-                          right.type == cp::JointType::kRevolute;
+  m.steering_has_limits = left.has_position_limits && right.has_position_limits &&
+                          left.type == cp::JointType::kRevolute && right.type == cp::JointType::kRevolute;
   if (m.steering_has_limits) {
     m.steering_lower_rad = std::max(left.lower, right.lower);
     m.steering_upper_rad = std::min(left.upper, right.upper);
@@ -115,7 +118,7 @@ AckermannDrive::AckermannDrive(Simulation& sim, int robot, const Config& config)
                          config.left_rear_wheel_joint, config.right_rear_wheel_joint);
   // Joint directions: steering about +z of the base (left positive), wheels about +y (forward).
   const cp::Pose base = baseInModel(r, config.base_link);
-  const char* keys[kJointCount] = {"leftSteeringJoint",   "rightSteeringJoint", "leftFrontWheelJoint",
+  const char* keys[kJointCount] = {"leftSteeringJoint",    "rightSteeringJoint", "leftFrontWheelJoint",
                                    "rightFrontWheelJoint", "leftRearWheelJoint", "rightRearWheelJoint"};
   const std::string* names[kJointCount] = {&config.left_steering_joint,    &config.right_steering_joint,
                                            &config.left_front_wheel_joint, &config.right_front_wheel_joint,
@@ -140,8 +143,8 @@ AckermannDrive::AckermannDrive(Simulation& sim, int robot, const Config& config)
   if (g.wheel_radius_m == 0.0) g.wheel_radius_m = measured.geometry.wheel_radius_m;
   if (!(g.wheelbase_m > 0.0)) {
     throw AckermannConfigError("wheelbase", "the steering joints must lie ahead of the rear wheel joints in '" +
-                                                config.base_link + "' (wheelbase from the URDF: " +
-                                                std::to_string(g.wheelbase_m) + " m)");
+                                                config.base_link +
+                                                "' (wheelbase from the URDF: " + std::to_string(g.wheelbase_m) + " m)");
   }
   if (!(g.front_half_track_m > 0.0)) {
     throw AckermannConfigError("frontTrack", "the left steering joint must lie left of the right one (half track " +
@@ -152,9 +155,11 @@ AckermannDrive::AckermannDrive(Simulation& sim, int robot, const Config& config)
                                                 std::to_string(g.rear_half_track_m) + " m)");
   }
   if (!(g.wheel_radius_m > 0.0)) {
-    throw AckermannConfigError("wheelRadius", "the rear wheel link '" +
-                                                  r.model.bodies[r.model.joints[r.model.jointIndex(config.left_rear_wheel_joint)].child_body].name +
-                                                  "' has no cylinder collision: give <wheelRadius>");
+    throw AckermannConfigError(
+        "wheelRadius",
+        "the rear wheel link '" +
+            r.model.bodies[r.model.joints[r.model.jointIndex(config.left_rear_wheel_joint)].child_body].name +
+            "' has no cylinder collision: give <wheelRadius>");
   }
   if (config_.max_steering_angle_rad <= 0.0) {
     if (!measured.steering_has_limits) {
@@ -165,7 +170,8 @@ AckermannDrive::AckermannDrive(Simulation& sim, int robot, const Config& config)
     config_.max_steering_angle_rad = maxCentreSteeringAngle(g, inner_limit);
   }
   if (config_.drive_front && (config.left_front_wheel_joint.empty() || config.right_front_wheel_joint.empty())) {
-    throw AckermannConfigError("driveWheels", "driving the front wheels needs leftFrontWheelJoint and rightFrontWheelJoint");
+    throw AckermannConfigError("driveWheels",
+                               "driving the front wheels needs leftFrontWheelJoint and rightFrontWheelJoint");
   }
 
   odometry_ = AckermannOdometry(g.wheelbase_m, measured.axle_x_in_base_m, measured.axle_y_in_base_m);
@@ -175,8 +181,10 @@ AckermannDrive::AckermannDrive(Simulation& sim, int robot, const Config& config)
     if (limit > 0.0 && (gains.output_limit <= 0.0 || gains.output_limit > limit)) gains.output_limit = limit;
     return gains;
   };
-  for (int s = 0; s < 2; ++s) steering_pid_[s] = PidController(withinJointLimit(config_.steering_pid, joints_[kSteerLeft + s]));
-  for (int w = 0; w < 4; ++w) wheel_pid_[w] = PidController(withinJointLimit(config_.wheel_pid, joints_[kFrontLeft + w]));
+  for (int s = 0; s < 2; ++s)
+    steering_pid_[s] = PidController(withinJointLimit(config_.steering_pid, joints_[kSteerLeft + s]));
+  for (int w = 0; w < 4; ++w)
+    wheel_pid_[w] = PidController(withinJointLimit(config_.wheel_pid, joints_[kFrontLeft + w]));
   period_steps_ = updatePeriodSteps(config.update_rate_hz, sim.stepS());
   reset();
 }
@@ -202,7 +210,8 @@ bool AckermannDrive::commandDrive(double speed_mps, double steering_angle_rad, d
     return false;
   }
   target_speed_mps_ = speed_mps;
-  target_steering_rad_ = std::clamp(steering_angle_rad, -config_.max_steering_angle_rad, config_.max_steering_angle_rad);
+  target_steering_rad_ =
+      std::clamp(steering_angle_rad, -config_.max_steering_angle_rad, config_.max_steering_angle_rad);
   steering_rate_limit_ = std::abs(steering_angle_velocity_radps);
   acceleration_limit_ = std::abs(acceleration_mps2);
   command_time_s_ = sim_.timeS();
@@ -212,8 +221,8 @@ bool AckermannDrive::commandDrive(double speed_mps, double steering_angle_rad, d
 
 bool AckermannDrive::commandTwist(double linear_mps, double yaw_rate_radps) {
   if (!std::isfinite(linear_mps) || !std::isfinite(yaw_rate_radps)) return false;
-  const double steering = steeringAngleForYawRate(config_.geometry.wheelbase_m, linear_mps, yaw_rate_radps,
-                                                  target_steering_rad_);
+  const double steering =
+      steeringAngleForYawRate(config_.geometry.wheelbase_m, linear_mps, yaw_rate_radps, target_steering_rad_);
   return commandDrive(linear_mps, steering);
 }
 
@@ -251,7 +260,8 @@ void AckermannDrive::beforeStep() {
   for (int s = 0; s < 2; ++s) {
     const int which = kSteerLeft + s;
     // The error's rate is minus the hinge's speed (set point at rest): no derivative kick.
-    const double effort = steering_pid_[s].update(steering_targets[s] - jointPosition(which), -jointVelocity(which), dt_s);
+    const double effort =
+        steering_pid_[s].update(steering_targets[s] - jointPosition(which), -jointVelocity(which), dt_s);
     engine.addJointEffort(id, joints_[which], signs_[which] * effort);
   }
   const WheelSpeeds speeds = wheelSpeeds(config_.geometry, speed_mps_, steering_rad_);
@@ -279,7 +289,8 @@ bool AckermannDrive::afterStep() {
     odometry_.update(distance_m, (steering_rad + last_steering_rad_) / 2.0, dt_s);
     last_rear_angle_rad_ = rear_angle_rad;
     last_steering_rad_ = steering_rad;
-    odom_pose_ = cp::Pose(cp::Vec3(odometry_.x_m(), odometry_.y_m(), 0.0), cp::Quat::fromRpy(0, 0, odometry_.yaw_rad()));
+    odom_pose_ =
+        cp::Pose(cp::Vec3(odometry_.x_m(), odometry_.y_m(), 0.0), cp::Quat::fromRpy(0, 0, odometry_.yaw_rad()));
     odom_twist_.linear_mps = cp::Vec3(odometry_.linear_x_mps(), odometry_.linear_y_mps(), 0.0);
     odom_twist_.angular_radps = cp::Vec3(0.0, 0.0, odometry_.angular_radps());
   } else {

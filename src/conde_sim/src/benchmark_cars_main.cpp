@@ -141,7 +141,8 @@ Result run(const std::string& engine, const std::string& urdf, int cars, double 
 
 int main(int argc, char** argv) {
   if (argc < 2) {
-    std::fprintf(stderr, "usage: %s CAR.urdf [cars=1,4,16,50] [sim_seconds=10] [engines=ode,bullet] [solver_iterations=10]\n",
+    std::fprintf(stderr,
+                 "usage: %s CAR.urdf [cars=1,4,16,50] [sim_seconds=10] [engines=ode,bullet] [solver_iterations=10]\n",
                  argv[0]);
     return 2;
   }
@@ -159,8 +160,9 @@ int main(int argc, char** argv) {
   try {
     std::printf("physics at %.0f Hz, %d solver iterations; LiDAR 1081 beams over 270 degrees at %.0f Hz per car\n\n",
                 1.0 / cp::PhysicsSettings().step_s, solver_iterations, kLidarRate_hz);
-    std::printf("| engine | cars | simulated [s] | CPU [s] | real-time factor (CPU) | real-time factor (wall) | "
-                "physics + PIDs per step [us] | per scan of 1081 beams [us] |\n|---|---|---|---|---|---|---|---|\n");
+    std::printf(
+        "| engine | cars | simulated [s] | CPU [s] | real-time factor (CPU) | real-time factor (wall) | "
+        "physics + PIDs per step [us] | per scan of 1081 beams [us] |\n|---|---|---|---|---|---|---|---|\n");
     for (const std::string& cars : car_counts) {
       for (const std::string& engine : engines) {
         const Result r = run(engine, urdf.str(), std::stoi(cars), sim_seconds, solver_iterations);

@@ -122,7 +122,8 @@ bool DiffDrive::afterStep() {
   const cp::ModelId id = sim_.robot(robot_).id;
   if (config_.encoder_odometry) {
     odometry_.update(sim_.engine().jointPosition(id, left_), sim_.engine().jointPosition(id, right_), dt_s);
-    odom_pose_ = cp::Pose(cp::Vec3(odometry_.x_m(), odometry_.y_m(), 0.0), cp::Quat::fromRpy(0, 0, odometry_.yaw_rad()));
+    odom_pose_ =
+        cp::Pose(cp::Vec3(odometry_.x_m(), odometry_.y_m(), 0.0), cp::Quat::fromRpy(0, 0, odometry_.yaw_rad()));
     odom_twist_.linear_mps = cp::Vec3(odometry_.linear_mps(), 0, 0);
     odom_twist_.angular_radps = cp::Vec3(0, 0, odometry_.angular_radps());
   } else {

@@ -35,8 +35,8 @@ int requireJoint(const PluginContext& ctx, const PluginParams& params, const std
                  const std::string& joint_name) {
   const int index = ctx.sim->robot(ctx.robot).model.jointIndex(joint_name);
   if (index < 0) {
-    throw params.error(key, "robot '" + ctx.sim->robot(ctx.robot).spec.name + "' has no movable joint named '" +
-                                joint_name + "'");
+    throw params.error(
+        key, "robot '" + ctx.sim->robot(ctx.robot).spec.name + "' has no movable joint named '" + joint_name + "'");
   }
   return index;
 }

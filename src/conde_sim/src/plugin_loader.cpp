@@ -29,7 +29,8 @@ std::vector<std::unique_ptr<SimPlugin>> loadRobotPlugins(PluginContext& ctx) {
     PluginParams params(plugin, sensor, source, link);
     const auto it = pluginRegistry().find(params.filename());
     if (it == pluginRegistry().end()) {
-      throw PluginError(params.where() + ": unknown plugin '" + params.filename() + "' (known: " + knownPluginNames() + ")");
+      throw PluginError(params.where() + ": unknown plugin '" + params.filename() + "' (known: " + knownPluginNames() +
+                        ")");
     }
     std::unique_ptr<SimPlugin> p = it->second();
     p->load(ctx, params);
@@ -45,7 +46,8 @@ std::vector<std::unique_ptr<SimPlugin>> loadRobotPlugins(PluginContext& ctx) {
         if (key == "plugin") {
           load(e, nullptr, "");
         } else if (!kModelKeys.count(key)) {
-          throw PluginError(source + ":" + std::to_string(e->GetLineNum()) + ": <gazebo>: unknown element <" + key + ">");
+          throw PluginError(source + ":" + std::to_string(e->GetLineNum()) + ": <gazebo>: unknown element <" + key +
+                            ">");
         }
       }
       continue;

@@ -35,8 +35,8 @@ std::optional<bool> boolText(const std::string& t) {
 
 }  // namespace
 
-PluginParams::PluginParams(const tinyxml2::XMLElement* plugin, const tinyxml2::XMLElement* sensor,
-                           std::string source, std::string reference_link)
+PluginParams::PluginParams(const tinyxml2::XMLElement* plugin, const tinyxml2::XMLElement* sensor, std::string source,
+                           std::string reference_link)
     : plugin_(plugin), sensor_(sensor), source_(std::move(source)), reference_link_(std::move(reference_link)) {
   name_ = plugin->Attribute("name") ? plugin->Attribute("name") : "";
   filename_ = plugin->Attribute("filename") ? plugin->Attribute("filename") : "";
@@ -46,7 +46,8 @@ PluginParams::PluginParams(const tinyxml2::XMLElement* plugin, const tinyxml2::X
 }
 
 std::string PluginParams::where() const {
-  std::string w = source_ + ":" + std::to_string(plugin_->GetLineNum()) + ": plugin '" + name_ + "' (" + filename_ + ")";
+  std::string w =
+      source_ + ":" + std::to_string(plugin_->GetLineNum()) + ": plugin '" + name_ + "' (" + filename_ + ")";
   return w;
 }
 

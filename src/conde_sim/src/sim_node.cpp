@@ -88,7 +88,8 @@ class SimNode {
       PluginContext ctx;
       ctx.sim = sim_.get();
       ctx.robot = r;
-      ctx.robot_nh = ros::NodeHandle(sim_->robot(r).spec.ros_namespace.empty() ? "/" : sim_->robot(r).spec.ros_namespace);
+      ctx.robot_nh =
+          ros::NodeHandle(sim_->robot(r).spec.ros_namespace.empty() ? "/" : sim_->robot(r).spec.ros_namespace);
       ctx.tf = &tf_;
       ctx.static_tf = &static_tf_;
       for (auto& plugin : loadRobotPlugins(ctx)) plugins_.push_back(std::move(plugin));
@@ -100,7 +101,8 @@ class SimNode {
     markers_pub_ = pnh_.advertise<visualization_msgs::MarkerArray>("world_markers", 1, true);
     const char* ros_home = std::getenv("ROS_HOME");
     const char* home = std::getenv("HOME");
-    const std::string cache = ros_home ? std::string(ros_home) + "/conde_sim" : std::string(home ? home : "/tmp") + "/.ros/conde_sim";
+    const std::string cache =
+        ros_home ? std::string(ros_home) + "/conde_sim" : std::string(home ? home : "/tmp") + "/.ros/conde_sim";
     markers_pub_.publish(worldMarkers(sim_->world(), writeGroundMesh(sim_->world(), cache)));
 
     // Services run on their own thread and hand the work to the step loop, which is the only
@@ -151,8 +153,9 @@ class SimNode {
         break;
       }
       if (real_time_factor_ > 0 && !paused_) {
-        const auto target = wall_start + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                                             std::chrono::duration<double>((sim_->timeS() - sim_start_s) / real_time_factor_));
+        const auto target =
+            wall_start + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                             std::chrono::duration<double>((sim_->timeS() - sim_start_s) / real_time_factor_));
         if (target > std::chrono::steady_clock::now()) std::this_thread::sleep_until(target);
       }
     }
@@ -163,10 +166,11 @@ class SimNode {
     getrusage(RUSAGE_SELF, &usage);
     const double cpu_s = processCpuSeconds() - run_start_cpu_s - paused_cpu_s;
     const double simulated_s = sim_->timeS() - run_start_sim_s;
-    ROS_INFO("conde_sim: simulated %.3f s in %.3f s of wall time, pauses not counted (real-time factor %.1f), "
-             "peak RSS %.1f MB, CPU %.3f s (simulated seconds per CPU second %.1f)",
-             simulated_s, wall_s, simulated_s / std::max(wall_s, 1e-9), usage.ru_maxrss / 1024.0, cpu_s,
-             simulated_s / std::max(cpu_s, 1e-9));
+    ROS_INFO(
+        "conde_sim: simulated %.3f s in %.3f s of wall time, pauses not counted (real-time factor %.1f), "
+        "peak RSS %.1f MB, CPU %.3f s (simulated seconds per CPU second %.1f)",
+        simulated_s, wall_s, simulated_s / std::max(wall_s, 1e-9), usage.ru_maxrss / 1024.0, cpu_s,
+        simulated_s / std::max(cpu_s, 1e-9));
   }
 
  private:
@@ -196,12 +200,19 @@ class SimNode {
           throw StartupError(item + "." + kv.first + ": expected a string");
         }
         const std::string value = static_cast<std::string>(kv.second);
-        if (kv.first == "name") name = value;
-        else if (kv.first == "namespace") ns = value;
-        else if (kv.first == "description_param") description = value;
-        else if (kv.first == "spawn") spawn = value;
-        else if (kv.first == "frame_prefix") prefix = value;
-        else throw StartupError(item + ": unknown key '" + kv.first + "' (expected name, namespace, description_param, spawn, frame_prefix)");
+        if (kv.first == "name")
+          name = value;
+        else if (kv.first == "namespace")
+          ns = value;
+        else if (kv.first == "description_param")
+          description = value;
+        else if (kv.first == "spawn")
+          spawn = value;
+        else if (kv.first == "frame_prefix")
+          prefix = value;
+        else
+          throw StartupError(item + ": unknown key '" + kv.first +
+                             "' (expected name, namespace, description_param, spawn, frame_prefix)");
       }
       const std::string param = ros::NodeHandle(ns.empty() ? "/" : ns).resolveName(description);
       addRobot(name, ns, param, parseSpawn(spawn, sim_->world(), item + ".spawn"), prefix);

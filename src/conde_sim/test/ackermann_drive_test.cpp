@@ -182,7 +182,8 @@ TEST_P(AckermannCar, ReversingDrivesBackwardsAndTurnsTheOtherWay) {
   const cp::Pose relative = start.inverse() * truth();
   EXPECT_LT(relative.position.x, -0.5);
   // Backwards with the wheels turned left: the car yaws clockwise (yaw rate v tan(delta) / L < 0).
-  EXPECT_NEAR(truthTwist().angular_radps.z, -0.4 * std::tan(0.25) / wheelbase(), 0.03 * 0.4 * std::tan(0.25) / wheelbase());
+  EXPECT_NEAR(truthTwist().angular_radps.z, -0.4 * std::tan(0.25) / wheelbase(),
+              0.03 * 0.4 * std::tan(0.25) / wheelbase());
   EXPECT_LT(drive_->odomTwist().linear_mps.x, -0.35);  // signed encoder speed
   const double expected_m = wheelbase() / std::tan(0.25);
   EXPECT_NEAR(turningRadius(-0.4, 0.25), expected_m, 0.03 * expected_m);

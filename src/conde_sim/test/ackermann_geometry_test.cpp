@@ -153,9 +153,9 @@ TEST(PidController, IntegralClampAndOutputLimit) {
   g.output_limit = 1.2;
   PidController pid(g);
   for (int k = 0; k < 100; ++k) pid.update(1.0, 0.0, 0.01);
-  EXPECT_DOUBLE_EQ(pid.integralTerm(), 0.5);  // clamped, not wound up
-  EXPECT_DOUBLE_EQ(pid.update(0.5, 0.0, 0.01), 1.0);      // 0.5 + 0.5
-  EXPECT_DOUBLE_EQ(pid.update(5.0, 0.0, 0.01), 1.2);      // output limit
+  EXPECT_DOUBLE_EQ(pid.integralTerm(), 0.5);          // clamped, not wound up
+  EXPECT_DOUBLE_EQ(pid.update(0.5, 0.0, 0.01), 1.0);  // 0.5 + 0.5
+  EXPECT_DOUBLE_EQ(pid.update(5.0, 0.0, 0.01), 1.2);  // output limit
   EXPECT_DOUBLE_EQ(pid.update(-50.0, 0.0, 0.01), -1.2);
   // The integral recovers at once from the clamp when the error changes sign.
   EXPECT_LT(pid.integralTerm(), 0.5);

@@ -77,7 +77,8 @@ TEST_P(JointControllers, MajorAlvegaSetupSteersAndDrives) {
   JointController& left = add("left_steering_joint", JointControllerType::kEffortPosition, steeringGains());
   JointController& right = add("right_steering_joint", JointControllerType::kEffortPosition, steeringGains());
   std::vector<JointController*> wheels;
-  for (const char* w : {"left_front_wheel_joint", "right_front_wheel_joint", "left_rear_wheel_joint", "right_rear_wheel_joint"}) {
+  for (const char* w :
+       {"left_front_wheel_joint", "right_front_wheel_joint", "left_rear_wheel_joint", "right_rear_wheel_joint"}) {
     wheels.push_back(&add(w, JointControllerType::kEffortVelocity, wheelGains()));
   }
   run(0.3);  // the position controllers hold the hinges where they started
@@ -91,7 +92,7 @@ TEST_P(JointControllers, MajorAlvegaSetupSteersAndDrives) {
   run(1.7);
   EXPECT_NEAR(position("left_steering_joint"), 0.3, 0.005);
   EXPECT_NEAR(velocity("left_rear_wheel_joint"), 10.0, 0.5);
-  EXPECT_NEAR(speed(), 0.5, 0.05);  // 10 rad/s on 0.05 m wheels
+  EXPECT_NEAR(speed(), 0.5, 0.05);                                       // 10 rad/s on 0.05 m wheels
   EXPECT_GT(sim_->linkTwist(0, "base_footprint").angular_radps.z, 0.2);  // turning left
 }
 
@@ -149,8 +150,8 @@ TEST_P(JointControllers, EmergencyStopHoldsAndBrakes) {
 INSTANTIATE_TEST_SUITE_P(BothEngines, JointControllers, conde_sim_test::bothEngines(), conde_sim_test::engineName);
 
 TEST(JointControllerType, NamesRoundTrip) {
-  for (auto t : {JointControllerType::kEffortPosition, JointControllerType::kEffortVelocity, JointControllerType::kEffort,
-                 JointControllerType::kVelocity, JointControllerType::kPosition}) {
+  for (auto t : {JointControllerType::kEffortPosition, JointControllerType::kEffortVelocity,
+                 JointControllerType::kEffort, JointControllerType::kVelocity, JointControllerType::kPosition}) {
     JointControllerType parsed;
     ASSERT_TRUE(conde_sim::parseJointControllerType(conde_sim::jointControllerTypeName(t), parsed));
     EXPECT_EQ(parsed, t);

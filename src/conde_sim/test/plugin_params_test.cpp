@@ -20,8 +20,9 @@ struct Parsed {
 };
 
 TEST(PluginParams, ReadsValuesWithDefaults) {
-  Parsed p("<plugin name=\"dd\" filename=\"libx.so\">\n<wheelSeparation> 0.33 </wheelSeparation>\n"
-           "<publishTf>1</publishTf><jointName>a, b c</jointName><xyz>1 2 3</xyz></plugin>");
+  Parsed p(
+      "<plugin name=\"dd\" filename=\"libx.so\">\n<wheelSeparation> 0.33 </wheelSeparation>\n"
+      "<publishTf>1</publishTf><jointName>a, b c</jointName><xyz>1 2 3</xyz></plugin>");
   PluginParams params(p.plugin, nullptr, "robot.urdf", "");
   EXPECT_DOUBLE_EQ(params.getDouble("wheelSeparation", 0.34), 0.33);
   EXPECT_DOUBLE_EQ(params.getDouble("wheelDiameter", 0.15), 0.15);
@@ -32,15 +33,17 @@ TEST(PluginParams, ReadsValuesWithDefaults) {
 }
 
 TEST(PluginParams, UnknownKeyNamesFileLinePluginAndKey) {
-  Parsed p("<plugin name=\"dd\" filename=\"libgazebo_ros_diff_drive.so\">\n<wheelSeparation>0.3</wheelSeparation>\n"
-           "<wheelSeperation>0.3</wheelSeperation></plugin>");
+  Parsed p(
+      "<plugin name=\"dd\" filename=\"libgazebo_ros_diff_drive.so\">\n<wheelSeparation>0.3</wheelSeparation>\n"
+      "<wheelSeperation>0.3</wheelSeperation></plugin>");
   PluginParams params(p.plugin, nullptr, "conde.urdf", "");
   params.getDouble("wheelSeparation", 0.34);
   try {
     params.checkAllUsed();
     FAIL() << "expected PluginError";
   } catch (const PluginError& e) {
-    EXPECT_STREQ(e.what(), "conde.urdf:3: plugin 'dd' (libgazebo_ros_diff_drive.so): unknown parameter <wheelSeperation>");
+    EXPECT_STREQ(e.what(),
+                 "conde.urdf:3: plugin 'dd' (libgazebo_ros_diff_drive.so): unknown parameter <wheelSeperation>");
   }
 }
 
@@ -63,8 +66,9 @@ TEST(PluginParams, BadValuesNameTheKey) {
 }
 
 TEST(PluginParams, SensorKeysAreCheckedToo) {
-  Parsed p("<sensor name=\"imu\" type=\"imu\"><update_rate>100</update_rate>\n<updaterate>5</updaterate>"
-           "<plugin name=\"i\" filename=\"libgazebo_ros_imu_sensor.so\"/></sensor>");
+  Parsed p(
+      "<sensor name=\"imu\" type=\"imu\"><update_rate>100</update_rate>\n<updaterate>5</updaterate>"
+      "<plugin name=\"i\" filename=\"libgazebo_ros_imu_sensor.so\"/></sensor>");
   PluginParams params(p.plugin, p.sensor, "r.urdf", "imu_link");
   EXPECT_DOUBLE_EQ(params.sensorDouble("update_rate", 0), 100.0);
   EXPECT_EQ(params.sensorType(), "imu");
@@ -77,9 +81,10 @@ TEST(PluginParams, SensorKeysAreCheckedToo) {
 }
 
 TEST(PluginParams, NestedSensorKeysAreReadAndChecked) {
-  Parsed p("<sensor name=\"laser\" type=\"ray\"><update_rate>40</update_rate>\n<ray><scan><horizontal>\n"
-           "<samples>1081</samples>\n<min_angle>x</min_angle></horizontal></scan>\n<range><mni>0.1</mni></range></ray>"
-           "<plugin name=\"l\" filename=\"libgazebo_ros_laser.so\"/></sensor>");
+  Parsed p(
+      "<sensor name=\"laser\" type=\"ray\"><update_rate>40</update_rate>\n<ray><scan><horizontal>\n"
+      "<samples>1081</samples>\n<min_angle>x</min_angle></horizontal></scan>\n<range><mni>0.1</mni></range></ray>"
+      "<plugin name=\"l\" filename=\"libgazebo_ros_laser.so\"/></sensor>");
   PluginParams params(p.plugin, p.sensor, "r.urdf", "laser");
   EXPECT_DOUBLE_EQ(params.sensorDouble("update_rate", 0), 40.0);
   EXPECT_EQ(params.sensorInt("ray/scan/horizontal/samples", 1), 1081);
@@ -90,7 +95,8 @@ TEST(PluginParams, NestedSensorKeysAreReadAndChecked) {
     params.sensorDouble("ray/scan/horizontal/min_angle", 0.0);
     FAIL();
   } catch (const PluginError& e) {
-    EXPECT_STREQ(e.what(), "r.urdf:4: sensor 'laser' (ray): <ray><scan><horizontal><min_angle>: expected a number, got 'x'");
+    EXPECT_STREQ(e.what(),
+                 "r.urdf:4: sensor 'laser' (ray): <ray><scan><horizontal><min_angle>: expected a number, got 'x'");
   }
   try {
     params.checkAllUsed();

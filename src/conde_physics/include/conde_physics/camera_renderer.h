@@ -40,7 +40,11 @@ struct RgbImage {
   int height = 0;
   std::vector<std::uint8_t> data;  // size width * height * 3
 
-  void resize(int w, int h) { width = w; height = h; data.assign(static_cast<size_t>(w) * h * 3, 0); }
+  void resize(int w, int h) {
+    width = w;
+    height = h;
+    data.assign(static_cast<size_t>(w) * h * 3, 0);
+  }
   const std::uint8_t* pixel(int u, int v) const { return &data[(static_cast<size_t>(v) * width + u) * 3]; }
   std::uint8_t* pixel(int u, int v) { return &data[(static_cast<size_t>(v) * width + u) * 3]; }
 };
@@ -86,15 +90,15 @@ struct CameraModel {
   int height_px = 0;
   double fx_px = 0.0, fy_px = 0.0, cx_px = 0.0, cy_px = 0.0;
   LensDistortion distortion;
-  LensMapping lens;                // pinhole unless made by fromWideAngle
+  LensMapping lens;  // pinhole unless made by fromWideAngle
   // Units of the distortion's normalised coordinates: the focal length (OpenCV / ROS, what
   // CameraInfo means: x = (u - cx) / fx) or, as Gazebo's wide-angle camera applies <distortion>
   // to its lens image, the image size (x = (u - cx) / width, y = (v - cy) / height).
   bool distortion_in_image_units = false;
-  double near_clip_m = 0.1;        // nothing nearer than this (along the ray) is drawn
-  double far_clip_m = 100.0;       // nor farther
-  double noise_stddev = 0.0;       // Gaussian noise on each channel, in units of full scale (0..1),
-                                   // as Gazebo's <noise type="gaussian"> on cameras
+  double near_clip_m = 0.1;   // nothing nearer than this (along the ray) is drawn
+  double far_clip_m = 100.0;  // nor farther
+  double noise_stddev = 0.0;  // Gaussian noise on each channel, in units of full scale (0..1),
+                              // as Gazebo's <noise type="gaussian"> on cameras
 
   // Gazebo's intrinsics: fx = fy = width / (2 tan(hfov / 2)). The principal point is the image
   // centre in OpenCV's convention, ((width - 1) / 2, (height - 1) / 2), i.e. where the rendered
@@ -123,16 +127,16 @@ enum class RenderShape { kBox, kCylinder, kCone, kSphere };
 
 struct RenderObject {
   RenderShape shape = RenderShape::kBox;
-  Vec3 size_m;               // kBox: full edge lengths
-  double radius_m = 0.0;     // kCylinder, kCone (base), kSphere
-  double length_m = 0.0;     // kCylinder, kCone: along local z; a cone's base is at z = -length/2
-  Pose pose;                 // world pose of the shape centre
+  Vec3 size_m;                    // kBox: full edge lengths
+  double radius_m = 0.0;          // kCylinder, kCone (base), kSphere
+  double length_m = 0.0;          // kCylinder, kCone: along local z; a cone's base is at z = -length/2
+  Pose pose;                      // world pose of the shape centre
   Vec3 color_rgb{0.7, 0.7, 0.7};  // 0..1, flat shaded
   // kBox only: an image on the local +z face, column 0 at local -x, row 0 at local +y, so it is
   // upright and not mirrored for a viewer in front of the face (as libgazebo_ros_video). Drawn
   // unlit (like a screen). Empty = plain colour.
   RgbImage face_image;
-  int group = -1;            // e.g. the model id of a robot; cameras may exclude one group
+  int group = -1;  // e.g. the model id of a robot; cameras may exclude one group
 };
 
 // The ground plane z = 0 and everything on it.
@@ -218,7 +222,7 @@ class CameraRenderer {
   CameraModel model_;
   std::vector<Vec3> rays_optical_;  // one unit direction per pixel, distortion already inverted
   std::vector<Tile> tiles_;
-  RayCone image_cone_;              // holds every ray of the image
+  RayCone image_cone_;  // holds every ray of the image
   // The rays again as floats in tile order, kTilePixels per tile, row by row inside a tile
   // (rows kTileWidth long; pixels outside a clipped tile repeat its first ray), for the ground pass.
   std::vector<float> tile_ray_x_, tile_ray_y_, tile_ray_z_;

@@ -17,11 +17,19 @@ struct Vec3 {
   Vec3 operator-() const { return {-x, -y, -z}; }
   Vec3 operator*(double s) const { return {x * s, y * s, z * s}; }
   Vec3 operator/(double s) const { return {x / s, y / s, z / s}; }
-  Vec3& operator+=(const Vec3& o) { x += o.x; y += o.y; z += o.z; return *this; }
+  Vec3& operator+=(const Vec3& o) {
+    x += o.x;
+    y += o.y;
+    z += o.z;
+    return *this;
+  }
   double dot(const Vec3& o) const { return x * o.x + y * o.y + z * o.z; }
   Vec3 cross(const Vec3& o) const { return {y * o.z - z * o.y, z * o.x - x * o.z, x * o.y - y * o.x}; }
   double norm() const { return std::sqrt(dot(*this)); }
-  Vec3 normalized() const { double n = norm(); return n > 0.0 ? *this / n : Vec3(); }
+  Vec3 normalized() const {
+    double n = norm();
+    return n > 0.0 ? *this / n : Vec3();
+  }
 };
 
 struct Quat {

@@ -53,8 +53,8 @@ class PhysicsEngine {
   // Velocity of the body's link-frame origin and its angular velocity, world coordinates.
   virtual Twist bodyTwist(ModelId model, int body) const = 0;
 
-  virtual double jointPosition(ModelId model, int joint) const = 0;   // [rad] or [m]
-  virtual double jointVelocity(ModelId model, int joint) const = 0;   // [rad/s] or [m/s]
+  virtual double jointPosition(ModelId model, int joint) const = 0;  // [rad] or [m]
+  virtual double jointVelocity(ModelId model, int joint) const = 0;  // [rad/s] or [m/s]
   // A velocity motor that holds `velocity` with at most `max_effort` [N m or N] until changed.
   // max_effort = 0 switches the motor off.
   virtual void setJointVelocityMotor(ModelId model, int joint, double velocity, double max_effort) = 0;

@@ -44,14 +44,14 @@ class RayScene {
 
  private:
   struct Primitive {
-    const Shape* shape;   // owned by shapes_
-    Pose pose;            // static: world pose; dynamic: pose in the body's link frame
-    int model = -1;       // -1: static
+    const Shape* shape;  // owned by shapes_
+    Pose pose;           // static: world pose; dynamic: pose in the body's link frame
+    int model = -1;      // -1: static
     int body = -1;
     Vec3 centre_local;    // bounding sphere centre in the shape's frame
     double radius_m = 0;  // bounding sphere radius
   };
-  struct Placed {         // a primitive at its world pose for one cast
+  struct Placed {  // a primitive at its world pose for one cast
     const Primitive* primitive;
     Vec3 position;
     double world_R_local[3][3];

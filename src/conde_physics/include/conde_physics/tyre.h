@@ -23,8 +23,8 @@ bool isWheelCollision(const ArticulatedModel& model, int body, const CollisionSp
 bool canBeTyre(double radius_m, double length_m);
 
 struct TyreContact {
-  Vec3 point_m;       // deepest point of the tyre, world coordinates
-  double depth_m;     // how far it lies below the plane (> 0: touching)
+  Vec3 point_m;    // deepest point of the tyre, world coordinates
+  double depth_m;  // how far it lies below the plane (> 0: touching)
 };
 
 enum class TyreOnPlane {

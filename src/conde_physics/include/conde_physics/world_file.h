@@ -30,29 +30,29 @@ enum class ObjectShape { kBox, kCylinder, kCone, kSphere };
 // image columns run along +x, row 0 is at y_max_m. Elsewhere (or everywhere without a
 // texture) the plane has colour `color_rgb`.
 struct GroundSpec {
-  std::string texture_path;          // absolute, already checked to decode; "" = none
+  std::string texture_path;             // absolute, already checked to decode; "" = none
   double x_min_m = 0.0, x_max_m = 0.0;  // both 0 when the file gives no x_range_m
   double y_min_m = 0.0, y_max_m = 0.0;
-  Vec3 color_rgb{0.7, 0.7, 0.7};     // 0..1
-  SurfaceParams friction;            // only mu and mu2 come from the file
+  Vec3 color_rgb{0.7, 0.7, 0.7};  // 0..1
+  SurfaceParams friction;         // only mu and mu2 come from the file
 };
 
 struct WorldObject {
-  std::string name;                  // unique within the world, [A-Za-z0-9_]+
+  std::string name;  // unique within the world, [A-Za-z0-9_]+
   ObjectShape shape = ObjectShape::kBox;
-  Vec3 size_m;                       // kBox: full edge lengths; zero for other shapes
-  double radius_m = 0.0;             // kCylinder, kCone (base radius), kSphere
-  double length_m = 0.0;             // kCylinder, kCone: height along local z
+  Vec3 size_m;            // kBox: full edge lengths; zero for other shapes
+  double radius_m = 0.0;  // kCylinder, kCone (base radius), kSphere
+  double length_m = 0.0;  // kCylinder, kCone: height along local z
   // Centre of the shape (for a cone: centre of its bounding cylinder; base at local
   // z = -length_m/2, apex at z = +length_m/2).
   Pose pose;
-  Vec3 color_rgb{0.7, 0.7, 0.7};     // 0..1
-  std::string texture_path;          // kBox only: absolute, checked to decode; "" = none
-  std::string display_topic;         // kBox only: sensor_msgs/Image shown on the +z face; "" = none
+  Vec3 color_rgb{0.7, 0.7, 0.7};  // 0..1
+  std::string texture_path;       // kBox only: absolute, checked to decode; "" = none
+  std::string display_topic;      // kBox only: sensor_msgs/Image shown on the +z face; "" = none
   bool is_static = true;
-  double mass_kg = 0.0;              // > 0 for dynamic objects, 0 for static ones
-  bool collision = true;             // false: seen by cameras only (static objects only)
-  SurfaceParams friction;            // only mu and mu2 come from the file
+  double mass_kg = 0.0;    // > 0 for dynamic objects, 0 for static ones
+  bool collision = true;   // false: seen by cameras only (static objects only)
+  SurfaceParams friction;  // only mu and mu2 come from the file
 };
 
 // A named start pose for a robot: root link at `pose` (position + yaw only).
@@ -63,8 +63,8 @@ struct SpawnPose {
 
 struct WorldDescription {
   std::string name;
-  std::string source_path;           // absolute, normalised path of the world file
-  PhysicsSettings physics;           // file values over PhysicsSettings defaults
+  std::string source_path;  // absolute, normalised path of the world file
+  PhysicsSettings physics;  // file values over PhysicsSettings defaults
   GroundSpec ground;
   std::vector<WorldObject> objects;  // in file order
   std::vector<SpawnPose> spawns;     // in file order

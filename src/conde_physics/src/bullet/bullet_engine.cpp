@@ -26,9 +26,9 @@
 // counterpart.
 #include "bullet/bullet_engine.h"
 
-#include <btBulletDynamicsCommon.h>
 #include <BulletCollision/NarrowPhaseCollision/btRaycastCallback.h>
 #include <BulletDynamics/ConstraintSolver/btGeneric6DofSpring2Constraint.h>
+#include <btBulletDynamicsCommon.h>
 
 #include <algorithm>
 #include <cmath>
@@ -146,17 +146,17 @@ struct Joint {
   btTransform frame_in_parent, frame_in_child;
   btHingeConstraint* hinge = nullptr;
   btGeneric6DofSpring2Constraint* slider = nullptr;
-  double position = 0.0;       // [rad] unwrapped, or [m]
-  double last_angle_rad = 0.0; // wrapped angle at the last update, for unwrapping
+  double position = 0.0;        // [rad] unwrapped, or [m]
+  double last_angle_rad = 0.0;  // wrapped angle at the last update, for unwrapping
   double damping = 0.0, friction = 0.0, effort_limit = 0.0, velocity_limit = 0.0;
   bool has_limits = false;
   double lower = 0.0, upper = 0.0;
-  bool limit_window = false;   // range too wide for btAngularLimit: slide a window along
+  bool limit_window = false;  // range too wide for btAngularLimit: slide a window along
   double window_center_rad = 0.0;
   bool motor_on = false;
   double motor_velocity = 0.0, motor_max_effort = 0.0;
-  bool motor_at_stop = false;  // hinge resting on a limit: motor applied by us, not by Bullet
-  double pending_effort = 0.0; // [N m] or [N], for the next step only
+  bool motor_at_stop = false;   // hinge resting on a limit: motor applied by us, not by Bullet
+  double pending_effort = 0.0;  // [N m] or [N], for the next step only
 };
 
 struct Model {
@@ -304,8 +304,8 @@ class BulletEngine : public PhysicsEngine {
 
       btTypedConstraint* constraint = nullptr;
       if (prismatic) {
-        auto slider = std::make_unique<btGeneric6DofSpring2Constraint>(*joint.parent, *joint.child, joint.frame_in_parent,
-                                                                      joint.frame_in_child, RO_XYZ);
+        auto slider = std::make_unique<btGeneric6DofSpring2Constraint>(
+            *joint.parent, *joint.child, joint.frame_in_parent, joint.frame_in_child, RO_XYZ);
         // Lower > upper leaves an axis free; equal values lock it.
         slider->setLinearLowerLimit(btVector3(joint.has_limits ? joint.lower : 1.0, 0, 0));
         slider->setLinearUpperLimit(btVector3(joint.has_limits ? joint.upper : -1.0, 0, 0));
@@ -368,7 +368,9 @@ class BulletEngine : public PhysicsEngine {
     updateMotor(j);
   }
 
-  void addJointEffort(ModelId model, int joint, double effort) override { jointAt(model, joint).pending_effort += effort; }
+  void addJointEffort(ModelId model, int joint, double effort) override {
+    jointAt(model, joint).pending_effort += effort;
+  }
 
  private:
   // ---- construction helpers ----
@@ -562,9 +564,9 @@ class BulletEngine : public PhysicsEngine {
     if (j.damping > 0.0 || explicit_motor) {
       const btVector3 axis = axisWorld(j);
       const double v = velocityOf(j);
-      const double inv_inertia = j.hinge ? j.child->computeAngularImpulseDenominator(axis) +
-                                               j.parent->computeAngularImpulseDenominator(axis)
-                                         : j.child->getInvMass() + j.parent->getInvMass();
+      const double inv_inertia =
+          j.hinge ? j.child->computeAngularImpulseDenominator(axis) + j.parent->computeAngularImpulseDenominator(axis)
+                  : j.child->getInvMass() + j.parent->getInvMass();
       // Effort that would bring the joint to `target` in this step by itself [N m or N]: caps
       // the explicit terms so they cannot overshoot (stable for any damping on light wheels).
       auto reaching = [&](double target) { return inv_inertia > 0.0 ? (target - v) / (inv_inertia * dt_s) : 0.0; };

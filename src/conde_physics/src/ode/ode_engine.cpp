@@ -69,7 +69,7 @@ bool finitePositive(double v) { return std::isfinite(v) && v > 0.0; }
 struct GeomInfo {
   ModelId model = -1;  // -1: static world
   SurfaceParams surface;
-  bool tyre = false;   // a wheel's cylinder (tyre.h): one rounded-tread contact on planes
+  bool tyre = false;  // a wheel's cylinder (tyre.h): one rounded-tread contact on planes
   double tyre_radius_m = 0.0, tyre_width_m = 0.0;
 };
 
@@ -82,12 +82,12 @@ struct MeshStore {
 
 struct JointState {
   dJointID id = nullptr;
-  bool hinge = true;                // false: slider
-  double damping = 0.0;             // [N m s/rad] or [N s/m]
-  double friction = 0.0;            // [N m] or [N]
-  double effort_limit = 0.0;        // 0 = unlimited
-  double velocity_limit = 0.0;      // 0 = unlimited
-  double pending_effort = 0.0;      // applied in the next step only
+  bool hinge = true;            // false: slider
+  double damping = 0.0;         // [N m s/rad] or [N s/m]
+  double friction = 0.0;        // [N m] or [N]
+  double effort_limit = 0.0;    // 0 = unlimited
+  double velocity_limit = 0.0;  // 0 = unlimited
+  double pending_effort = 0.0;  // applied in the next step only
   // Unwrapped hinge angle = raw - raw_at_attach + 2 pi * turns; ODE's raw angle wraps at ±pi.
   double raw_at_attach_rad = 0.0;
   double last_raw_rad = 0.0;
@@ -96,8 +96,8 @@ struct JointState {
 
 struct ModelState {
   std::vector<dBodyID> bodies;
-  std::vector<Pose> link_in_body;   // inverse(inertial_frame): link frame in the ODE body frame
-  size_t first_joint = 0;           // index into OdeEngine::joints_
+  std::vector<Pose> link_in_body;  // inverse(inertial_frame): link frame in the ODE body frame
+  size_t first_joint = 0;          // index into OdeEngine::joints_
   size_t joint_count = 0;
 };
 
@@ -144,13 +144,13 @@ class OdeEngine final : public PhysicsEngine {
   dSpaceID dynamic_space_ = nullptr;
   dSpaceID static_space_ = nullptr;
   dJointGroupID contact_group_ = nullptr;
-  unsigned long rand_seed_ = 0;           // this engine's QuickStep shuffle seed
+  unsigned long rand_seed_ = 0;  // this engine's QuickStep shuffle seed
   int max_contacts_per_pair_ = 1;
-  std::vector<dContact> contacts_;        // dCollide output, max_contacts_per_pair_ long
+  std::vector<dContact> contacts_;  // dCollide output, max_contacts_per_pair_ long
   std::deque<GeomInfo> geom_infos_;
   std::vector<std::unique_ptr<MeshStore>> meshes_;
   std::vector<ModelState> models_;
-  std::vector<JointState> joints_;        // all models' joints, models_ index into it
+  std::vector<JointState> joints_;  // all models' joints, models_ index into it
 };
 
 OdeEngine::OdeEngine(const PhysicsSettings& settings) : PhysicsEngine(settings) {
@@ -304,8 +304,7 @@ ModelId OdeEngine::addModel(const ArticulatedModel& model, const Pose& root_pose
     dMass mass;
     dMassSetZero(&mass);
     dMassSetParameters(&mass, mass_kg, 0, 0, 0, std::max(inertia_kgm2.x, kMinInertiaKgm2),
-                       std::max(inertia_kgm2.y, kMinInertiaKgm2), std::max(inertia_kgm2.z, kMinInertiaKgm2), 0, 0,
-                       0);
+                       std::max(inertia_kgm2.y, kMinInertiaKgm2), std::max(inertia_kgm2.z, kMinInertiaKgm2), 0, 0, 0);
     dBodySetMass(body, &mass);
     if (kinematic) dBodySetKinematic(body);  // infinite mass, zero velocity: exactly still
 
@@ -519,8 +518,10 @@ void OdeEngine::step() {
     if (!j.hinge) continue;
     const double raw_rad = dJointGetHingeAngle(j.id);
     const double delta_rad = raw_rad - j.last_raw_rad;
-    if (delta_rad > M_PI) --j.turns;
-    else if (delta_rad < -M_PI) ++j.turns;
+    if (delta_rad > M_PI)
+      --j.turns;
+    else if (delta_rad < -M_PI)
+      ++j.turns;
     j.last_raw_rad = raw_rad;
   }
 }

@@ -74,11 +74,11 @@ class AckermannDrive {
     // Effort PIDs, tuned for a 1/10-scale car (about 4 kg, 0.05 m wheels, steering knuckle +
     // wheel about 1.3e-4 kg m^2 about the hinge) at a 1 ms step. Explicit effort control is
     // stable while p * step < ~2 I (wheel: I = its spin inertia) and d * step < ~2 I (steering).
-    PidController::Gains wheel_pid{0.1, 2.0, 0.0, 1.0, 1.0};        // [N m per rad/s]; clamp, limit [N m]
+    PidController::Gains wheel_pid{0.1, 2.0, 0.0, 1.0, 1.0};         // [N m per rad/s]; clamp, limit [N m]
     PidController::Gains steering_pid{100.0, 100.0, 0.2, 0.1, 5.0};  // [N m per rad]; clamp, limit [N m]
-    double command_timeout_s = 0.5;  // 0 = never
-    double update_rate_hz = 50.0;    // odometry
-    bool encoder_odometry = false;   // false: ground truth ("world")
+    double command_timeout_s = 0.5;                                  // 0 = never
+    double update_rate_hz = 50.0;                                    // odometry
+    bool encoder_odometry = false;                                   // false: ground truth ("world")
   };
 
   // Throws AckermannConfigError naming the plugin parameter at fault (unknown joint or link,
@@ -105,7 +105,7 @@ class AckermannDrive {
   FrontWheelAngles steeringTargets() const { return frontWheelAngles(config_.geometry, steering_rad_); }
   FrontWheelAngles measuredSteering() const;
 
-  const conde_physics::Pose& odomPose() const { return odom_pose_; }   // base frame in odom
+  const conde_physics::Pose& odomPose() const { return odom_pose_; }     // base frame in odom
   const conde_physics::Twist& odomTwist() const { return odom_twist_; }  // in the base frame
   const conde_physics::Pose& startPose() const { return start_pose_; }
   bool encoderOdometry() const { return config_.encoder_odometry; }
@@ -149,8 +149,7 @@ struct MeasuredCarGeometry {
   bool steering_has_limits = false;
 };
 MeasuredCarGeometry measureCarGeometry(const Robot& robot, const std::string& base_link,
-                                       const std::string& left_steering_joint,
-                                       const std::string& right_steering_joint,
+                                       const std::string& left_steering_joint, const std::string& right_steering_joint,
                                        const std::string& left_rear_wheel_joint,
                                        const std::string& right_rear_wheel_joint);
 

@@ -19,18 +19,18 @@
 namespace conde_sim {
 
 struct AckermannGeometry {
-  double wheelbase_m = 0.0;           // L: front axle to rear axle
-  double front_half_track_m = 0.0;    // d_f: car centre line to each steering hinge
-  double rear_half_track_m = 0.0;     // d_r: car centre line to each rear wheel
-  double wheel_radius_m = 0.0;        // rolling radius of every wheel
+  double wheelbase_m = 0.0;         // L: front axle to rear axle
+  double front_half_track_m = 0.0;  // d_f: car centre line to each steering hinge
+  double rear_half_track_m = 0.0;   // d_r: car centre line to each rear wheel
+  double wheel_radius_m = 0.0;      // rolling radius of every wheel
 };
 
 struct FrontWheelAngles {
-  double left_rad = 0.0;   // + = towards the left, like delta
+  double left_rad = 0.0;  // + = towards the left, like delta
   double right_rad = 0.0;
 };
 
-struct WheelSpeeds {      // joint speeds [rad/s]; + rolls the car forwards
+struct WheelSpeeds {  // joint speeds [rad/s]; + rolls the car forwards
   double front_left_radps = 0.0, front_right_radps = 0.0;
   double rear_left_radps = 0.0, rear_right_radps = 0.0;
 };

@@ -18,7 +18,7 @@ namespace conde_sim {
 class Simulation;
 
 struct DiffDriveParams {
-  double wheel_separation_m = 0.34;   // gazebo_ros_diff_drive defaults
+  double wheel_separation_m = 0.34;  // gazebo_ros_diff_drive defaults
   double wheel_diameter_m = 0.15;
   double wheel_acceleration_mps2 = 0.0;  // ramp on each wheel's surface speed; 0 = none
   double command_timeout_s = 0.5;        // 0 disables the timeout
@@ -55,7 +55,7 @@ class DiffDriveOdometry {
   double x_m() const { return x_m_; }
   double y_m() const { return y_m_; }
   double yaw_rad() const { return yaw_rad_; }
-  double linear_mps() const { return linear_mps_; }    // signed, base frame x
+  double linear_mps() const { return linear_mps_; }  // signed, base frame x
   double angular_radps() const { return angular_radps_; }
 
  private:

@@ -26,11 +26,11 @@ namespace conde_sim {
 class Simulation;
 
 enum class JointControllerType {
-  kEffortPosition,    // effort_controllers/JointPositionController
-  kEffortVelocity,    // effort_controllers/JointVelocityController
-  kEffort,            // effort_controllers/JointEffortController
-  kVelocity,          // velocity_controllers/JointVelocityController
-  kPosition,          // position_controllers/JointPositionController
+  kEffortPosition,  // effort_controllers/JointPositionController
+  kEffortVelocity,  // effort_controllers/JointVelocityController
+  kEffort,          // effort_controllers/JointEffortController
+  kVelocity,        // velocity_controllers/JointVelocityController
+  kPosition,        // position_controllers/JointPositionController
 };
 
 // The ros_control type name of each type, and the reverse (false for an unsupported name).

@@ -23,13 +23,13 @@ namespace conde_sim {
 class Simulation;
 
 struct LaserScanConfig {
-  std::string link;                        // link carrying the sensor
-  conde_physics::Pose sensor_in_link;      // SDF <sensor><pose>
-  int beam_count = 640;                    // >= 1 (Gazebo: samples x resolution)
+  std::string link;                                 // link carrying the sensor
+  conde_physics::Pose sensor_in_link;               // SDF <sensor><pose>
+  int beam_count = 640;                             // >= 1 (Gazebo: samples x resolution)
   double min_angle_rad = 0.0, max_angle_rad = 0.0;  // min < max, unless beam_count == 1
   double min_range_m = 0.1, max_range_m = 10.0;     // 0 <= min < max
   double noise_mean_m = 0.0, noise_stddev_m = 0.0;
-  std::uint32_t noise_seed = 0;            // deterministic noise: same seed, same scans
+  std::uint32_t noise_seed = 0;  // deterministic noise: same seed, same scans
 };
 
 class LaserScanner {

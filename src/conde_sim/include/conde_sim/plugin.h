@@ -23,8 +23,8 @@ namespace conde_sim {
 
 struct PluginContext {
   Simulation* sim = nullptr;
-  int robot = -1;                       // index of the robot that carries the plugin
-  ros::NodeHandle robot_nh;             // the robot's namespace
+  int robot = -1;            // index of the robot that carries the plugin
+  ros::NodeHandle robot_nh;  // the robot's namespace
   tf2_ros::TransformBroadcaster* tf = nullptr;
   tf2_ros::StaticTransformBroadcaster* static_tf = nullptr;
 

@@ -16,11 +16,11 @@
 namespace conde_sim {
 
 struct RobotSpec {
-  std::string name;          // unique robot name; "" = the URDF's robot name
-  std::string ros_namespace; // "" keeps global topics (/cmd_vel, /odom)
-  std::string frame_prefix;  // prepended to TF frames this robot's plugins publish ("" = none)
-  std::string source;        // where the URDF came from, for messages
-  std::string urdf_xml;      // already xacro-processed
+  std::string name;                // unique robot name; "" = the URDF's robot name
+  std::string ros_namespace;       // "" keeps global topics (/cmd_vel, /odom)
+  std::string frame_prefix;        // prepended to TF frames this robot's plugins publish ("" = none)
+  std::string source;              // where the URDF came from, for messages
+  std::string urdf_xml;            // already xacro-processed
   conde_physics::Pose spawn_pose;  // root link pose in the world
 };
 
@@ -71,7 +71,7 @@ class Simulation {
 
  private:
   struct RenderedShape {
-    int robot = -1;        // -1: a dynamic world object (model = object_model_ids_[object])
+    int robot = -1;  // -1: a dynamic world object (model = object_model_ids_[object])
     int body = 0;
     int world_object = -1;
     conde_physics::Pose pose_in_body;

@@ -135,14 +135,15 @@ class AckermannDrivePlugin : public SimPlugin {
     }
     odometry_.publishWorldToOdom(drive_->encoderOdometry(), drive_->startPose());
     const AckermannGeometry& g = drive_->geometry();
-    ROS_INFO("%s: Ackermann drive, wheelbase %.4f m, tracks %.4f/%.4f m, wheel radius %.4f m, max steering %.3f rad, "
-             "%s-wheel drive, command %s, twist %s, odometry %s (%s) in %s -> %s, command timeout %.2f s",
-             robot_name_.c_str(), g.wheelbase_m, 2 * g.front_half_track_m, 2 * g.rear_half_track_m, g.wheel_radius_m,
-             drive_->maxSteeringAngle(), drive_wheels.c_str(),
-             command_topic.empty() ? "(off)" : drive_sub_.getTopic().c_str(),
-             twist_topic.empty() ? "(off)" : twist_sub_.getTopic().c_str(), odometry_.topic().c_str(),
-             c.encoder_odometry ? "encoder" : "world", odom.odom_frame.c_str(), odom.base_frame.c_str(),
-             c.command_timeout_s);
+    ROS_INFO(
+        "%s: Ackermann drive, wheelbase %.4f m, tracks %.4f/%.4f m, wheel radius %.4f m, max steering %.3f rad, "
+        "%s-wheel drive, command %s, twist %s, odometry %s (%s) in %s -> %s, command timeout %.2f s",
+        robot_name_.c_str(), g.wheelbase_m, 2 * g.front_half_track_m, 2 * g.rear_half_track_m, g.wheel_radius_m,
+        drive_->maxSteeringAngle(), drive_wheels.c_str(),
+        command_topic.empty() ? "(off)" : drive_sub_.getTopic().c_str(),
+        twist_topic.empty() ? "(off)" : twist_sub_.getTopic().c_str(), odometry_.topic().c_str(),
+        c.encoder_odometry ? "encoder" : "world", odom.odom_frame.c_str(), odom.base_frame.c_str(),
+        c.command_timeout_s);
   }
 
   void reset() override {
@@ -168,9 +169,11 @@ class AckermannDrivePlugin : public SimPlugin {
   void onDrive(const conde_msgs::AckermannDriveStamped::ConstPtr& msg) {
     const conde_msgs::AckermannDrive& d = msg->drive;
     if (!drive_->commandDrive(d.speed, d.steering_angle, d.steering_angle_velocity, d.acceleration)) {
-      ROS_WARN_THROTTLE(1.0, "%s: ignoring a non-finite command on %s (speed %f, steering_angle %f, "
-                        "steering_angle_velocity %f, acceleration %f)", robot_name_.c_str(), drive_sub_.getTopic().c_str(),
-                        d.speed, d.steering_angle, d.steering_angle_velocity, d.acceleration);
+      ROS_WARN_THROTTLE(1.0,
+                        "%s: ignoring a non-finite command on %s (speed %f, steering_angle %f, "
+                        "steering_angle_velocity %f, acceleration %f)",
+                        robot_name_.c_str(), drive_sub_.getTopic().c_str(), d.speed, d.steering_angle,
+                        d.steering_angle_velocity, d.acceleration);
       return;
     }
     timeout_reported_ = false;

@@ -80,8 +80,9 @@ class CameraPlugin : public SimPlugin {
     link_ = params.referenceLink();
     const bool wide_angle = params.inSensor() && params.sensorType() == "wideanglecamera";
     if (!params.inSensor() || (params.sensorType() != "camera" && !wide_angle) || link_.empty()) {
-      throw PluginError(params.where() + ": must sit in a <sensor type=\"camera\"> or <sensor type=\"wideanglecamera\"> "
-                                         "inside <gazebo reference=\"link\">");
+      throw PluginError(params.where() +
+                        ": must sit in a <sensor type=\"camera\"> or <sensor type=\"wideanglecamera\"> "
+                        "inside <gazebo reference=\"link\">");
     }
     const auto& robot = ctx.sim->robot(ctx.robot);
     if (robot.model.bodyIndex(link_) < 0) {
@@ -93,13 +94,14 @@ class CameraPlugin : public SimPlugin {
     const double height = params.sensorDouble("camera/image/height", 240);
     if (width <= 0 || height <= 0 || width != std::floor(width) || height != std::floor(height)) {
       throw params.sensorError("camera/image", "image size must be a positive whole number of pixels (got " +
-                                             number(width) + "x" + number(height) + ")");
+                                                   number(width) + "x" + number(height) + ")");
     }
     const double hfov_rad = params.sensorDouble("camera/horizontal_fov", 1.047);
     const double hfov_max_rad = wide_angle ? 2 * M_PI : M_PI;
     if (!(hfov_rad > 0 && (wide_angle ? hfov_rad <= hfov_max_rad : hfov_rad < hfov_max_rad))) {
-      throw params.sensorError("camera/horizontal_fov", std::string("must be in (0, ") + (wide_angle ? "2 pi]" : "pi)") +
-                                                            " rad (got " + number(hfov_rad) + ")");
+      throw params.sensorError(
+          "camera/horizontal_fov",
+          std::string("must be in (0, ") + (wide_angle ? "2 pi]" : "pi)") + " rad (got " + number(hfov_rad) + ")");
     }
     const std::string format = params.sensorString("camera/image/format", "R8G8B8");
     if (format == "R8G8B8" || format == "RGB_INT8") {
@@ -109,16 +111,17 @@ class CameraPlugin : public SimPlugin {
     } else if (format == "L8" || format == "L_INT8") {
       encoding_ = sensor_msgs::image_encodings::MONO8;
     } else {
-      throw params.sensorError("camera/image/format", "unknown image format '" + format +
-                                                    "' (expected R8G8B8, B8G8R8 or L8)");
+      throw params.sensorError("camera/image/format",
+                               "unknown image format '" + format + "' (expected R8G8B8, B8G8R8 or L8)");
     }
     cp::CameraModel model = wide_angle ? readWideAngle(params, int(width), int(height), hfov_rad)
                                        : cp::CameraModel::fromHorizontalFov(int(width), int(height), hfov_rad);
     if (!wide_angle && params.sensorHas("camera/lens")) {
       const std::string type = params.sensorString("camera/lens/type", "stereographic");
       if (type != "gnomonical") {
-        throw params.sensorError("camera/lens/type", "lens '" + type + "' needs <sensor type=\"wideanglecamera\"> (a "
-                                                     "\"camera\" sensor is a pinhole, i.e. gnomonical)");
+        throw params.sensorError("camera/lens/type", "lens '" + type +
+                                                         "' needs <sensor type=\"wideanglecamera\"> (a "
+                                                         "\"camera\" sensor is a pinhole, i.e. gnomonical)");
       }
       params.ignore({"camera/lens"});
     }
@@ -126,7 +129,7 @@ class CameraPlugin : public SimPlugin {
     model.far_clip_m = params.sensorDouble("camera/clip/far", 100.0);
     if (!(model.near_clip_m > 0 && model.far_clip_m > model.near_clip_m)) {
       throw params.sensorError("camera/clip", "needs 0 < near < far (got near " + number(model.near_clip_m) + ", far " +
-                                            number(model.far_clip_m) + ")");
+                                                  number(model.far_clip_m) + ")");
     }
     readNoise(params, model);
     readDistortion(params, model);
@@ -159,7 +162,8 @@ class CameraPlugin : public SimPlugin {
     params.sensorString("camera/save", "");  // accepted, unused
 
     // Where the camera sits and which frame its images carry.
-    const cp::Pose sensor_pose = params.sensorHas("pose") ? parsePose(params, params.sensorString("pose", "")) : cp::Pose();
+    const cp::Pose sensor_pose =
+        params.sensorHas("pose") ? parsePose(params, params.sensorString("pose", "")) : cp::Pose();
     link_T_optical_ = sensor_pose * cp::Pose(cp::Vec3(), kLinkToOptical);
     const std::string frame_name = params.getString("frameName", link_ + "_optical");
     frame_ = ctx.frame(frame_name);
@@ -171,7 +175,8 @@ class CameraPlugin : public SimPlugin {
       const cp::Pose expected = link_in_body * link_T_optical_;
       if (frame_body != link_body || !samePose(frame_in_body, expected)) {
         throw params.error("frameName", "link '" + frame_name + "' is not the optical frame of the camera on link '" +
-                                            link_ + "' (REP 103: z forward, x right, y down; expected rpy -pi/2 0 "
+                                            link_ +
+                                            "' (REP 103: z forward, x right, y down; expected rpy -pi/2 0 "
                                             "-pi/2 from the camera link)");
       }
     } else if (ctx.static_tf) {
@@ -200,12 +205,12 @@ class CameraPlugin : public SimPlugin {
     image_pub_ = nh.advertise<sensor_msgs::Image>(image_topic, 2);
     info_pub_ = nh.advertise<sensor_msgs::CameraInfo>(info_topic, 2);
     fillCameraInfo(model);
-    ROS_INFO("%s: camera on link %s: %dx%d, %s lens, hfov %.4f rad (fx %.2f px), %s distortion, %.1f Hz, %s + %s in "
-             "frame %s",
-             robot.spec.name.c_str(), link_.c_str(), model.width_px, model.height_px, lens_type_.c_str(), hfov_rad,
-             model.fx_px,
-             model.distortion.isZero() ? "no" : "plumb_bob", rate_hz, image_pub_.getTopic().c_str(),
-             info_pub_.getTopic().c_str(), frame_.c_str());
+    ROS_INFO(
+        "%s: camera on link %s: %dx%d, %s lens, hfov %.4f rad (fx %.2f px), %s distortion, %.1f Hz, %s + %s in "
+        "frame %s",
+        robot.spec.name.c_str(), link_.c_str(), model.width_px, model.height_px, lens_type_.c_str(), hfov_rad,
+        model.fx_px, model.distortion.isZero() ? "no" : "plumb_bob", rate_hz, image_pub_.getTopic().c_str(),
+        info_pub_.getTopic().c_str(), frame_.c_str());
   }
 
   void afterStep() override {
@@ -283,7 +288,8 @@ class CameraPlugin : public SimPlugin {
     if (!params.sensorHas("camera/noise")) return;
     const std::string type = params.sensorString("camera/noise/type", "gaussian");
     if (type != "gaussian" && type != "none") {
-      throw params.sensorError("camera/noise/type", "unsupported noise type '" + type + "' (expected gaussian or none)");
+      throw params.sensorError("camera/noise/type",
+                               "unsupported noise type '" + type + "' (expected gaussian or none)");
     }
     const double mean = params.sensorDouble("camera/noise/mean", 0.0);
     const double stddev = params.sensorDouble("camera/noise/stddev", 0.0);
@@ -306,8 +312,9 @@ class CameraPlugin : public SimPlugin {
     std::string rest;
     if (!(center_in >> center_x >> center_y) || (center_in >> rest) || !(center_x > 0 && center_x < 1) ||
         !(center_y > 0 && center_y < 1)) {
-      throw params.sensorError("camera/distortion/center",
-                               "expected two fractions of the image size in (0, 1), e.g. '0.5 0.5' (got '" + center + "')");
+      throw params.sensorError(
+          "camera/distortion/center",
+          "expected two fractions of the image size in (0, 1), e.g. '0.5 0.5' (got '" + center + "')");
     }
     // The distortion's centre is the principal point here (the centre of the lens model too).
     if (in_sensor) model.setDistortionCenter(center_x, center_y);

@@ -76,12 +76,13 @@ class DiffDrivePlugin : public SimPlugin {
     if (publish_wheel_joint_state_) joint_pub_ = nh.advertise<sensor_msgs::JointState>("joint_states", 10);
     command_topic_ = cmd_sub_.getTopic();
     odometry_.publishWorldToOdom(drive_->encoderOdometry(), drive_->startPose());
-    ROS_INFO("%s: diff drive on joints %s/%s, separation %.4f m, diameter %.4f m, torque %.2f N m, %.1f Hz, "
-             "command %s, odometry %s (%s) in %s -> %s, command timeout %.2f s",
-             ctx.sim->robot(ctx.robot).spec.name.c_str(), c.left_joint.c_str(), c.right_joint.c_str(),
-             p.wheel_separation_m, p.wheel_diameter_m, c.wheel_torque_nm, c.update_rate_hz, command_topic_.c_str(),
-             publish_odometry_ ? odometry_.topic().c_str() : "(off)", c.encoder_odometry ? "encoder" : "world",
-             odom.odom_frame.c_str(), odom.base_frame.c_str(), p.command_timeout_s);
+    ROS_INFO(
+        "%s: diff drive on joints %s/%s, separation %.4f m, diameter %.4f m, torque %.2f N m, %.1f Hz, "
+        "command %s, odometry %s (%s) in %s -> %s, command timeout %.2f s",
+        ctx.sim->robot(ctx.robot).spec.name.c_str(), c.left_joint.c_str(), c.right_joint.c_str(), p.wheel_separation_m,
+        p.wheel_diameter_m, c.wheel_torque_nm, c.update_rate_hz, command_topic_.c_str(),
+        publish_odometry_ ? odometry_.topic().c_str() : "(off)", c.encoder_odometry ? "encoder" : "world",
+        odom.odom_frame.c_str(), odom.base_frame.c_str(), p.command_timeout_s);
   }
 
   void reset() override {

@@ -69,7 +69,8 @@ class LaserPlugin : public SimPlugin {
     params.sensorBool("always_on", true);
 
     const long samples = params.sensorInt("ray/scan/horizontal/samples", 640);
-    if (samples < 1) throw params.sensorError("ray/scan/horizontal/samples", "must be at least 1, got " + std::to_string(samples));
+    if (samples < 1)
+      throw params.sensorError("ray/scan/horizontal/samples", "must be at least 1, got " + std::to_string(samples));
     const double resolution = params.sensorDouble("ray/scan/horizontal/resolution", 1.0);
     if (!(resolution > 0)) {
       throw params.sensorError("ray/scan/horizontal/resolution", "must be positive, got " + number(resolution));
@@ -78,22 +79,23 @@ class LaserPlugin : public SimPlugin {
     c.min_angle_rad = params.sensorDouble("ray/scan/horizontal/min_angle", 0.0);
     c.max_angle_rad = params.sensorDouble("ray/scan/horizontal/max_angle", 0.0);
     if (c.beam_count > 1 && !(c.min_angle_rad < c.max_angle_rad)) {
-      throw params.sensorError("ray/scan/horizontal/max_angle", "must be greater than <min_angle> (" +
-                                                                    number(c.min_angle_rad) + "), got " +
-                                                                    number(c.max_angle_rad));
+      throw params.sensorError(
+          "ray/scan/horizontal/max_angle",
+          "must be greater than <min_angle> (" + number(c.min_angle_rad) + "), got " + number(c.max_angle_rad));
     }
     const long vertical = params.sensorInt("ray/scan/vertical/samples", 1);
     if (vertical != 1) {
-      throw params.sensorError("ray/scan/vertical/samples", "only 2D scans are supported (1 sample), got " +
-                                                                std::to_string(vertical));
+      throw params.sensorError("ray/scan/vertical/samples",
+                               "only 2D scans are supported (1 sample), got " + std::to_string(vertical));
     }
     params.ignore({"ray/scan/vertical/resolution", "ray/scan/vertical/min_angle", "ray/scan/vertical/max_angle"});
     c.min_range_m = params.sensorDouble("ray/range/min", 0.0);
     c.max_range_m = params.sensorDouble("ray/range/max", 0.0);
-    if (c.min_range_m < 0) throw params.sensorError("ray/range/min", "must not be negative, got " + number(c.min_range_m));
+    if (c.min_range_m < 0)
+      throw params.sensorError("ray/range/min", "must not be negative, got " + number(c.min_range_m));
     if (!(c.max_range_m > c.min_range_m)) {
-      throw params.sensorError("ray/range/max", "must be greater than <min> (" + number(c.min_range_m) + "), got " +
-                                                    number(c.max_range_m));
+      throw params.sensorError(
+          "ray/range/max", "must be greater than <min> (" + number(c.min_range_m) + "), got " + number(c.max_range_m));
     }
     if (params.sensorDouble("ray/range/resolution", 0.0) < 0) {
       throw params.sensorError("ray/range/resolution", "must not be negative");
@@ -119,10 +121,12 @@ class LaserPlugin : public SimPlugin {
     msg_.range_max = static_cast<float>(c.max_range_m);
     msg_.ranges.resize(c.beam_count);
     pub_ = nh.advertise<sensor_msgs::LaserScan>(topic, 1);
-    ROS_INFO("%s: LiDAR '%s' on link %s: %d beams over [%.4f, %.4f] rad, %.3f..%.3f m, noise %.4f m, %.1f Hz, "
-             "%s in frame %s", ctx.sim->robot(ctx.robot).spec.name.c_str(), params.sensorName().c_str(), link.c_str(),
-             c.beam_count, c.min_angle_rad, c.max_angle_rad, c.min_range_m, c.max_range_m, c.noise_stddev_m,
-             1.0 / (period_steps_ * ctx.sim->stepS()), pub_.getTopic().c_str(), frame_.c_str());
+    ROS_INFO(
+        "%s: LiDAR '%s' on link %s: %d beams over [%.4f, %.4f] rad, %.3f..%.3f m, noise %.4f m, %.1f Hz, "
+        "%s in frame %s",
+        ctx.sim->robot(ctx.robot).spec.name.c_str(), params.sensorName().c_str(), link.c_str(), c.beam_count,
+        c.min_angle_rad, c.max_angle_rad, c.min_range_m, c.max_range_m, c.noise_stddev_m,
+        1.0 / (period_steps_ * ctx.sim->stepS()), pub_.getTopic().c_str(), frame_.c_str());
   }
 
   void afterStep() override {
@@ -141,7 +145,8 @@ class LaserPlugin : public SimPlugin {
     double v[6];
     std::string rest;
     for (double& x : v) {
-      if (!(in >> x)) throw params.sensorError("pose", "expected six numbers (x y z roll pitch yaw), got '" + text + "'");
+      if (!(in >> x))
+        throw params.sensorError("pose", "expected six numbers (x y z roll pitch yaw), got '" + text + "'");
     }
     if (in >> rest) throw params.sensorError("pose", "expected six numbers (x y z roll pitch yaw), got '" + text + "'");
     return cp::Pose::fromXyzRpy(v[0], v[1], v[2], v[3], v[4], v[5]);

@@ -31,9 +31,9 @@
 // (the robot is the URDF this block sits in). Differences: the namespace defaults to the robot's
 // namespace (Gazebo: the model name); controller_manager's services (list_controllers, ...) are
 // not offered, because controller_manager_msgs is not packaged for Debian.
+#include <sensor_msgs/JointState.h>
 #include <std_msgs/Bool.h>
 #include <std_msgs/Float64.h>
-#include <sensor_msgs/JointState.h>
 
 #include <algorithm>
 #include <cmath>
@@ -51,8 +51,8 @@ constexpr char kJointStateType[] = "joint_state_controller/JointStateController"
 
 std::string supportedTypes() {
   std::string s;
-  for (auto t : {JointControllerType::kEffortPosition, JointControllerType::kEffortVelocity, JointControllerType::kEffort,
-                 JointControllerType::kVelocity, JointControllerType::kPosition}) {
+  for (auto t : {JointControllerType::kEffortPosition, JointControllerType::kEffortVelocity,
+                 JointControllerType::kEffort, JointControllerType::kVelocity, JointControllerType::kPosition}) {
     s += std::string(jointControllerTypeName(t)) + ", ";
   }
   return s + kJointStateType;
@@ -67,13 +67,20 @@ bool looksLikeControllerType(const std::string& type) {
 
 std::string typeName(XmlRpc::XmlRpcValue::Type t) {
   switch (t) {
-    case XmlRpc::XmlRpcValue::TypeBoolean: return "a boolean";
-    case XmlRpc::XmlRpcValue::TypeInt: return "an integer";
-    case XmlRpc::XmlRpcValue::TypeDouble: return "a number";
-    case XmlRpc::XmlRpcValue::TypeString: return "a string";
-    case XmlRpc::XmlRpcValue::TypeArray: return "a list";
-    case XmlRpc::XmlRpcValue::TypeStruct: return "a dictionary";
-    default: return "something else";
+    case XmlRpc::XmlRpcValue::TypeBoolean:
+      return "a boolean";
+    case XmlRpc::XmlRpcValue::TypeInt:
+      return "an integer";
+    case XmlRpc::XmlRpcValue::TypeDouble:
+      return "a number";
+    case XmlRpc::XmlRpcValue::TypeString:
+      return "a string";
+    case XmlRpc::XmlRpcValue::TypeArray:
+      return "a list";
+    case XmlRpc::XmlRpcValue::TypeStruct:
+      return "a dictionary";
+    default:
+      return "something else";
   }
 }
 
@@ -85,7 +92,8 @@ class RosControlPlugin : public SimPlugin {
     nh_ = ctx.nodeHandle(params);
     const std::string sim_type = params.getString("robotSimType", "gazebo_ros_control/DefaultRobotHWSim");
     if (sim_type != "gazebo_ros_control/DefaultRobotHWSim") {
-      throw params.error("robotSimType", "only gazebo_ros_control/DefaultRobotHWSim is supported, got '" + sim_type + "'");
+      throw params.error("robotSimType",
+                         "only gazebo_ros_control/DefaultRobotHWSim is supported, got '" + sim_type + "'");
     }
     const double period_s = params.getDouble("controlPeriod", 0.0);
     if (period_s < 0) throw params.error("controlPeriod", "must not be negative");
@@ -169,8 +177,8 @@ class RosControlPlugin : public SimPlugin {
   void loadController(const std::string& name, bool listed) {
     XmlRpc::XmlRpcValue config;
     if (!nh_.getParam(name, config)) {
-      throw controllerError(name, "type", listed ? "not set: load the controller YAML before the simulator starts"
-                                                 : "not set");
+      throw controllerError(name, "type",
+                            listed ? "not set: load the controller YAML before the simulator starts" : "not set");
     }
     if (config.getType() != XmlRpc::XmlRpcValue::TypeStruct) {
       throw PluginError(params_where_ + ": controller '" + name + "': parameter " + nh_.resolveName(name) +
@@ -183,15 +191,17 @@ class RosControlPlugin : public SimPlugin {
     }
     JointControllerType jtype;
     if (!parseJointControllerType(type, jtype)) {
-      throw controllerError(name, "type", "unsupported controller type '" + type + "' (supported: " + supportedTypes() + ")");
+      throw controllerError(name, "type",
+                            "unsupported controller type '" + type + "' (supported: " + supportedTypes() + ")");
     }
     const std::vector<std::string> allowed = {"type", "joint", "pid"};
     checkKeys(name, config, "", allowed);
     const std::string joint = stringKey(name, config, "joint");
     const int index = ctx_.sim->robot(ctx_.robot).model.jointIndex(joint);
     if (index < 0) {
-      throw controllerError(name, "joint", "robot '" + ctx_.sim->robot(ctx_.robot).spec.name +
-                                               "' has no movable joint named '" + joint + "'");
+      throw controllerError(
+          name, "joint",
+          "robot '" + ctx_.sim->robot(ctx_.robot).spec.name + "' has no movable joint named '" + joint + "'");
     }
     for (const auto& c : controllers_) {
       if (c.controller->joint() == index) {
@@ -210,12 +220,13 @@ class RosControlPlugin : public SimPlugin {
     loaded.controller = std::make_unique<JointController>(*ctx_.sim, ctx_.robot, index, jtype, gains);
     JointController* controller = loaded.controller.get();
     const std::string topic = name + "/command";
-    loaded.sub = nh_.subscribe<std_msgs::Float64>(topic, 1, [this, controller, name](const std_msgs::Float64::ConstPtr& m) {
-      if (!controller->setCommand(m->data)) {
-        ROS_WARN_THROTTLE(1.0, "%s: ignoring a non-finite command on %s", name.c_str(),
-                          nh_.resolveName(name + "/command").c_str());
-      }
-    });
+    loaded.sub =
+        nh_.subscribe<std_msgs::Float64>(topic, 1, [this, controller, name](const std_msgs::Float64::ConstPtr& m) {
+          if (!controller->setCommand(m->data)) {
+            ROS_WARN_THROTTLE(1.0, "%s: ignoring a non-finite command on %s", name.c_str(),
+                              nh_.resolveName(name + "/command").c_str());
+          }
+        });
     controllers_.push_back(std::move(loaded));
   }
 
@@ -223,8 +234,8 @@ class RosControlPlugin : public SimPlugin {
     checkKeys(name, config, "", {"type", "publish_rate", "extra_joints"});
     if (config.hasMember("extra_joints")) throw controllerError(name, "extra_joints", "is not supported");
     if (joint_state_pub_) {
-      throw controllerError(name, "type", "a second " + std::string(kJointStateType) + " (the first is '" +
-                                              joint_state_name_ + "')");
+      throw controllerError(name, "type",
+                            "a second " + std::string(kJointStateType) + " (the first is '" + joint_state_name_ + "')");
     }
     double rate_hz = 50.0;  // joint_state_controller's default
     if (config.hasMember("publish_rate")) rate_hz = number(name, "publish_rate", config["publish_rate"]);
@@ -243,7 +254,8 @@ class RosControlPlugin : public SimPlugin {
     if (pid.getType() != XmlRpc::XmlRpcValue::TypeStruct) {
       throw controllerError(name, "pid", "expected a dictionary (p, i, d, i_clamp), got " + typeName(pid.getType()));
     }
-    checkKeys(name, pid, "pid/", {"p", "i", "d", "i_clamp", "i_clamp_min", "i_clamp_max", "antiwindup", "publish_state"});
+    checkKeys(name, pid, "pid/",
+              {"p", "i", "d", "i_clamp", "i_clamp_min", "i_clamp_max", "antiwindup", "publish_state"});
     PidController::Gains g;
     auto get = [&](const char* key, double fallback) {
       return pid.hasMember(key) ? number(name, std::string("pid/") + key, pid[key]) : fallback;

@@ -45,8 +45,7 @@ class VideoPlugin : public SimPlugin {
     if (max_width_px_ <= 0) throw params.error("width", "must be positive");
     ros::NodeHandle nh = ctx.nodeHandle(params);
     sub_ = nh.subscribe(topic, 1, &VideoPlugin::onImage, this);
-    ROS_INFO("%s: display panel on link %s shows %s", robot.spec.name.c_str(), link.c_str(),
-             sub_.getTopic().c_str());
+    ROS_INFO("%s: display panel on link %s shows %s", robot.spec.name.c_str(), link.c_str(), sub_.getTopic().c_str());
   }
 
  private:
