@@ -139,7 +139,8 @@ class CameraTest(unittest.TestCase):
         sub = rospy.Subscriber(top_topic, Image, frames.append, queue_size=100)
         try:
             self.assertTrue(set_signal("forward").success)
-            wait_for(lambda: frames and count_colour(as_array(frames[-1]), "green") > 150, "a green arrow on the monitor")
+            wait_for(lambda: frames and count_colour(as_array(frames[-1]), "green") > 150,
+                     "a green arrow on the monitor")
             pause()
             time.sleep(0.5)  # let frames already on the wire arrive
             self.assertTrue(set_signal("stop").success)

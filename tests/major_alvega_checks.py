@@ -157,8 +157,8 @@ class MajorAlvegaTest(unittest.TestCase):
         return {name: latest.last.data for name, latest in self.commands.items()}
 
     def wait_for_commands(self, predicate, what):
-        wait_for(lambda: all(l.last is not None for l in self.commands.values()) and predicate(self.last_commands()),
-                 what)
+        wait_for(lambda: (all(log.last is not None for log in self.commands.values())
+                          and predicate(self.last_commands())), what)
         return self.last_commands()
 
     def start_over(self):
@@ -230,6 +230,7 @@ class MajorAlvegaTest(unittest.TestCase):
         print(f"[{self.engine}, {self.controllers}] backwards: speed along the heading {along:.4f} m/s", flush=True)
         self.assertAlmostEqual(along, speed_mps * math.hypot(predicted_m, L_M / 2) / predicted_m,
                                delta=0.05 * abs(speed_mps))
+
 
 if __name__ == "__main__":
     rostest.rosrun("conde_tests", "major_alvega", MajorAlvegaTest)

@@ -12,7 +12,7 @@ from nav_msgs.msg import Odometry
 from sensor_msgs.msg import JointState
 from std_msgs.msg import Float64
 
-from stepped_sim import Latest, SteppedSim, connected, wait_for
+from stepped_sim import Latest, SteppedSim, connected
 
 # As the original ackermann_controller computes them (reference/conde-original.md §2.5) for the test
 # car (L = 0.33 m, half track d = 0.12 m, wheel radius r = 0.05 m): 0.5 m/s at 0.3 rad.

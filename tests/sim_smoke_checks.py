@@ -92,7 +92,7 @@ class SimSmokeTest(unittest.TestCase):
         missing = list(links)
 
         def all_found():
-            missing[:] = [l for l in links if not buffer.can_transform("odom", l, rospy.Time(0))]
+            missing[:] = [link for link in links if not buffer.can_transform("odom", link, rospy.Time(0))]
             return not missing
 
         try:

@@ -2,7 +2,6 @@
 schedule, semaphore, tracking, decision and control, with their own ROS master.  The run must
 finish two laps without leaving its lane (judged by conde_eval/autonomous_run from ground truth
 and the track geometry) and leave its plot, bag and summary behind.  About 3.5 minutes per engine."""
-import os
 import re
 import subprocess
 

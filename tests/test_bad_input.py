@@ -6,7 +6,6 @@ import subprocess
 import pytest
 import rosgraph
 
-from conde_testing.ros_harness import Roscore
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 FIXTURES = os.path.join(HERE, "fixtures")
@@ -16,13 +15,6 @@ GOOD_URDF = """<robot name="box_bot">
 <link name="base"><inertial><mass value="1"/><inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/>
 </inertial><collision><geometry><box size="0.2 0.2 0.2"/></geometry></collision></link>
 </robot>"""
-
-
-@pytest.fixture(scope="module")
-def master():
-    """A roscore on a free loopback port; yields the environment the nodes run in against it."""
-    with Roscore("conde_sim") as core:
-        yield core.env
 
 
 def run_node(env, urdf=GOOD_URDF, **params):
@@ -38,7 +30,7 @@ def run_node(env, urdf=GOOD_URDF, **params):
 
 
 def error_line(stderr):
-    lines = [l for l in stderr.splitlines() if l.startswith("conde_sim: error: ")]
+    lines = [line for line in stderr.splitlines() if line.startswith("conde_sim: error: ")]
     assert lines, f"no error line in:\n{stderr}"
     return lines[-1][len("conde_sim: error: "):]
 
@@ -46,7 +38,8 @@ def error_line(stderr):
 def test_unknown_engine(master):
     code, err = run_node(master, world_file=FLAT_WORLD, physics_engine="havok", max_sim_time_s=0.1)
     assert code != 0
-    assert error_line(err) == "parameter /conde_sim/physics_engine: unknown physics engine 'havok' (expected one of: ode, bullet)"
+    assert error_line(err) == ("parameter /conde_sim/physics_engine: unknown physics engine 'havok' "
+                               "(expected one of: ode, bullet)")
 
 
 def test_missing_world_file_parameter(master):
@@ -78,7 +71,8 @@ def test_malformed_urdf(master):
 
 
 def test_unknown_plugin(master):
-    urdf = GOOD_URDF.replace("</robot>", '<gazebo>\n<plugin name="p" filename="libgazebo_ros_teleport.so"/>\n</gazebo>\n</robot>')
+    urdf = GOOD_URDF.replace("</robot>",
+                             '<gazebo>\n<plugin name="p" filename="libgazebo_ros_teleport.so"/>\n</gazebo>\n</robot>')
     code, err = run_node(master, urdf=urdf, world_file=FLAT_WORLD)
     assert code != 0
     assert error_line(err).startswith("/robot_description:5: plugin 'p' (libgazebo_ros_teleport.so): "

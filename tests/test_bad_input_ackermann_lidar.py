@@ -8,7 +8,7 @@ import subprocess
 import pytest
 import rosgraph
 
-from test_bad_input import FLAT_WORLD, error_line, master  # noqa: F401 (the roscore fixture)
+from test_bad_input import FLAT_WORLD, error_line
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 CAR_XACRO = os.path.join(HERE, "fixtures", "ackermann_car.urdf.xacro")
@@ -70,7 +70,8 @@ def test_steering_joint_missing(master):
     code, err = run_node(master, urdf)
     assert code != 0
     line = line_of(urdf, 'filename="libconde_ackermann_drive.so"')
-    assert error_line(err) == f"/robot_description:{line}: {ACKERMANN}: <rightSteeringJoint>: required parameter is missing"
+    assert error_line(err) == (f"/robot_description:{line}: {ACKERMANN}: "
+                               "<rightSteeringJoint>: required parameter is missing")
 
 
 def test_steering_joint_unknown(master):
@@ -84,7 +85,8 @@ def test_steering_joint_unknown(master):
 
 def test_steering_joint_about_the_wrong_axis(master):
     # A wheel joint (about y) named as the steering joint.
-    urdf = changed(car_urdf(), "<rightSteeringJoint>right_steering_joint<", "<rightSteeringJoint>right_front_wheel_joint<")
+    urdf = changed(car_urdf(), "<rightSteeringJoint>right_steering_joint<",
+                   "<rightSteeringJoint>right_front_wheel_joint<")
     code, err = run_node(master, urdf)
     assert code != 0
     line = line_of(urdf, 'filename="libconde_ackermann_drive.so"')
@@ -165,7 +167,8 @@ def test_lidar_with_zero_samples(master):
     code, err = run_node(master, urdf)
     assert code != 0
     line = line_of(urdf, "<samples>0</samples>")
-    assert error_line(err) == f"/robot_description:{line}: {LIDAR}: <ray><scan><horizontal><samples>: must be at least 1, got 0"
+    assert error_line(err) == (f"/robot_description:{line}: {LIDAR}: "
+                               "<ray><scan><horizontal><samples>: must be at least 1, got 0")
 
 
 def test_lidar_with_min_angle_not_below_max_angle(master):
@@ -184,7 +187,8 @@ def test_lidar_with_min_range_not_below_max_range(master):
     code, err = run_node(master, urdf)
     assert code != 0
     line = line_of(urdf, "<max>2</max>")
-    assert error_line(err) == f"/robot_description:{line}: {LIDAR}: <ray><range><max>: must be greater than <min> (5), got 2"
+    assert error_line(err) == (f"/robot_description:{line}: {LIDAR}: "
+                               "<ray><range><max>: must be greater than <min> (5), got 2")
 
 
 def test_lidar_with_unknown_element(master):

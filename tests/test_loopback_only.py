@@ -106,8 +106,9 @@ def test_the_preload_changes_nothing_for_processes_without_roscpp(tmp_path):
     that asks for every interface gets every interface."""
     script = ("import socket; s = socket.socket(); s.bind(('0.0.0.0', 0)); "
               "print(s.getsockname()[0])")
-    out = subprocess.run(["bash", "-c", f"source '{SETUP}' && echo \"$LD_PRELOAD\" && /usr/bin/python3 -c \"{script}\""],
-                         env=user_shell_env(), capture_output=True, text=True, check=True).stdout.split()
+    command = f"source '{SETUP}' && echo \"$LD_PRELOAD\" && /usr/bin/python3 -c \"{script}\""
+    out = subprocess.run(["bash", "-c", command], env=user_shell_env(), capture_output=True, text=True,
+                         check=True).stdout.split()
     assert out[0].endswith("/libconde_loopback_bind.so"), out
     assert out[1] == "0.0.0.0"
 

@@ -162,7 +162,8 @@ def test_novnc_shows_rviz(request):
             except OSError:
                 state = podman("inspect", "--format", "{{.State.Status}}", name).stdout.strip()
                 logs = podman("logs", name, check=False)
-                assert state == "running", f"the gui container stopped ({state}):\n{logs.stdout[-3000:]}{logs.stderr[-3000:]}"
+                assert state == "running", \
+                    f"the gui container stopped ({state}):\n{logs.stdout[-3000:]}{logs.stderr[-3000:]}"
                 assert time.monotonic() < deadline, f"noVNC did not answer on {url}:\n{logs.stdout[-3000:]}"
                 time.sleep(1)
 

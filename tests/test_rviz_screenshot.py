@@ -101,6 +101,7 @@ def test_rviz_draws_robot_track_and_camera_panes():
         # rviz with the config sim.launch's rviz:=true opens. Debian's rviz on Xvfb's software GL
         # has been seen to crash at start-up (SIGSEGV, 1 run in ~10): it is started again, at
         # most twice, and the crashes are reported.
+
         def start_rviz():
             return subprocess.Popen(["rosrun", "rviz", "rviz", "-d", RVIZ_CONFIG], env=env, stdout=log,
                                     stderr=subprocess.STDOUT, stdin=subprocess.DEVNULL)

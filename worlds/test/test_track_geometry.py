@@ -145,7 +145,10 @@ def test_lane_routes_drive_the_loops_in_opposite_senses(lanes):
     # Traversal of the north loop: counter-clockwise for north_ccw, clockwise for north_cw.
     ccw = lanes["north_ccw"]
     cw = lanes["north_cw"]
-    in_loop = lambda lc: (lc["xy"][:, 0] < 0.5) & (lc["xy"][:, 1] > 5.0)  # west side of north loop
+
+    def in_loop(lc):  # west side of north loop
+        return (lc["xy"][:, 0] < 0.5) & (lc["xy"][:, 1] > 5.0)
+
     h_ccw = np.mean(np.sin(ccw["heading"][in_loop(ccw)]))
     h_cw = np.mean(np.sin(cw["heading"][in_loop(cw)]))
     assert h_ccw < -0.2 and h_cw > 0.2  # CCW goes south on the west side, CW goes north
@@ -288,7 +291,7 @@ def test_geometry_file_contents():
     with open(os.path.join(PACKAGE_DIR, GEOMETRY_FILE)) as f:
         data = yaml.safe_load(f)
     assert data["format"] == "conde_track_geometry/1"
-    assert {l["name"] for l in data["lane_centres"]} == {"north_ccw", "north_cw"}
+    assert {lane["name"] for lane in data["lane_centres"]} == {"north_ccw", "north_cw"}
     for lc in data["lane_centres"]:
         xy = np.array(lc["xy"])
         assert len(xy) == len(lc["section"]) == len(lc["heading_rad"])

@@ -177,7 +177,7 @@ def test_bay_parking_picture(grey):
     assert pytest.approx((-2.321, -2.273), abs=PX) in col
     # Each bay has some paint (the P) inside it.
     for bay, ((xa, xb), (ya, yb)) in ((b, v) for b, v in [("north", ((2.967, 3.848), (-2.273, -1.548))),
-                                                         ("south", ((2.967, 3.848), (-3.04, -2.321)))]):
+                                                          ("south", ((2.967, 3.848), (-3.04, -2.321)))]):
         sub = grey[row_index(yb) + 2:row_index(ya) - 2, col_index(xa) + 2:col_index(xb) - 2]
         assert 0.1 < np.mean(sub > 128) < 0.3, bay
 

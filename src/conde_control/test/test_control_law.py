@@ -198,6 +198,7 @@ def test_path_curvature_is_fed_forward():
         for _ in range(50):
             v, omega = controller.update(Reference(linear_velocity_mps=0.5, path_curvature_per_m=curvature), 0.02)
         assert v == pytest.approx(0.5) and omega == pytest.approx(0.5 * curvature)
+
     class WithoutCurvature:
         lateral_offset_m = lateral_offset_ref_m = heading_error_rad = heading_ref_rad = 0.0
         linear_velocity_mps = 0.5

@@ -67,7 +67,7 @@ def test_bad_config_exits_with_the_message(core, tmp_path):
     proc = subprocess.run(["rosrun", "conde_control", "conde_control", "_config:=%s" % path], env=core.env,
                           capture_output=True, text=True, timeout=120)
     assert proc.returncode != 0
-    lines = [l for l in proc.stderr.splitlines() if l.startswith("conde_control: error: ")]
+    lines = [line for line in proc.stderr.splitlines() if line.startswith("conde_control: error: ")]
     assert lines == ["conde_control: error: %s: unknown key 'max_speed' (expected one of: offset_gain_per_m2, "
                      "heading_gain_per_m, max_linear_mps, max_angular_radps, max_linear_accel_mps2, "
                      "max_angular_accel_radps2)" % path], proc.stderr

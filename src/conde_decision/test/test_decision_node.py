@@ -31,7 +31,7 @@ def run_node(core, **params):
 
 
 def error_line(stderr):
-    lines = [l for l in stderr.splitlines() if l.startswith("conde_decision: error: ")]
+    lines = [line for line in stderr.splitlines() if line.startswith("conde_decision: error: ")]
     assert lines, "no error line in:\n" + stderr
     return lines[-1][len("conde_decision: error: "):]
 

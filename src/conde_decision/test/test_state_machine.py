@@ -241,4 +241,5 @@ def test_return_is_not_a_state_name(tmp_path):
 
 def test_an_arc_needs_a_branch(tmp_path):
     path = modified(tmp_path, lambda d: d["states"]["turn_left"]["command"].update(branch="none"))
-    assert error_of(path) == f"{path}: states.turn_left.command.radius_m: an arc needs a branch (left or right) to turn toward"
+    assert error_of(path) == (f"{path}: states.turn_left.command.radius_m: "
+                              "an arc needs a branch (left or right) to turn toward")

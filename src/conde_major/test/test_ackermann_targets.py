@@ -70,7 +70,8 @@ def test_mirror_and_reverse():
     left, right = wheel_targets(MAJOR, 0.5, 0.3), wheel_targets(MAJOR, 0.5, -0.3)
     assert (right.left_steering_rad, right.right_steering_rad) == pytest.approx(
         (-left.right_steering_rad, -left.left_steering_rad))
-    assert (right.left_rear_radps, right.left_front_radps) == pytest.approx((left.right_rear_radps, left.right_front_radps))
+    assert (right.left_rear_radps, right.left_front_radps) == pytest.approx(
+        (left.right_rear_radps, left.right_front_radps))
     back = wheel_targets(MAJOR, -0.5, 0.3)
     assert as_tuple(back)[:2] == as_tuple(left)[:2]
     assert as_tuple(back)[2:] == pytest.approx([-s for s in as_tuple(left)[2:]])
@@ -93,7 +94,8 @@ def test_each_wheel_uses_its_own_radius():
         (20, 10, 40, 20))
 
 
-@pytest.mark.parametrize('field, value', [('wheelbase_m', 0.0), ('half_track_m', -0.1), ('left_rear_radius_m', math.nan),
+@pytest.mark.parametrize('field, value', [('wheelbase_m', 0.0), ('half_track_m', -0.1),
+                                          ('left_rear_radius_m', math.nan),
                                           ('max_steering_rad', 2.0)])
 def test_geometry_rejects_impossible_values_naming_the_field(field, value):
     values = dict(wheelbase_m=L_M, half_track_m=D_M, left_front_radius_m=0.05, right_front_radius_m=0.05,

@@ -36,7 +36,8 @@ def test_a_good_text():
 
 @pytest.mark.parametrize('old, new, message', [
     ('steering_controller_name: ls, ', '',
-     "f.yaml: left_front_wheel/steering_controller_name: required key is missing (the hinge's JointPositionController)"),
+     "f.yaml: left_front_wheel/steering_controller_name: required key is missing "
+     "(the hinge's JointPositionController)"),
     ('axle_controller_name: rra, ', '',
      "f.yaml: right_rear_wheel/axle_controller_name: required key is missing (the wheel's JointVelocityController)"),
     ('axle_controller_name: lfa', 'axle_controller_name: ',

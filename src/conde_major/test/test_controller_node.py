@@ -68,7 +68,7 @@ def shipped_config():
      "expected a name (the wheel's JointVelocityController), got NoneType None"),
 ])
 def test_a_wheel_file_without_a_controller_name(core, robot_description, joint_controllers, tmp_path, old, new,
-                                                 field, what):
+                                                field, what):
     reset_params(core, dict(joint_controllers, **{'/robot_description': robot_description}))
     text = shipped_config()
     assert old in text

@@ -27,7 +27,8 @@ from conde_testing.ros_harness import Roscore, TopicLog, joined_as_node, stop_pr
 IMAGES_DIR = os.path.join(os.path.dirname(os.path.abspath(__file__)), "images")
 IMAGE_TOPIC = "/conde_camera_signalling_panel/image_raw"
 TIMEOUT_S = 60.0  # generous: the machine may be busy
-TIMING_LINE = re.compile(r"conde_semaphore: timing: (\d+) frames, mean (\d+\.\d\d) ms, max (\d+\.\d\d) ms CPU per frame")
+TIMING_LINE = re.compile(r"conde_semaphore: timing: (\d+) frames, "
+                         r"mean (\d+\.\d\d) ms, max (\d+\.\d\d) ms CPU per frame")
 
 
 @pytest.fixture(scope="module")

@@ -151,7 +151,7 @@ steps:
     clock = SimClock()
     truth = topic_log(SIGNAL_TOPIC, PanelSignal)
     node = start_node(master, tmp_path, {"mode": "schedule", "schedule": path, "image_width_px": 320,
-                                   "image_height_px": 240}, sim_time=True)
+                                         "image_height_px": 240}, sim_time=True)
     try:
         # No /clock yet: ROS time is 0, and the schedule's step at 0 s shows at once.
         assert stamp_s(truth.wait_for(lambda m: m.signal == PanelSignal.STOP, "STOP at t = 0")) == 0.0
@@ -187,7 +187,7 @@ steps:
     clock = SimClock()
     truth = topic_log(SIGNAL_TOPIC, PanelSignal)
     node = start_node(master, tmp_path, {"mode": "schedule", "schedule": path, "image_width_px": 64,
-                                   "image_height_px": 48}, sim_time=True)
+                                         "image_height_px": 48}, sim_time=True)
     try:
         truth.wait_for(lambda m: m.signal == PanelSignal.NONE, "the initial NONE")
         clock.wait_for_subscriber()
@@ -241,7 +241,7 @@ def test_menu_keys_on_a_terminal(master, tmp_path):
     terminal = Terminal()
     truth = topic_log(SIGNAL_TOPIC, PanelSignal)
     node = start_node(master, tmp_path, {"mode": "menu", "image_width_px": 64, "image_height_px": 48},
-                stdin=terminal.slave_fd, stdout=terminal.slave_fd)
+                      stdin=terminal.slave_fd, stdout=terminal.slave_fd)
     try:
         # As in the original, the menu starts on stop.
         truth.wait_for(lambda m: m.signal == PanelSignal.STOP, "the initial STOP")
@@ -275,7 +275,7 @@ def test_menu_restores_the_terminal_on_ctrl_c(master, tmp_path):
     terminal = Terminal()
     truth = topic_log(SIGNAL_TOPIC, PanelSignal)
     node = start_node(master, tmp_path, {"mode": "menu", "image_width_px": 64, "image_height_px": 48},
-                stdin=terminal.slave_fd, stdout=terminal.slave_fd, controlling_terminal=True)
+                      stdin=terminal.slave_fd, stdout=terminal.slave_fd, controlling_terminal=True)
     try:
         truth.wait_for(lambda m: m.signal == PanelSignal.STOP, "the initial STOP")
         wait_until(terminal.in_cbreak_mode, "the terminal in cbreak mode")
@@ -296,7 +296,7 @@ def test_node_stops_on_sigterm(master, tmp_path, mode):
     path = write_schedule(tmp_path, "steps:\n  - {at_s: 0.0, signal: stop}\n  - {at_s: 3600.0, signal: left}\n")
     truth = topic_log(SIGNAL_TOPIC, PanelSignal)
     node = start_node(master, tmp_path, {"mode": mode, "schedule": path, "initial_signal": "stop",
-                                   "image_width_px": 64, "image_height_px": 48})
+                                         "image_width_px": 64, "image_height_px": 48})
     try:
         truth.wait_for(lambda m: m.signal == PanelSignal.STOP, "STOP")
         rospy.wait_for_service(NODE + "/set_signal", timeout=TIMEOUT_S)

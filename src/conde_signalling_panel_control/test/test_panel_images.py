@@ -126,6 +126,7 @@ def test_stop_is_an_x_clipped_flat_by_its_box(width, height):
 def test_parking_p_has_its_counter(width, height):
     image = draw_signal("parking", width, height)
     sx, sy = width / REF_W, height / REF_H
+
     def at(x, y):
         return tuple(image[int((y + 0.5) * sy), int((x + 0.5) * sx)])
     assert at(515, 274) == (0, 0, 0)        # inside the counter x 445..585, y 209..339

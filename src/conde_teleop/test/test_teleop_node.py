@@ -80,7 +80,7 @@ def test_every_key_on_the_terminal_within_the_limits(master, tmp_path):
     terminal = Terminal()
     commands = Commands("/cmd_vel")
     node = start_teleop(master, tmp_path, terminal, ["_linear_step_mps:=0.2", "_max_linear_mps:=0.3",
-                                                      "_angular_step_radps:=0.5", "_max_angular_radps:=0.75"])
+                                                     "_angular_step_radps:=0.5", "_max_angular_radps:=0.75"])
     try:
         wait_until_ready(commands, terminal)
         steps = [  # (keys typed at once, the command after them [m/s, rad/s])

@@ -1,6 +1,5 @@
 """IPM against OpenCV's forward projection: ground points projected with cv2.projectPoints (same
 K, D and camera pose) map back to themselves."""
-import glob
 import os
 
 import cv2

@@ -16,7 +16,8 @@ CROSSWALK_NEAR_EDGE_Y_M = -0.340  # world y of the near (south) edge of the cros
 
 def load(name):
     d = np.load(os.path.join(DATA, name + ".npz"))
-    maps = [GroundMap.from_camera(160, 120, d[f"{k}_K"], d[f"{k}_D"], d[f"{k}_T_base_optical"]) for k in ("left", "right")]
+    maps = [GroundMap.from_camera(160, 120, d[f"{k}_K"], d[f"{k}_D"], d[f"{k}_T_base_optical"])
+            for k in ("left", "right")]
     return d, LaneMeasurement(maps), [d["left_image"], d["right_image"]]
 
 

@@ -35,7 +35,8 @@ worlds/tracks/competition_track.geometry.yaml):
 Where the robot is along the road is measured by odometry (the path length on_odometry is given)
 or, without it, dead-reckoned from the speed it is commanded (this module ramps its own speed at
 speed_ramp_mps2, the acceleration limit of conde_control, so that the commanded speed is what the
-robot drives), and corrected by every crosswalk sighting of conde_tracking (crosswalk_distance_m).  Sightings are ignored from the moment the robot is at the
+robot drives), and corrected by every crosswalk sighting of conde_tracking (crosswalk_distance_m).
+Sightings are ignored from the moment the robot is at the
 crosswalk until it has driven crosswalk_rearm_m past it (the stripes under and behind the robot
 are not a new crosswalk).
 

@@ -78,8 +78,10 @@ def _wheel(path, name, entry, keys):
             raise ConfigError('%s: %s: required key is missing (%s)' % (path, field, meaning))
         value = entry[key]
         if key == 'diameter':
-            if isinstance(value, bool) or not isinstance(value, (int, float)) or not (math.isfinite(value) and value > 0):
-                raise ConfigError('%s: %s: expected a positive number of metres, got %s' % (path, field, _describe(value)))
+            if (isinstance(value, bool) or not isinstance(value, (int, float))
+                    or not (math.isfinite(value) and value > 0)):
+                raise ConfigError('%s: %s: expected a positive number of metres, got %s'
+                                  % (path, field, _describe(value)))
             values[key] = float(value)
         else:
             if not isinstance(value, str) or not value.strip() or value != value.strip():
@@ -116,7 +118,8 @@ def parse_wheel_config(text, path):
     seen = {}
     for field, controller in config.controllers():
         if controller in seen:
-            raise ConfigError("%s: %s: controller '%s' is already used by %s" % (path, field, controller, seen[controller]))
+            raise ConfigError("%s: %s: controller '%s' is already used by %s"
+                              % (path, field, controller, seen[controller]))
         seen[controller] = field
     return config
 

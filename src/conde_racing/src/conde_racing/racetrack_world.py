@@ -64,7 +64,7 @@ def world_yaml(line: rt.CentreLine = None) -> str:
     ]
     for seg, s, p in zip(line.segments, line.start_s, line.starts):
         out.append("#   s %7s  (%4s, %4s)  %3s deg  %s" % (_num(s), _num(p.x_m), _num(p.y_m),
-                                                         _num(math.degrees(p.yaw_rad) % 360), _segment_text(seg)))
+                                                           _num(math.degrees(p.yaw_rad) % 360), _segment_text(seg)))
     right, left = line.line_across(rt.START_LINE_S_M)
     out += [
         "# Start/finish line at s = %s m, from (%s, %s) to (%s, %s); checkpoints at s = %s m" % (
@@ -102,7 +102,7 @@ def world_yaml(line: rt.CentreLine = None) -> str:
     out += ["", "spawn:", "  # base_footprint (rear-axle centre) of each car, facing the race direction."]
     for k, pose in enumerate(rt.grid_poses(line)):
         out.append("  grid%d: {xyz: [%s, %s, 0.0], yaw: %s}" % (k, _num(pose.x_m), _num(pose.y_m),
-                                                               _num(pose.yaw_rad)))
+                                                                _num(pose.yaw_rad)))
     return "\n".join(out) + "\n"
 
 
@@ -120,7 +120,7 @@ def timing_yaml(line: rt.CentreLine = None) -> str:
         "# Each line is [[x, y] of its right end, [x, y] of its left end] in the world frame [m], right",
         "# and left as seen facing the race direction; a lap crosses the checkpoints in order.",
         "start_line_m: %s    # s = %s m of %s m" % (line_text(rt.START_LINE_S_M), _num(rt.START_LINE_S_M),
-                                                   _num(line.length_m)),
+                                                    _num(line.length_m)),
         "checkpoints_m:",
     ]
     out += ["  - %s    # s = %s m" % (line_text(s), _num(s)) for s in rt.CHECKPOINT_S_M]

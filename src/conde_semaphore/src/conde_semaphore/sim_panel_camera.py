@@ -83,7 +83,10 @@ class SimPanelCamera:
         """Steps settle_steps, then steps until an image captured after them arrives (by its
         stamp, so a late image of the previous pose is never taken); (RGB uint8 array, msg)."""
         settled_s = self.step_service(settle_steps).sim_time_s
-        is_new = lambda: self.last_image is not None and self.last_image.header.stamp.to_sec() > settled_s - 1e-6
+
+        def is_new():
+            return self.last_image is not None and self.last_image.header.stamp.to_sec() > settled_s - 1e-6
+
         for _ in range(tries):
             self.step_service(STEPS_PER_TRY)
             with self.condition:

@@ -79,6 +79,7 @@ def birdseye_remap(width_px, height_px, camera_matrix, dist_coeffs, T_base_optic
     uv, _ = cv2.projectPoints(pts.reshape(-1, 1, 3), rvec, T[:3, 3], np.asarray(camera_matrix, np.float64),
                               np.asarray(dist_coeffs, np.float64).ravel())
     uv = uv.reshape(-1, 2)
-    outside = (in_cam[:, 2] <= 0) | (uv[:, 0] < -0.5) | (uv[:, 0] > w_px - 0.5) | (uv[:, 1] < -0.5) | (uv[:, 1] > h_px - 0.5)
+    outside = ((in_cam[:, 2] <= 0) | (uv[:, 0] < -0.5) | (uv[:, 0] > w_px - 0.5)
+               | (uv[:, 1] < -0.5) | (uv[:, 1] > h_px - 0.5))
     uv[outside] = -1
     return (uv[:, 0].reshape(gx.shape).astype(np.float32), uv[:, 1].reshape(gx.shape).astype(np.float32))

@@ -110,7 +110,7 @@ class LaneMeasurement:
         """White ground points (N, 2) [m] of all images together, and all ground points (M, 2) with a
         white flag (M,) for the crosswalk search."""
         c = self.config
-        white, everything, flags = [], [], []
+        everything, flags = [], []
         for gm, img in zip(self.ground_maps, images):
             mask = white_mask(img, c.white_threshold)
             xy = gm.xy_m.reshape(-1, 2)
