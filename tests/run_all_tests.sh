@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Every test of the workspace from a clean clone: installs what is missing, builds, runs the
-# linters, the C++ unit tests (gtest) and the ROS wiring tests (rostest, real roscore on loopback) through
-# catkin, the Python unit tests through pytest, and ends with one line "N passed, N failed".
+# linters, then through catkin (catkin_make run_tests) the C++ unit tests (gtest), the ROS wiring tests
+# (rostest, real roscore on loopback) and every package's Python tests (pytest), and ends with one
+# line "N passed, N failed".
 #
 # usage: tests/run_all_tests.sh [--unit]
 #   --unit (or CONDE_TEST_TIER=unit): the unit tier only: the gtests and the pure-Python pytest
@@ -49,20 +50,25 @@ if [ "$tier" = unit ]; then
   mapfile -t gtest_targets < <(make -C build help | sed -n 's/^\.\.\. \(run_tests_[A-Za-z0-9_]*_gtest\)$/\1/p')
   [ "${#gtest_targets[@]}" -gt 0 ] || { echo "run_all_tests.sh: no run_tests_<package>_gtest target in build/" >&2; exit 1; }
   scripts/build.sh "${gtest_targets[@]}" -j1 || echo "gtest: make reported a failure (details in the results below)"
-  python_tests=(src/*/test urdf/test worlds/test)
-  pytest_filter=(--ignore-glob="*/test_*node*.py")
+  for d in src/*/test urdf/test worlds/test; do
+    ls "$d"/test_*.py >/dev/null 2>&1 || continue
+    /usr/bin/python3 -m pytest -q -p no:cacheprovider -o python_files="test_*.py" --ignore-glob="*/test_*node*.py" "$d" \
+      --junit-xml="$results/pytest/$(echo "$d" | tr '/' '_').xml" || echo "pytest: failures in $d"
+  done
 else
+  # Every test registered with catkin: gtest, rostest, and each package's pytest files
+  # (conde_add_pytests of conde_testing), with their results under build/test_results/<package>.
   scripts/build.sh run_tests -j1 || echo "run_tests: make reported a failure (details in the results below)"
-  python_tests=(src/*/test urdf/test worlds/test tests)
-  pytest_filter=()
+  # A folder of Python tests that no package registered would be skipped without a word: fail instead.
+  for d in src/*/test urdf/test worlds/test tests; do
+    ls "$d"/test_*.py >/dev/null 2>&1 || continue
+    package=$(sed -n 's:.*<name>\(.*\)</name>.*:\1:p' "$(dirname "$d")/package.xml" "$d/package.xml" 2>/dev/null | head -n 1)
+    if ! ls "$results/$package"/pytest-*.xml >/dev/null 2>&1; then
+      echo "run_all_tests.sh: $d has Python tests but package $package produced no pytest results (conde_add_pytests?)"
+      printf '<testsuite name="registration"><testcase classname="registration" name="%s"><failure message="not registered"/></testcase></testsuite>\n' \
+        "$d" > "$results/pytest/unregistered_$(echo "$d" | tr '/' '_').xml"
+    fi
+  done
 fi
-
-existing=()
-for d in "${python_tests[@]}"; do [ -d "$d" ] && ls "$d"/test_*.py >/dev/null 2>&1 && existing+=("$d"); done
-for d in "${existing[@]}"; do
-  name=$(echo "$d" | tr '/' '_')
-  /usr/bin/python3 -m pytest -q -p no:cacheprovider -o python_files="test_*.py" "${pytest_filter[@]}" "$d" \
-    --junit-xml="$results/pytest/$name.xml" || echo "pytest: failures in $d"
-done
 
 /usr/bin/python3 tests/summarize_results.py "$results"
