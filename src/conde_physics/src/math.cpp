@@ -18,6 +18,12 @@ Quat Quat::fromAxisAngle(const Vec3& axis, double angle) {
   return {std::cos(angle / 2), a.x * s, a.y * s, a.z * s};
 }
 
+Quat Quat::fromRotationVector(const Vec3& v) {
+  const double angle = std::sqrt(v.x * v.x + v.y * v.y + v.z * v.z);
+  if (angle == 0.0) return Quat();
+  return fromAxisAngle(v, angle);
+}
+
 Quat Quat::fromMatrix(const double m[3][3]) {
   // Shepperd's method: pick the largest diagonal term for numerical stability.
   const double trace = m[0][0] + m[1][1] + m[2][2];

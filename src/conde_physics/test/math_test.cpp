@@ -59,3 +59,14 @@ TEST(Math, WrapAngle) {
   EXPECT_NEAR(cp::wrapAngle(-3 * M_PI / 2), M_PI / 2, 1e-12);
   EXPECT_NEAR(cp::wrapAngle(M_PI), M_PI, 1e-12);
 }
+
+TEST(Math, RotationVectorIsAUnitRotationByItsLength) {
+  const cp::Quat identity = cp::Quat::fromRotationVector({0, 0, 0});
+  EXPECT_EQ(identity.w, 1.0);
+  const cp::Quat q = cp::Quat::fromRotationVector({0.03, -0.04, 0.0});  // 0.05 rad about (0.6, -0.8, 0)
+  EXPECT_NEAR(q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z, 1.0, 1e-15);
+  EXPECT_NEAR(2.0 * std::acos(q.w), 0.05, 1e-12);
+  const cp::Vec3 axis = q.rotate(cp::Vec3(0.6, -0.8, 0.0));  // the axis stays put
+  EXPECT_NEAR(axis.x, 0.6, 1e-12);
+  EXPECT_NEAR(axis.y, -0.8, 1e-12);
+}

@@ -40,6 +40,8 @@ struct Quat {
   // Fixed-axis roll-pitch-yaw as in URDF and SDF: R = Rz(yaw) * Ry(pitch) * Rx(roll).
   static Quat fromRpy(double roll_rad, double pitch_rad, double yaw_rad);
   static Quat fromAxisAngle(const Vec3& axis, double angle_rad);
+  // Rotation by |v| [rad] about v (the identity for v = 0): small rotations, e.g. sensor noise.
+  static Quat fromRotationVector(const Vec3& rotation_rad);
   // Rotation matrix (row-major) to quaternion.
   static Quat fromMatrix(const double m[3][3]);
   void toMatrix(double m[3][3]) const;

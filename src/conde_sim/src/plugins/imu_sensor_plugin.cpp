@@ -8,6 +8,9 @@
 //     </plugin></sensor></gazebo>
 // Orientation is the link's orientation in the world (rotated by rpyOffset); angular velocity and
 // linear acceleration (gravity included, as an accelerometer measures it) are in the link frame.
+// gaussianNoise [rad, rad/s, m/s^2] is added to each rate and acceleration component; the
+// orientation is turned by a small rotation whose rotation vector has that noise on each axis, so
+// it stays a unit quaternion (Gazebo adds noise to the quaternion's components).
 // Acceleration is the velocity change over one update period, which smooths contact jitter.
 // As in Gazebo, xyzOffset is accepted and unused; <bodyName> (from gazebo_ros_imu) is ignored.
 #include <sensor_msgs/Imu.h>
@@ -68,10 +71,11 @@ class ImuSensorPlugin : public SimPlugin {
     sensor_msgs::Imu msg;
     msg.header.stamp = ctx_.now();
     msg.header.frame_id = frame_;
-    msg.orientation.w = q.w + noise();
-    msg.orientation.x = q.x + noise();
-    msg.orientation.y = q.y + noise();
-    msg.orientation.z = q.z + noise();
+    const cp::Quat noisy = (q * cp::Quat::fromRotationVector({noise(), noise(), noise()})).normalized();
+    msg.orientation.w = noisy.w;
+    msg.orientation.x = noisy.x;
+    msg.orientation.y = noisy.y;
+    msg.orientation.z = noisy.z;
     msg.angular_velocity.x = gyro.x + noise();
     msg.angular_velocity.y = gyro.y + noise();
     msg.angular_velocity.z = gyro.z + noise();
