@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -1057,9 +1058,11 @@ TEST(CameraRendererTest, BadImagesAndObjectsAreRejectedWithClearMessages) {
             "ground texture ranges must have min < max (got x [1, 1] m, y [0, 1] m)");
 }
 
-// The ground pass on eight lanes (AVX2, where the CPU has it) and on four draw the same pixels:
-// a random texture seen from many poses, with and without distortion, a wide-angle lens too.
+// The ground pass on eight lanes (AVX2) and on four draw the same pixels: a random texture seen
+// from many poses, with and without distortion, a wide-angle lens too. Without AVX2 there is only
+// the four-lane pass, and nothing to compare.
 TEST(CameraRendererTest, EightAndFourLaneGroundPassesDrawTheSameImage) {
+  if (!cp::CameraRenderer::wideVectorsAvailable()) GTEST_SKIP() << "this CPU has no AVX2: one ground pass only";
   std::mt19937 rng(7);
   cp::RgbImage texture;
   texture.resize(301, 203);
@@ -1073,7 +1076,7 @@ TEST(CameraRendererTest, EightAndFourLaneGroundPassesDrawTheSameImage) {
       cp::CameraModel::fromHorizontalFov(320, 240, 1.5708), distorted,
       cp::CameraModel::fromWideAngle(160, 120, 2.6, cp::LensMapping::ofType("stereographic"), true)};
   std::uniform_real_distribution<double> position(-4.0, 4.0), height(0.05, 3.0), angle(-kPi, kPi);
-  int compared = 0;
+  int textured_images = 0;  // images that show the random ground texture (so the passes drew something)
   for (const cp::CameraModel& model : models) {
     const cp::CameraRenderer renderer(model);
     for (int pose = 0; pose < 20; ++pose) {
@@ -1087,8 +1090,13 @@ TEST(CameraRendererTest, EightAndFourLaneGroundPassesDrawTheSameImage) {
       renderer.render(scene, camera, -1, nullptr, narrow);
       cp::CameraRenderer::allowWideVectors(true);
       ASSERT_EQ(wide.data, narrow.data) << "model " << model.width_px << "x" << model.height_px << ", pose " << pose;
-      ++compared;
+      // Distinct colours: the random texture gives hundreds, sky, box and ground colour a few.
+      std::set<std::uint32_t> colours;
+      for (size_t i = 0; i + 2 < narrow.data.size(); i += 3)
+        colours.insert(narrow.data[i] << 16 | narrow.data[i + 1] << 8 | narrow.data[i + 2]);
+      if (colours.size() > 100) ++textured_images;
     }
   }
-  EXPECT_EQ(compared, 60);
+  // Most of the 60 random poses look at the textured ground: the comparison covered the ground pass.
+  EXPECT_GE(textured_images, 30);
 }
