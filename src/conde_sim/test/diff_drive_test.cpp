@@ -199,3 +199,17 @@ TEST(DiffDriveOdometry, ArcIntegrationIsExact) {
 }
 
 }  // namespace
+
+// The in-process tests expand this repository's xacro files: a failing xacro stops the test with
+// xacro's message instead of handing its error text on as a URDF.
+TEST(SteppedRobotSetup, FailingXacroThrowsItsMessage) {
+  try {
+    conde_sim_test::xacroUrdf("urdf/robots/no_such_robot.urdf.xacro");
+    FAIL() << "no exception";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("xacro urdf/robots/no_such_robot.urdf.xacro  failed"), std::string::npos)
+        << e.what();
+    EXPECT_NE(std::string(e.what()).find("No such file or directory"), std::string::npos) << e.what();
+  }
+  EXPECT_NE(conde_sim_test::xacroUrdf("urdf/robots/conde.urdf.xacro").find("<robot"), std::string::npos);
+}

@@ -7,6 +7,7 @@
 
 #include <cstdio>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -15,15 +16,20 @@
 namespace conde_sim_test {
 
 // A xacro file of this repository (`path` from the repository root) expanded with `args`, as the
-// launch files load it; $(find ...) finds this repository's packages. On failure, xacro's message.
+// launch files load it; $(find ...) finds this repository's packages. Throws std::runtime_error
+// with xacro's message when xacro fails (or cannot be run).
 inline std::string xacroUrdf(const std::string& path, const std::string& args = "") {
   const std::string cmd = std::string("ROS_PACKAGE_PATH=") + CONDE_REPO_ROOT + " xacro " + CONDE_REPO_ROOT + "/" +
                           path + " " + args + " 2>&1";
-  std::unique_ptr<FILE, decltype(&pclose)> pipe(popen(cmd.c_str(), "r"), pclose);
+  FILE* pipe = popen(cmd.c_str(), "r");
+  if (!pipe) throw std::runtime_error("cannot run: " + cmd);
   std::string out;
   char buffer[4096];
   size_t n;
-  while ((n = fread(buffer, 1, sizeof buffer, pipe.get())) > 0) out.append(buffer, n);
+  while ((n = fread(buffer, 1, sizeof buffer, pipe)) > 0) out.append(buffer, n);
+  const int status = pclose(pipe);
+  if (status != 0)
+    throw std::runtime_error("xacro " + path + " " + args + " failed (status " + std::to_string(status) + "): " + out);
   return out;
 }
 
