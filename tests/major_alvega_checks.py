@@ -4,7 +4,7 @@ cameras): /ackermann_cmd -> major_ackermann_controller -> the six ros_control co
 major_joint_states.yaml -> the car on the competition track. The simulation is stepped; the
 controller node runs on its simulated clock.
 
-Numbers from reference/conde-original.md §3.2: wheelbase L = 0.32 m, hinges 0.25 m apart, wheel
+Numbers of the original robot: wheelbase L = 0.32 m, hinges 0.25 m apart, wheel
 radius 0.05 m; base_link (the ground-truth body) lies midway between the axles.
 
 Parameter ~controllers names the controller YAML of conde_major/config the launch loaded

@@ -14,7 +14,7 @@ from std_msgs.msg import Float64
 
 from stepped_sim import Latest, SteppedSim, connected
 
-# As the original ackermann_controller computes them (reference/conde-original.md §2.5) for the test
+# As the original ackermann_controller computes them for the test
 # car (L = 0.33 m, half track d = 0.12 m, wheel radius r = 0.05 m): 0.5 m/s at 0.3 rad.
 L_M, D_M, R_WHEEL_M, SPEED_MPS, DELTA_RAD = 0.33, 0.12, 0.05, 0.5, 0.3
 TURN_M = L_M / math.tan(DELTA_RAD)

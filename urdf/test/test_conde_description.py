@@ -4,7 +4,7 @@ Run from the repository root:  /usr/bin/python3 -m pytest urdf/test
 
 The xacro is processed with the xacro Python module (PyPI xacro 1.13, ROS 1 line); the URDF is
 parsed with xml.etree and validated with check_urdf (liburdfdom-tools). Reference numbers are
-those of reference/conde-original.md §3.1.
+those measured on the original Gazebo model (conde.sdf).
 """
 
 import math
@@ -331,7 +331,7 @@ def test_chassis_inertia_is_the_original_and_physical():
 # ----------------------------------------------------------------------------------------------
 CAMERAS = {
     # name: (position in base_footprint [m], elevation of the optical axis [deg] (+ = up),
-    #        azimuth [deg] (+ = left)), from reference/conde-original.md §3.1.5
+    #        azimuth [deg] (+ = left)), as measured on the original model
     'camera_tracking_left': ((-0.365, 0.100, 0.701), -30.5, 32.2),
     'camera_tracking_right': ((-0.365, -0.102, 0.701), -32.4, -27.4),
     'camera_signalling_panel': ((-0.320, 0.0, 0.779), 16.0, 0.0),

@@ -1,5 +1,5 @@
 """Checks of the Major Alvega description (robots/major_alvega.urdf.xacro) against the facts of
-the original robot (reference/conde-original.md §3.2).
+the original robot (its major.xacro and controller YAML).
 
 Run from the repository root:  /usr/bin/python3 -m pytest urdf/test
 

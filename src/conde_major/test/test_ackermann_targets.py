@@ -1,6 +1,6 @@
 """The Ackermann targets of major_ackermann_controller (conde_major/ackermann_targets.py): the
 hinge angles and wheel speeds against the original's formulas written with the turning radius R
-(reference/conde-original.md §2.5), the geometry behind them, the rate limits and the timeout."""
+(the original ackermann_controller's), the geometry behind them, the rate limits and the timeout."""
 
 import math
 

@@ -1,6 +1,6 @@
 """The panel pictures against the measured geometry of the original pictures.
 
-Expected numbers are the reference's (conde-original.md §5.1, competition-rules.md §2), written
+Expected numbers are the measured ones of the original panel pictures and of the rules, written
 out here rather than read from the module, at 1022 x 757 px; other sizes scale them.
 Ranges are inclusive pixel indices (x0, x1, y0, y1).
 """

@@ -9,7 +9,7 @@ using namespace conde_sim;
 
 namespace {
 
-// Major Alvega (reference/conde-original.md §2.5): L = 0.32 m, d = 0.125 m, r = 0.05 m.
+// Major Alvega (the original robot's geometry): L = 0.32 m, d = 0.125 m, r = 0.05 m.
 AckermannGeometry alvega() {
   AckermannGeometry g;
   g.wheelbase_m = 0.32;

@@ -26,7 +26,7 @@ Where two roads overlap (the forks) a painted line of one road is not drawn insi
 road (between its boundary-line centres), so the forks are open areas bounded by the outer
 lines; the two boundary lines that meet at the island tip get a round join.
 
-Measured facts kept exactly (see docs: conde-original.md s4.2-4.4, competition-rules.md s1):
+Measured facts kept exactly (from the original track picture and the competition rules):
 the three lines of the straight, the crosswalk bars and stripes, the parallel-parking bulge
 and the bay-parking picture.  The loops are an own, consistent construction that matches the
 measured loop extents (outer line x -3.43, west side lines, island x extent) but not the

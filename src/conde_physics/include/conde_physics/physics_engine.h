@@ -6,7 +6,7 @@
 //   ModelId robot = engine->addModel(model, spawn_pose);
 //   engine->setJointVelocityMotor(robot, left_wheel, 10.0, 7.5);
 //   for (...) engine->step();        // fixed step settings.step_s
-//   Pose base = engine->linkPose(robot, 0);
+//   Pose base = engine->bodyPose(robot, 0);
 //
 // Contract every backend meets (checked by test/engine_conformance_test.cpp on both engines):
 // same calls in the same order give bit-identical results; bodies of one model do not collide

@@ -1,8 +1,8 @@
 """Pictures of the signalling-panel monitors, drawn with numpy/OpenCV (no image files).
 
-Geometry from the measured pictures of the original simulator (reference conde-original.md §5.1,
+Geometry from the measured pictures of the original simulator (its panel images,
 1022 x 757 px, black background, flat colours, anti-aliased edges) and, for the end-of-trial
-checkerboard, competition-rules.md §2. All coordinates below are reference pixels on the
+checkerboard, the competition rules' description of it. All coordinates below are reference pixels on the
 1022 x 757 picture in *edge* coordinates: pixel column i covers [i, i+1), so the measured range
 "x 481…819" is [481, 820). Other sizes scale x and y separately, as a texture stretched over the
 screen would.

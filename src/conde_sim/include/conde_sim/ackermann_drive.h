@@ -4,7 +4,7 @@
 // ground truth) at the update rate. The plugin (plugins/ackermann_drive_plugin.cpp) reads the
 // parameters and adds topics, TF and joint states around it; tests step it directly.
 //
-// Differences from what Gazebo users had (reference/peer-simulators.md §4): Twist angular.z is
+// Differences from what Gazebo users had (gazebo_ros and ros_controllers): Twist angular.z is
 // a yaw rate (ros_controllers' ackermann_steering_controller uses it as an angle); the four
 // wheels get their own speeds (differential) and the front wheels their own angles (Ackermann);
 // a command timeout brakes; NaN/inf commands are rejected; encoder odometry keeps the sign of

@@ -1,7 +1,6 @@
 // Ackermann steering geometry and the small controllers of the Ackermann drive, free of ROS.
 //
-// Model (as the original Conde/Major Alvega ackermann_controller, reference/conde-original.md
-// §2.5): a car with wheelbase L between the front (steering) axle and the rear axle, steering
+// Model (as the original Conde/Major Alvega ackermann_controller computes it): a car with wheelbase L between the front (steering) axle and the rear axle, steering
 // hinges at +-d_f from the car's centre line, rear wheels at +-d_r. The commanded steering angle
 // delta belongs to a virtual wheel at the front-axle centre; the commanded speed v to the
 // rear-axle centre. Without slip every wheel rolls on a circle about the instantaneous centre of
