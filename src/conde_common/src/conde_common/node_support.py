@@ -15,6 +15,7 @@
   handler here only starts a thread that asks rospy to shut down, so the main thread finishes what
   it was doing and every wait that checks rospy.is_shutdown() ends.
 """
+import os
 import signal
 import sys
 import threading
@@ -47,7 +48,8 @@ def unknown_params_message(unknown, known_params):
 def fail(message, status=1):
     """Ends a node that cannot go on: "<node>: error: <message>" on stderr, ROS shut down, exit
     status `status` (1 by default)."""
-    sys.stderr.write("%s: error: %s\n" % (_node_name or "node", message))
+    name = _node_name or os.path.basename(sys.argv[0])  # before init: the script's name
+    sys.stderr.write("%s: error: %s\n" % (name, message))
     sys.stderr.flush()
     import rospy  # here: the pure functions above need no ROS
 
@@ -63,17 +65,26 @@ def _shut_down_on(signum, _frame):
     threading.Thread(target=rospy.signal_shutdown, args=(reason,), name="shutdown", daemon=True).start()
 
 
-def init_node(name, known_params, **init_args):
+def init_node(name, known_params, program=None, **init_args):
     """rospy.init_node(name) with the node's own SIGINT/SIGTERM handling, then the check of its
     private parameters against `known_params` (names without "~"). Exits through fail() on an
-    unknown one."""
-    global _node_name
+    unknown one. `program` names the node in error lines when that is not its ROS name."""
     import rospy
 
-    _node_name = name
     rospy.init_node(name, disable_signals=True, **init_args)
     for signum in (signal.SIGINT, signal.SIGTERM):
         signal.signal(signum, _shut_down_on)
+    check_private_params(program or name, known_params)
+
+
+def check_private_params(program, known_params):
+    """For a node that was initialised by itself (one that handles its signals otherwise, as the
+    teleops, which stop the robot first): exits through fail() on a private parameter not in
+    `known_params`. `program` names the node in error lines."""
+    global _node_name
+    import rospy
+
+    _node_name = program
     unknown = unknown_private_params(rospy.get_param_names(), rospy.get_name(), known_params)
     if unknown:
         fail(unknown_params_message(unknown, known_params))
