@@ -29,3 +29,43 @@ def test_two_autonomous_laps(engine, tmp_path):
     for name in (f"autonomous_run_{engine}.png", f"autonomous_run_{engine}.bag"):
         path = tmp_path / name
         assert path.is_file() and path.stat().st_size > 10_000, name
+
+
+def descendants(root_pid):
+    """{pid: command line} of every process below root_pid."""
+    out = subprocess.run(["ps", "-e", "-o", "pid=,ppid=,args="], capture_output=True, text=True, check=True).stdout
+    rows = [line.split(None, 2) for line in out.splitlines()]
+    children = {}
+    for pid, ppid, *args in rows:
+        children.setdefault(int(ppid), []).append((int(pid), args[0] if args else ""))
+    found, todo = {}, [root_pid]
+    while todo:
+        for pid, args in children.get(todo.pop(), []):
+            found[pid] = args
+            todo.append(pid)
+    return found
+
+
+def test_a_simulator_that_dies_is_named_with_its_signal(tmp_path):
+    """SIGKILL to the simulator in the middle of a run: the run fails and says which node died and
+    how (it used to say "roslaunch stopped (exit 0)")."""
+    run = subprocess.Popen(["rosrun", "conde_eval", "autonomous_run", "--output-dir", str(tmp_path),
+                            "--real-time-factor", "1", "--sim-time-limit", "260"],
+                           stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, start_new_session=True)
+    try:
+        lines = []
+        for line in run.stdout:  # progress lines come every 10 s of simulated time
+            lines.append(line)
+            if re.search(r"\] sim +([1-9]\d*\.\d) s", line):
+                break
+        simulators = [pid for pid, args in descendants(run.pid).items() if "conde_sim_node" in args.split(" ")[0]]
+        assert len(simulators) == 1, "".join(lines)
+        subprocess.run(["kill", "-KILL", str(simulators[0])], check=True)
+        out = "".join(lines) + run.stdout.read()
+        run.wait(timeout=120)
+    finally:
+        if run.poll() is None:
+            subprocess.run(["kill", "-KILL", f"-{run.pid}"])
+    assert run.returncode != 0, out[-3000:]
+    assert f"conde_sim (pid {simulators[0]}) died: killed by SIGKILL" in out, out[-3000:]
+    assert "RESULT: FAIL" in out
