@@ -4,8 +4,8 @@ roslaunch writes, for a node process that ends on its own:
     [conde_tracking-7] process has died [pid 4300, exit code 1, cmd /.../conde_tracking ...].
 and for a required one (then it shuts everything down and exits 0 itself):
     ==== (a line of them) ====REQUIRED process [conde_sim-2] has died!
-    process has died [pid 4242, exit code -9, cmd /.../conde_sim_node __name:=conde_sim ...]. A run that ends early reports these instead of
-"roslaunch stopped (exit 0)"."""
+    process has died [pid 4242, exit code -9, cmd /.../conde_sim_node __name:=conde_sim ...].
+A run that ends early reports these instead of "roslaunch stopped (exit 0)"."""
 import re
 import signal
 from dataclasses import dataclass
