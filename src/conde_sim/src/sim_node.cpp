@@ -256,9 +256,22 @@ class SimNode {
   // --- requests from the service thread ---
   void handleRequests() {
     std::lock_guard<std::mutex> lock(mutex_);
+    if (start_pose_requested_) {  // the robot is looked up here: only this thread reads the simulation
+      start_pose_requested_ = false;
+      const int robot = sim_->findRobot(start_pose_robot_name_);
+      start_pose_success_ = robot >= 0;
+      if (robot < 0) {
+        start_pose_message_ = start_pose_robot_name_.empty() ? "there are several robots: name one"
+                                                             : "no robot named '" + start_pose_robot_name_ + "'";
+      } else {
+        sim_->setStartPose(robot, start_pose_);
+        start_pose_message_ = "robot '" + sim_->robot(robot).spec.name + "' reset to the new start pose";
+        reset_requested_ = true;
+      }
+      start_pose_done_ = true;
+      done_.notify_all();
+    }
     if (reset_requested_) {
-      if (start_pose_robot_ >= 0) sim_->setStartPose(start_pose_robot_, start_pose_);
-      start_pose_robot_ = -1;
       sim_->resetWorld();
       for (auto& p : plugins_) p->reset();
       reset_requested_ = false;
@@ -292,25 +305,22 @@ class SimNode {
     return true;
   }
 
+  // The request is handed to the step loop, which owns the simulation (the robot is looked up
+  // there); this thread only waits for the answer.
   bool onSetStartPose(conde_msgs::SetStartPose::Request& req, conde_msgs::SetStartPose::Response& res) {
-    std::unique_lock<std::mutex> lock(mutex_);
-    const int robot = sim_->findRobot(req.robot);
-    if (robot < 0) {
-      res.success = false;
-      res.message = req.robot.empty() ? "there are several robots: name one" : "no robot named '" + req.robot + "'";
-      return true;
-    }
     if (!std::isfinite(req.x_m) || !std::isfinite(req.y_m) || !std::isfinite(req.yaw_rad)) {
       res.success = false;
       res.message = "x_m, y_m and yaw_rad must be finite";
       return true;
     }
-    start_pose_robot_ = robot;  // applied by the step loop, which owns the simulation
+    std::unique_lock<std::mutex> lock(mutex_);
+    start_pose_robot_name_ = req.robot;
     start_pose_ = cp::Pose::fromXyzRpy(req.x_m, req.y_m, 0.0, 0.0, 0.0, req.yaw_rad);
-    reset_requested_ = true;
-    done_.wait(lock, [this] { return !reset_requested_ || !ros::ok(); });
-    res.success = true;
-    res.message = "robot '" + sim_->robot(robot).spec.name + "' reset to the new start pose";
+    start_pose_done_ = false;
+    start_pose_requested_ = true;
+    done_.wait(lock, [this] { return (start_pose_done_ && !reset_requested_) || !ros::ok(); });
+    res.success = start_pose_done_ && start_pose_success_;
+    res.message = start_pose_done_ ? start_pose_message_ : "shutting down";
     return true;
   }
 
@@ -363,7 +373,9 @@ class SimNode {
   std::mutex mutex_;
   std::condition_variable done_;
   bool requested_paused_ = false, reset_requested_ = false, step_request_done_ = false;
-  int start_pose_robot_ = -1;  // with start_pose_: a new start pose to apply at the next reset
+  // A set_start_pose request: the robot's name and pose in, the step loop's answer out.
+  bool start_pose_requested_ = false, start_pose_done_ = false, start_pose_success_ = false;
+  std::string start_pose_robot_name_, start_pose_message_;
   cp::Pose start_pose_;
   std::uint64_t requested_steps_ = 0;
   double step_done_time_s_ = 0.0;
