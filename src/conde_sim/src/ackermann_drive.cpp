@@ -185,7 +185,7 @@ AckermannDrive::AckermannDrive(Simulation& sim, int robot, const Config& config)
     steering_pid_[s] = PidController(withinJointLimit(config_.steering_pid, joints_[kSteerLeft + s]));
   for (int w = 0; w < 4; ++w)
     wheel_pid_[w] = PidController(withinJointLimit(config_.wheel_pid, joints_[kFrontLeft + w]));
-  period_steps_ = updatePeriodSteps(config.update_rate_hz, sim.stepS());
+  timer_ = UpdateTimer(config.update_rate_hz, sim.stepS());
   reset();
 }
 
@@ -278,7 +278,7 @@ void AckermannDrive::beforeStep() {
 
 bool AckermannDrive::afterStep() {
   const std::uint64_t step = sim_.stepCount();
-  if (step % period_steps_ != 0) return false;
+  if (!timer_.due(step)) return false;
   const double dt_s = static_cast<double>(step - last_update_step_) * sim_.stepS();
   last_update_step_ = step;
   if (config_.encoder_odometry) {

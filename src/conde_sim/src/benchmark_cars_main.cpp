@@ -25,6 +25,8 @@
 #include "conde_sim/ackermann_drive.h"
 #include "conde_sim/laser_scanner.h"
 #include "conde_sim/simulation.h"
+#include "conde_sim/step_loop.h"
+#include "conde_sim/update_timer.h"
 
 namespace cp = conde_physics;
 using Clock = std::chrono::steady_clock;
@@ -114,16 +116,18 @@ Result run(const std::string& engine, const std::string& urdf, int cars, double 
     l.noise_seed = static_cast<std::uint32_t>(i);
     lidars.push_back(std::make_unique<conde_sim::LaserScanner>(sim, i, l));
   }
-  const std::uint64_t scan_period = conde_sim::updatePeriodSteps(kLidarRate_hz, sim.stepS());
+  const conde_sim::UpdateTimer scan_timer(kLidarRate_hz, sim.stepS());
   Result r;
   r.steps = std::lround(sim_seconds / sim.stepS());
   const auto start = Clock::now();
   const double cpu_start = cpuSeconds();
+  conde_sim::StepLoop loop(sim);
+  std::vector<conde_sim::HooksOf<conde_sim::AckermannDrive>> hooks;
+  hooks.reserve(drives.size());
+  for (auto& d : drives) loop.add(hooks.emplace_back(*d));
   for (long s = 0; s < r.steps; ++s) {
-    for (auto& d : drives) d->beforeStep();
-    sim.step();
-    for (auto& d : drives) d->afterStep();
-    if (sim.stepCount() % scan_period == 0) {
+    loop.update();
+    if (scan_timer.due(sim.stepCount())) {
       const double t0 = cpuSeconds();  // (a system call: only around the scans, not every step)
       for (auto& l : lidars) l->scan();
       r.scans += cars;

@@ -13,6 +13,7 @@
 #include "conde_physics/world_file.h"
 #include "conde_sim/diff_drive_controller.h"
 #include "conde_sim/simulation.h"
+#include "conde_sim/step_loop.h"
 
 namespace cp = conde_physics;
 
@@ -52,12 +53,11 @@ int main(int argc, char** argv) {
       conde_sim::DiffDrive drive(sim, 0, c);
       drive.command(0.3, 0.2);
       const long steps = std::lround(sim_seconds / sim.stepS());
+      conde_sim::HooksOf<conde_sim::DiffDrive> hooks(drive);
+      conde_sim::StepLoop loop(sim);
+      loop.add(hooks);
       const auto start = std::chrono::steady_clock::now();
-      for (long i = 0; i < steps; ++i) {
-        drive.beforeStep();
-        sim.step();
-        drive.afterStep();
-      }
+      loop.run(steps);
       const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       std::printf("| %s | %.1f | %.3f | %.1f | %.2f |\n", engine.c_str(), sim.timeS(), wall_s, sim.timeS() / wall_s,
                   1e6 * wall_s / steps);

@@ -85,7 +85,7 @@ DiffDrive::DiffDrive(Simulation& sim, int robot, const Config& config)
   if (!model.linkInBody(config.base_link, body, unused)) {
     throw std::invalid_argument("no link named '" + config.base_link + "'");
   }
-  period_steps_ = updatePeriodSteps(config.update_rate_hz, sim.stepS());
+  timer_ = UpdateTimer(config.update_rate_hz, sim.stepS());
   reset();
 }
 
@@ -106,9 +106,9 @@ void DiffDrive::reset() {
 }
 
 void DiffDrive::beforeStep() {
-  if (sim_.stepCount() % period_steps_ != 0) return;
+  if (!timer_.due(sim_.stepCount())) return;
   double left_radps = 0, right_radps = 0;
-  controller_.update(sim_.timeS(), period_steps_ * sim_.stepS(), left_radps, right_radps);
+  controller_.update(sim_.timeS(), timer_.stepsPerUpdate() * sim_.stepS(), left_radps, right_radps);
   const cp::ModelId id = sim_.robot(robot_).id;
   sim_.engine().setJointVelocityMotor(id, left_, left_radps, config_.wheel_torque_nm);
   sim_.engine().setJointVelocityMotor(id, right_, right_radps, config_.wheel_torque_nm);
@@ -116,7 +116,7 @@ void DiffDrive::beforeStep() {
 
 bool DiffDrive::afterStep() {
   const std::uint64_t step = sim_.stepCount();
-  if (step % period_steps_ != 0) return false;
+  if (!timer_.due(step)) return false;
   const double dt_s = static_cast<double>(step - last_update_step_) * sim_.stepS();
   last_update_step_ = step;
   const cp::ModelId id = sim_.robot(robot_).id;

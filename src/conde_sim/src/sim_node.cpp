@@ -31,6 +31,8 @@
 
 #include "conde_sim/plugin_loader.h"
 #include "conde_sim/simulation.h"
+#include "conde_sim/step_loop.h"
+#include "conde_sim/update_timer.h"
 #include "conde_sim/world_displays.h"
 #include "conde_sim/world_markers.h"
 
@@ -95,7 +97,12 @@ class SimNode {
       for (auto& plugin : loadRobotPlugins(ctx)) plugins_.push_back(std::move(plugin));
     }
     world_displays_ = std::make_unique<WorldDisplays>(nh_, *sim_);
-    clock_period_steps_ = updatePeriodSteps(clock_rate_hz_, sim_->stepS());
+    // The step loop: every plugin in load order, then /clock.
+    loop_ = std::make_unique<StepLoop>(*sim_);
+    for (auto& plugin : plugins_) loop_->add(*plugin);
+    clock_hook_.timer = UpdateTimer(clock_rate_hz_, sim_->stepS());
+    clock_hook_.node = this;
+    loop_->add(clock_hook_);
 
     clock_pub_ = nh_.advertise<rosgraph_msgs::Clock>("/clock", 10);
     markers_pub_ = pnh_.advertise<visualization_msgs::MarkerArray>("world_markers", 1, true);
@@ -146,7 +153,7 @@ class SimNode {
         continue;
       }
       queue.callAvailable();
-      stepOnce();
+      loop_->update();
       if (pending_steps_ > 0 && --pending_steps_ == 0) finishStepRequest();
       if (max_sim_time_s_ > 0 && sim_->timeS() >= max_sim_time_s_ - 1e-9) {
         ROS_INFO("conde_sim: reached ~max_sim_time_s = %.3f s; stopping", max_sim_time_s_);
@@ -240,12 +247,14 @@ class SimNode {
              ns.empty() ? "" : ", namespace ", ns.c_str());
   }
 
-  void stepOnce() {
-    for (auto& p : plugins_) p->beforeStep();
-    sim_->step();
-    for (auto& p : plugins_) p->afterStep();
-    if (sim_->stepCount() % clock_period_steps_ == 0) publishClock();
-  }
+  // /clock after every plugin, at ~clock_rate_hz of simulated time.
+  struct ClockHook : StepHooks {
+    SimNode* node = nullptr;
+    UpdateTimer timer;
+    void afterStep() override {
+      if (timer.due(node->sim_->stepCount())) node->publishClock();
+    }
+  };
 
   void publishClock() {
     rosgraph_msgs::Clock clock;
@@ -365,7 +374,8 @@ class SimNode {
   std::vector<std::unique_ptr<SimPlugin>> plugins_;
   std::string engine_name_;
   double real_time_factor_ = 1.0, clock_rate_hz_ = 1000.0, max_sim_time_s_ = 0.0;
-  std::uint64_t clock_period_steps_ = 1;
+  std::unique_ptr<StepLoop> loop_;
+  ClockHook clock_hook_;
   bool paused_ = false;
   std::uint64_t pending_steps_ = 0;
 

@@ -181,10 +181,4 @@ std::vector<int> Simulation::renderObjectsOfLink(int robot, const std::string& l
   return indices;
 }
 
-std::uint64_t updatePeriodSteps(double rate_hz, double step_s) {
-  if (rate_hz <= 0.0) return 1;
-  const double steps = std::round(1.0 / (rate_hz * step_s));
-  return steps < 1.0 ? 1 : static_cast<std::uint64_t>(steps);
-}
-
 }  // namespace conde_sim

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "conde_sim/simulation.h"
+#include "conde_sim/step_loop.h"
 
 namespace conde_sim_test {
 
@@ -51,22 +52,26 @@ inline int addRobot(conde_sim::Simulation& sim, const std::string& name, const s
   return sim.addRobot(spec);
 }
 
-// One physics step with a drive's hooks around it, as the simulator calls its plugins.
+// One physics step with a drive's hooks around it, through the simulator's own step loop.
 template <class Drive>
 void stepWithDrive(conde_sim::Simulation& sim, Drive& drive) {
-  drive.beforeStep();
-  sim.step();
-  drive.afterStep();
+  conde_sim::HooksOf<Drive> hooks(drive);
+  conde_sim::StepLoop loop(sim);
+  loop.add(hooks);
+  loop.update();
 }
 
 // x, y of robot 0's base_footprint after each of `steps` steps of `drive`; `command(step)` runs
 // every 50th step (20 Hz at the 1 ms step, like a driver node).
 template <class Drive, class Command>
 std::vector<double> baseTrajectory(conde_sim::Simulation& sim, Drive& drive, int steps, Command command) {
+  conde_sim::HooksOf<Drive> hooks(drive);
+  conde_sim::StepLoop loop(sim);
+  loop.add(hooks);
   std::vector<double> xy;
   for (int i = 0; i < steps; ++i) {
     if (i % 50 == 0) command(i);
-    stepWithDrive(sim, drive);
+    loop.update();
     const conde_physics::Pose p = sim.linkPose(0, "base_footprint");
     xy.push_back(p.position.x);
     xy.push_back(p.position.y);

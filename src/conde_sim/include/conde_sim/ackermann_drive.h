@@ -17,6 +17,7 @@
 
 #include "conde_physics/math.h"
 #include "conde_sim/ackermann_geometry.h"
+#include "conde_sim/update_timer.h"
 
 namespace conde_sim {
 
@@ -124,7 +125,8 @@ class AckermannDrive {
   int joints_[kJointCount] = {-1, -1, -1, -1, -1, -1};
   double signs_[kJointCount] = {1, 1, 1, 1, 1, 1};  // joint direction -> car convention
   PidController steering_pid_[2], wheel_pid_[4];
-  std::uint64_t period_steps_ = 1, last_update_step_ = 0;
+  UpdateTimer timer_;
+  std::uint64_t last_update_step_ = 0;
   // Command and set points.
   double target_speed_mps_ = 0.0, target_steering_rad_ = 0.0;
   double steering_rate_limit_ = 0.0, acceleration_limit_ = 0.0;

@@ -12,6 +12,7 @@
 #include <string>
 
 #include "conde_physics/math.h"
+#include "conde_sim/update_timer.h"
 
 namespace conde_sim {
 
@@ -101,7 +102,8 @@ class DiffDrive {
   int robot_;
   Config config_;
   int left_ = -1, right_ = -1;
-  std::uint64_t period_steps_ = 1, last_update_step_ = 0;
+  UpdateTimer timer_;
+  std::uint64_t last_update_step_ = 0;
   DiffDriveController controller_;
   DiffDriveOdometry odometry_;
   conde_physics::Pose odom_pose_, start_pose_;

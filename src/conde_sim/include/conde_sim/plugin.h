@@ -3,7 +3,8 @@
 //
 // Every plugin has one shape: load() reads all its parameters (each with its Gazebo default)
 // and logs the resolved values once; beforeStep() runs before each physics step (commands,
-// efforts); afterStep() after it (sensors, odometry), rate-limited in simulated time.
+// efforts); afterStep() after it (sensors, odometry), rate-limited in simulated time by an
+// UpdateTimer (update_timer.h). The StepLoop (step_loop.h) calls them.
 // ROS callbacks run between steps, on the node's thread, so no plugin needs a lock.
 #pragma once
 
@@ -18,6 +19,7 @@
 
 #include "conde_sim/plugin_params.h"
 #include "conde_sim/simulation.h"
+#include "conde_sim/step_loop.h"
 
 namespace conde_sim {
 
@@ -35,13 +37,11 @@ struct PluginContext {
   ros::Time now() const { return ros::Time(sim->timeS()); }
 };
 
-class SimPlugin {
+// beforeStep() and afterStep() (StepHooks) run around each physics step, in the StepLoop.
+class SimPlugin : public StepHooks {
  public:
-  virtual ~SimPlugin() = default;
   // Reads parameters and sets up topics. Throws PluginError naming the key at fault.
   virtual void load(PluginContext& ctx, PluginParams& params) = 0;
-  virtual void beforeStep() {}
-  virtual void afterStep() {}
   // After the world was reset: forget commands and integrated state.
   virtual void reset() {}
 };

@@ -95,7 +95,4 @@ class Simulation {
   std::uint64_t render_scene_step_ = 0;
 };
 
-// Number of physics steps between updates for a rate [Hz]; 0 Hz means every step.
-std::uint64_t updatePeriodSteps(double rate_hz, double step_s);
-
 }  // namespace conde_sim

@@ -47,6 +47,7 @@
 #include <sstream>
 
 #include "conde_sim/plugin.h"
+#include "conde_sim/update_timer.h"
 
 namespace conde_sim {
 namespace {
@@ -151,11 +152,9 @@ class CameraPlugin : public SimPlugin {
     if (rate_hz < 0) throw params.error("updateRate", "must not be negative");
     if (rate_hz == 0) rate_hz = sensor_rate_hz;  // as in Gazebo: 0 = the sensor's rate
     if (rate_hz <= 0) rate_hz = 30.0;            // Gazebo renders unbounded; here a camera needs a rate
-    // Frame k is captured at step round(k * steps_per_frame): exactly rate_hz frames per
-    // simulated second even when the period is not a whole number of steps (30 Hz at 1 kHz).
-    steps_per_frame_ = std::max(1.0, 1.0 / (rate_hz * ctx.sim->stepS()));
-    while (frameStep(frame_index_) <= ctx.sim->stepCount()) ++frame_index_;
-    next_frame_step_ = frameStep(frame_index_);
+    // Exactly rate_hz frames per simulated second, also when the period is not a whole number of
+    // steps (30 Hz at 1 kHz: 33, 33, 34 steps apart).
+    frame_timer_ = UpdateTimer(rate_hz, ctx.sim->stepS());
     params.getBool("alwaysOn", true);
     params.sensorBool("always_on", true);
     params.ignore({"visualize", "borderCrop", "autoDistortion", "camera_info_topic", "topic"});
@@ -214,10 +213,7 @@ class CameraPlugin : public SimPlugin {
   }
 
   void afterStep() override {
-    const std::uint64_t step = ctx_.sim->stepCount();
-    if (step < next_frame_step_) return;
-    while (frameStep(frame_index_) <= step) ++frame_index_;
-    next_frame_step_ = frameStep(frame_index_);
+    if (!frame_timer_.due(ctx_.sim->stepCount())) return;
     const bool want_image = image_pub_.getNumSubscribers() > 0;
     if (!want_image && info_pub_.getNumSubscribers() == 0) return;
     const ros::Time stamp = ctx_.now();
@@ -241,10 +237,6 @@ class CameraPlugin : public SimPlugin {
   }
 
  private:
-  std::uint64_t frameStep(std::uint64_t frame) const {
-    return static_cast<std::uint64_t>(std::llround(static_cast<double>(frame) * steps_per_frame_));
-  }
-
   static std::string number(double v) {
     std::ostringstream out;
     out << v;
@@ -370,8 +362,7 @@ class CameraPlugin : public SimPlugin {
   std::string lens_type_ = "pinhole";
   cp::Pose link_T_optical_;
   double baseline_m_ = 0.0;
-  double steps_per_frame_ = 1.0;
-  std::uint64_t frame_index_ = 0, next_frame_step_ = 0;
+  UpdateTimer frame_timer_;
   std::unique_ptr<cp::CameraRenderer> renderer_;
   std::mt19937 rng_;
   cp::RgbImage image_;

@@ -11,6 +11,7 @@
 #include <random>
 
 #include "conde_sim/plugin.h"
+#include "conde_sim/update_timer.h"
 
 namespace conde_sim {
 namespace {
@@ -35,7 +36,7 @@ class GroundTruthPlugin : public SimPlugin {
     }
     const double rate_hz = params.getDouble("updateRate", 0.0);
     if (rate_hz < 0) throw params.error("updateRate", "must not be negative");
-    period_steps_ = updatePeriodSteps(rate_hz, ctx.sim->stepS());
+    timer_ = UpdateTimer(rate_hz, ctx.sim->stepS());
     offset_ = cp::Pose(params.getVec3("xyzOffsets", cp::Vec3()), cp::Quat());
     const cp::Vec3 rpy = params.getVec3("rpyOffsets", cp::Vec3());
     offset_.orientation = cp::Quat::fromRpy(rpy.x, rpy.y, rpy.z);
@@ -48,7 +49,7 @@ class GroundTruthPlugin : public SimPlugin {
   }
 
   void afterStep() override {
-    if (ctx_.sim->stepCount() % period_steps_ != 0 || pub_.getNumSubscribers() == 0) return;
+    if (!timer_.due(ctx_.sim->stepCount()) || pub_.getNumSubscribers() == 0) return;
     // Offsets as in gazebo_ros_p3d: a pose in the reference frame applied to the body pose.
     const cp::Pose pose = offset_ * ctx_.sim->linkPose(ctx_.robot, body_);
     const cp::Twist twist = ctx_.sim->linkTwist(ctx_.robot, body_);
@@ -84,7 +85,7 @@ class GroundTruthPlugin : public SimPlugin {
   std::string body_, frame_;
   cp::Pose offset_;
   double noise_stddev_ = 0.0;
-  std::uint64_t period_steps_ = 1;
+  UpdateTimer timer_;
   std::mt19937 rng_{0};  // fixed seed: runs are repeatable
   std::normal_distribution<double> gauss_{0.0, 1.0};
   ros::Publisher pub_;

@@ -18,6 +18,7 @@
 #include <random>
 
 #include "conde_sim/plugin.h"
+#include "conde_sim/update_timer.h"
 
 namespace conde_sim {
 namespace {
@@ -39,7 +40,7 @@ class ImuSensorPlugin : public SimPlugin {
     const double sensor_rate_hz = params.sensorDouble("update_rate", 0.0);
     if (!params.has("updateRateHZ") && sensor_rate_hz > 0) rate_hz = sensor_rate_hz;
     if (rate_hz < 0) throw params.error("updateRateHZ", "must not be negative");
-    period_steps_ = updatePeriodSteps(rate_hz, ctx.sim->stepS());
+    timer_ = UpdateTimer(rate_hz, ctx.sim->stepS());
     noise_stddev_ = params.getDouble("gaussianNoise", 0.0);
     if (noise_stddev_ < 0) throw params.error("gaussianNoise", "must not be negative");
     params.getVec3("xyzOffset", cp::Vec3());
@@ -57,10 +58,10 @@ class ImuSensorPlugin : public SimPlugin {
   void reset() override { last_velocity_ = ctx_.sim->linkTwist(ctx_.robot, link_).linear_mps; }
 
   void afterStep() override {
-    if (ctx_.sim->stepCount() % period_steps_ != 0) return;
+    if (!timer_.due(ctx_.sim->stepCount())) return;
     const cp::Pose pose = ctx_.sim->linkPose(ctx_.robot, link_);
     const cp::Twist twist = ctx_.sim->linkTwist(ctx_.robot, link_);
-    const double dt_s = period_steps_ * ctx_.sim->stepS();
+    const double dt_s = timer_.stepsPerUpdate() * ctx_.sim->stepS();
     const cp::Vec3 accel_world = (twist.linear_mps - last_velocity_) / dt_s - ctx_.sim->world().physics.gravity_mps2;
     last_velocity_ = twist.linear_mps;
     if (pub_.getNumSubscribers() == 0) return;
@@ -99,7 +100,7 @@ class ImuSensorPlugin : public SimPlugin {
   cp::Quat rpy_offset_;
   cp::Vec3 last_velocity_;
   double noise_stddev_ = 0.0;
-  std::uint64_t period_steps_ = 1;
+  UpdateTimer timer_;
   std::mt19937 rng_{0};
   std::normal_distribution<double> gauss_{0.0, 1.0};
   ros::Publisher pub_;

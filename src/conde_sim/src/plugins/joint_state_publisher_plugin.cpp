@@ -7,6 +7,7 @@
 #include <sensor_msgs/JointState.h>
 
 #include "conde_sim/plugin.h"
+#include "conde_sim/update_timer.h"
 
 namespace conde_sim {
 namespace {
@@ -21,7 +22,7 @@ class JointStatePublisherPlugin : public SimPlugin {
     for (const auto& name : names) joints_.push_back(requireJoint(ctx, params, "jointName", name));
     const double rate_hz = params.getDouble("updateRate", 100.0);
     if (rate_hz < 0) throw params.error("updateRate", "must not be negative");
-    period_steps_ = updatePeriodSteps(rate_hz, ctx.sim->stepS());
+    timer_ = UpdateTimer(rate_hz, ctx.sim->stepS());
     params.ignore({"alwaysOn"});
     pub_ = nh.advertise<sensor_msgs::JointState>("joint_states", 10);
     msg_.name = names;
@@ -32,7 +33,7 @@ class JointStatePublisherPlugin : public SimPlugin {
   }
 
   void afterStep() override {
-    if (ctx_.sim->stepCount() % period_steps_ != 0) return;
+    if (!timer_.due(ctx_.sim->stepCount())) return;
     const Robot& robot = ctx_.sim->robot(ctx_.robot);
     const conde_physics::PhysicsEngine& e = ctx_.sim->engine();
     msg_.header.stamp = ctx_.now();
@@ -46,7 +47,7 @@ class JointStatePublisherPlugin : public SimPlugin {
  private:
   PluginContext ctx_;
   std::vector<int> joints_;
-  std::uint64_t period_steps_ = 1;
+  UpdateTimer timer_;
   ros::Publisher pub_;
   sensor_msgs::JointState msg_;
 };

@@ -30,6 +30,7 @@
 
 #include "conde_sim/laser_scanner.h"
 #include "conde_sim/plugin.h"
+#include "conde_sim/update_timer.h"
 
 namespace conde_sim {
 namespace {
@@ -65,7 +66,7 @@ class LaserPlugin : public SimPlugin {
     c.sensor_in_link = readPose(params);
     const double rate_hz = params.sensorDouble("update_rate", 0.0);
     if (rate_hz < 0) throw params.sensorError("update_rate", "must not be negative, got " + number(rate_hz));
-    period_steps_ = updatePeriodSteps(rate_hz, ctx.sim->stepS());
+    timer_ = UpdateTimer(rate_hz, ctx.sim->stepS());
     params.sensorBool("always_on", true);
 
     const long samples = params.sensorInt("ray/scan/horizontal/samples", 640);
@@ -116,7 +117,7 @@ class LaserPlugin : public SimPlugin {
     msg_.angle_max = static_cast<float>(c.beam_count > 1 ? c.max_angle_rad : c.min_angle_rad);
     msg_.angle_increment = static_cast<float>(scanner_->angleIncrement());
     msg_.time_increment = 0.0f;  // all beams at once
-    msg_.scan_time = static_cast<float>(period_steps_ * ctx.sim->stepS());
+    msg_.scan_time = static_cast<float>(timer_.stepsPerUpdate() * ctx.sim->stepS());
     msg_.range_min = static_cast<float>(c.min_range_m);
     msg_.range_max = static_cast<float>(c.max_range_m);
     msg_.ranges.resize(c.beam_count);
@@ -126,11 +127,11 @@ class LaserPlugin : public SimPlugin {
         "%s in frame %s",
         ctx.sim->robot(ctx.robot).spec.name.c_str(), params.sensorName().c_str(), link.c_str(), c.beam_count,
         c.min_angle_rad, c.max_angle_rad, c.min_range_m, c.max_range_m, c.noise_stddev_m,
-        1.0 / (period_steps_ * ctx.sim->stepS()), pub_.getTopic().c_str(), frame_.c_str());
+        1.0 / (timer_.stepsPerUpdate() * ctx.sim->stepS()), pub_.getTopic().c_str(), frame_.c_str());
   }
 
   void afterStep() override {
-    if (ctx_.sim->stepCount() % period_steps_ != 0 || pub_.getNumSubscribers() == 0) return;
+    if (!timer_.due(ctx_.sim->stepCount()) || pub_.getNumSubscribers() == 0) return;
     const std::vector<float>& ranges = scanner_->scan();
     std::copy(ranges.begin(), ranges.end(), msg_.ranges.begin());
     msg_.header.stamp = ctx_.now();
@@ -174,7 +175,7 @@ class LaserPlugin : public SimPlugin {
   PluginContext ctx_;
   std::unique_ptr<LaserScanner> scanner_;
   std::string frame_;
-  std::uint64_t period_steps_ = 1;
+  UpdateTimer timer_;
   sensor_msgs::LaserScan msg_;
   ros::Publisher pub_;
 };

@@ -41,6 +41,7 @@
 
 #include "conde_sim/joint_controller.h"
 #include "conde_sim/plugin.h"
+#include "conde_sim/update_timer.h"
 
 namespace conde_sim {
 namespace {
@@ -97,7 +98,7 @@ class RosControlPlugin : public SimPlugin {
     }
     const double period_s = params.getDouble("controlPeriod", 0.0);
     if (period_s < 0) throw params.error("controlPeriod", "must not be negative");
-    period_steps_ = period_s > 0 ? std::max<std::uint64_t>(1, std::llround(period_s / ctx.sim->stepS())) : 1;
+    control_timer_ = period_s > 0 ? UpdateTimer::everySteps(std::llround(period_s / ctx.sim->stepS())) : UpdateTimer();
     const std::string estop_topic = params.getString("eStopTopic", "");
     params.ignore({"robotParam", "legacyModeNS"});
 
@@ -122,14 +123,14 @@ class RosControlPlugin : public SimPlugin {
   }
 
   void beforeStep() override {
-    if (ctx_.sim->stepCount() % period_steps_ == 0) {
-      for (auto& c : controllers_) c.controller->update(period_steps_ * ctx_.sim->stepS());
+    if (control_timer_.due(ctx_.sim->stepCount())) {
+      for (auto& c : controllers_) c.controller->update(control_timer_.stepsPerUpdate() * ctx_.sim->stepS());
     }
     for (auto& c : controllers_) c.controller->apply();
   }
 
   void afterStep() override {
-    if (!joint_state_pub_ || ctx_.sim->stepCount() % joint_state_period_steps_ != 0) return;
+    if (!joint_state_pub_ || !joint_state_timer_.due(ctx_.sim->stepCount())) return;
     if (joint_state_pub_.getNumSubscribers() == 0) return;
     const cp::PhysicsEngine& e = ctx_.sim->engine();
     const cp::ModelId id = ctx_.sim->robot(ctx_.robot).id;
@@ -240,7 +241,7 @@ class RosControlPlugin : public SimPlugin {
     double rate_hz = 50.0;  // joint_state_controller's default
     if (config.hasMember("publish_rate")) rate_hz = number(name, "publish_rate", config["publish_rate"]);
     if (rate_hz <= 0) throw controllerError(name, "publish_rate", "must be positive");
-    joint_state_period_steps_ = updatePeriodSteps(rate_hz, ctx_.sim->stepS());
+    joint_state_timer_ = UpdateTimer(rate_hz, ctx_.sim->stepS());
     joint_state_name_ = name;
     const cp::ArticulatedModel& model = ctx_.sim->robot(ctx_.robot).model;
     for (const cp::JointSpec& j : model.joints) joint_state_.name.push_back(j.name);
@@ -312,7 +313,7 @@ class RosControlPlugin : public SimPlugin {
   PluginContext ctx_;
   ros::NodeHandle nh_;
   std::string params_where_;
-  std::uint64_t period_steps_ = 1, joint_state_period_steps_ = 1;
+  UpdateTimer control_timer_, joint_state_timer_;
   std::vector<Loaded> controllers_;
   std::string joint_state_name_;
   ros::Publisher joint_state_pub_;
