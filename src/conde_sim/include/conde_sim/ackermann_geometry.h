@@ -1,8 +1,8 @@
 // Ackermann steering geometry and the small controllers of the Ackermann drive, free of ROS.
 //
-// Model (as the original Conde/Major Alvega ackermann_controller computes it): a car with wheelbase L between the front (steering) axle and the rear axle, steering
-// hinges at +-d_f from the car's centre line, rear wheels at +-d_r. The commanded steering angle
-// delta belongs to a virtual wheel at the front-axle centre; the commanded speed v to the
+// Model (as the original Conde/Major Alvega ackermann_controller computes it): a car with wheelbase L between the front
+// (steering) axle and the rear axle, steering hinges at +-d_f from the car's centre line, rear wheels at +-d_r. The
+// commanded steering angle delta belongs to a virtual wheel at the front-axle centre; the commanded speed v to the
 // rear-axle centre. Without slip every wheel rolls on a circle about the instantaneous centre of
 // rotation (ICR) on the rear-axle line, at R = L / tan(delta) to the left of the rear-axle centre
 // (R < 0: to the right). Then
