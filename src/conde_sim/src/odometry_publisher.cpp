@@ -14,28 +14,6 @@ bool readEncoderOdometry(PluginParams& params) {
   return source == "encoder";
 }
 
-geometry_msgs::Quaternion toMsg(const cp::Quat& q) {
-  geometry_msgs::Quaternion m;
-  m.w = q.w;
-  m.x = q.x;
-  m.y = q.y;
-  m.z = q.z;
-  return m;
-}
-
-geometry_msgs::TransformStamped transformMessage(const ros::Time& stamp, const std::string& parent,
-                                                 const std::string& child, const cp::Pose& child_in_parent) {
-  geometry_msgs::TransformStamped t;
-  t.header.stamp = stamp;
-  t.header.frame_id = parent;
-  t.child_frame_id = child;
-  t.transform.translation.x = child_in_parent.position.x;
-  t.transform.translation.y = child_in_parent.position.y;
-  t.transform.translation.z = child_in_parent.position.z;
-  t.transform.rotation = toMsg(child_in_parent.orientation);
-  return t;
-}
-
 void OdometryPublisher::advertise(ros::NodeHandle& nh, const std::string& topic) {
   pub_ = nh.advertise<nav_msgs::Odometry>(topic, 10);
 }

@@ -1,4 +1,5 @@
 #include "conde_sim/world_markers.h"
+#include "conde_sim/ros_conversions.h"
 
 #include <sys/stat.h>
 
@@ -117,13 +118,7 @@ visualization_msgs::MarkerArray worldMarkers(const cp::WorldDescription& world, 
   int id = 0;
   for (const cp::WorldObject& o : world.objects) {
     visualization_msgs::Marker m = base("objects", id++);
-    m.pose.position.x = o.pose.position.x;
-    m.pose.position.y = o.pose.position.y;
-    m.pose.position.z = o.pose.position.z;
-    m.pose.orientation.w = o.pose.orientation.w;
-    m.pose.orientation.x = o.pose.orientation.x;
-    m.pose.orientation.y = o.pose.orientation.y;
-    m.pose.orientation.z = o.pose.orientation.z;
+    m.pose = toMsg(o.pose);
     m.color.r = o.color_rgb.x;
     m.color.g = o.color_rgb.y;
     m.color.b = o.color_rgb.z;

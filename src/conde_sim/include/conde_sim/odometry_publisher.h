@@ -19,18 +19,13 @@
 
 #include "conde_physics/math.h"
 #include "conde_sim/plugin.h"
+#include "conde_sim/ros_conversions.h"
 
 namespace conde_sim {
 
 // <odometrySource>: true for "encoder" (dead reckoning), false for "world" (ground truth, the
 // default); any other value is a PluginError naming the key.
 bool readEncoderOdometry(PluginParams& params);
-
-// The same rotation as a message.
-geometry_msgs::Quaternion toMsg(const conde_physics::Quat& q);
-// `child` at `child_in_parent` in the frame `parent`, as TF broadcasts it.
-geometry_msgs::TransformStamped transformMessage(const ros::Time& stamp, const std::string& parent,
-                                                 const std::string& child, const conde_physics::Pose& child_in_parent);
 
 class OdometryPublisher {
  public:

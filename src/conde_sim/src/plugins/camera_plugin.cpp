@@ -47,6 +47,7 @@
 #include <sstream>
 
 #include "conde_sim/plugin.h"
+#include "conde_sim/ros_conversions.h"
 #include "conde_sim/update_timer.h"
 
 namespace conde_sim {
@@ -179,18 +180,7 @@ class CameraPlugin : public SimPlugin {
                                             "-pi/2 from the camera link)");
       }
     } else if (ctx.static_tf) {
-      geometry_msgs::TransformStamped t;
-      t.header.stamp = ctx.now();
-      t.header.frame_id = ctx.frame(link_);
-      t.child_frame_id = frame_;
-      t.transform.translation.x = link_T_optical_.position.x;
-      t.transform.translation.y = link_T_optical_.position.y;
-      t.transform.translation.z = link_T_optical_.position.z;
-      t.transform.rotation.w = link_T_optical_.orientation.w;
-      t.transform.rotation.x = link_T_optical_.orientation.x;
-      t.transform.rotation.y = link_T_optical_.orientation.y;
-      t.transform.rotation.z = link_T_optical_.orientation.z;
-      ctx.static_tf->sendTransform(t);
+      ctx.static_tf->sendTransform(transformMessage(ctx.now(), ctx.frame(link_), frame_, link_T_optical_));
     }
 
     try {

@@ -11,6 +11,7 @@
 #include <random>
 
 #include "conde_sim/plugin.h"
+#include "conde_sim/ros_conversions.h"
 #include "conde_sim/update_timer.h"
 
 namespace conde_sim {
@@ -60,10 +61,7 @@ class GroundTruthPlugin : public SimPlugin {
     msg.pose.pose.position.x = pose.position.x + noise();
     msg.pose.pose.position.y = pose.position.y + noise();
     msg.pose.pose.position.z = pose.position.z + noise();
-    msg.pose.pose.orientation.w = pose.orientation.w;
-    msg.pose.pose.orientation.x = pose.orientation.x;
-    msg.pose.pose.orientation.y = pose.orientation.y;
-    msg.pose.pose.orientation.z = pose.orientation.z;
+    msg.pose.pose.orientation = toMsg(pose.orientation);
     msg.twist.twist.linear.x = twist.linear_mps.x + noise();
     msg.twist.twist.linear.y = twist.linear_mps.y + noise();
     msg.twist.twist.linear.z = twist.linear_mps.z + noise();

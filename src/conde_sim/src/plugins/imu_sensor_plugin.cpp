@@ -18,6 +18,7 @@
 #include <random>
 
 #include "conde_sim/plugin.h"
+#include "conde_sim/ros_conversions.h"
 #include "conde_sim/update_timer.h"
 
 namespace conde_sim {
@@ -73,10 +74,7 @@ class ImuSensorPlugin : public SimPlugin {
     msg.header.stamp = ctx_.now();
     msg.header.frame_id = frame_;
     const cp::Quat noisy = (q * cp::Quat::fromRotationVector({noise(), noise(), noise()})).normalized();
-    msg.orientation.w = noisy.w;
-    msg.orientation.x = noisy.x;
-    msg.orientation.y = noisy.y;
-    msg.orientation.z = noisy.z;
+    msg.orientation = toMsg(noisy);
     msg.angular_velocity.x = gyro.x + noise();
     msg.angular_velocity.y = gyro.y + noise();
     msg.angular_velocity.z = gyro.z + noise();
