@@ -229,9 +229,11 @@ def run_probe(probe_path, node_command, env, timeout_s=300.0):
 
 class LoggedProcess:
     """A command under test: stdin and stdout as given; what it writes to stdout (unless given)
-    and to stderr is kept in log_dir/stdout.txt and log_dir/stderr.txt."""
+    and to stderr is kept in log_dir/stdout.txt and log_dir/stderr.txt. Python processes write
+    unbuffered (PYTHONUNBUFFERED=1), so a test reads their log lines while they run."""
 
     def __init__(self, command, env, log_dir, stdin=subprocess.DEVNULL, stdout=None):
+        env = dict(env, PYTHONUNBUFFERED="1")
         self.stdout_path = os.path.join(str(log_dir), "stdout.txt")
         self.stderr_path = os.path.join(str(log_dir), "stderr.txt")
         with open(self.stdout_path, "w") as out, open(self.stderr_path, "w") as err:
