@@ -168,3 +168,34 @@ def test_camera_runs_with_good_parameters(master):
                        "<cameraName>cam</cameraName><frameName>base_optical</frameName>")
     code, err = run_node(master, urdf=urdf, world_file=FLAT_WORLD, real_time_factor=0, max_sim_time_s=0.2)
     assert code == 0, err
+
+
+def optical_link_urdf(rpy):
+    """GOOD_URDF with a camera whose frameName is a URDF link `base_optical` at `rpy` from the
+    camera link (line 5: the optical joint, line 9: the camera plugin)."""
+    return GOOD_URDF.replace("</robot>", f'<link name="base_optical"/>\n'
+                             f'<joint name="optical" type="fixed"><parent link="base"/><child link="base_optical"/>'
+                             f'<origin xyz="0 0 0" rpy="{rpy}"/></joint>\n'
+                             '<gazebo reference="base">\n<sensor type="camera" name="cam">\n'
+                             "<camera><image><width>64</width><height>48</height></image></camera>\n"
+                             '<plugin name="cam_controller" filename="libgazebo_ros_camera.so">'
+                             "<frameName>base_optical</frameName></plugin>\n"
+                             "</sensor>\n</gazebo>\n</robot>")
+
+
+@pytest.mark.parametrize("rpy", ["-1.5707963 0 -1.5707963", "-1.57 0 -1.57", "-1.571 0 -1.5708"])
+def test_optical_link_written_with_rounded_pi_over_2_is_accepted(master, rpy):
+    """Almost every public URDF writes the optical frame as rpy="-1.57 0 -1.57" (0.05 degrees
+    from the exact rotation): that is the optical frame."""
+    code, err = run_node(master, urdf=optical_link_urdf(rpy), world_file=FLAT_WORLD, real_time_factor=0,
+                         max_sim_time_s=0.1)
+    assert code == 0, err
+
+
+def test_a_link_that_is_not_the_optical_frame_is_refused(master):
+    code, err = run_node(master, urdf=optical_link_urdf("0 0 -1.5707963"), world_file=FLAT_WORLD)
+    assert code != 0
+    assert error_line(err) == ("/robot_description:9: plugin 'cam_controller' (libgazebo_ros_camera.so): "
+                               "<frameName>: link 'base_optical' is not the optical frame of the camera on link 'base' "
+                               "(REP 103: z forward, x right, y down; expected rpy -pi/2 0 -pi/2 from the camera link, "
+                               "within 0.5 degrees)")

@@ -70,9 +70,15 @@ cp::Pose parsePose(PluginParams& params, const std::string& text) {
   return cp::Pose::fromXyzRpy(v[0], v[1], v[2], v[3], v[4], v[5]);
 }
 
+// Poses within 1 mm and 0.5 degrees: URDFs write the optical frame's rpy with pi/2 rounded
+// ("-1.57 0 -1.57" is 0.06 degrees off), and that is still the optical frame.
+constexpr double kOpticalPositionTolerance_m = 1e-3;
+constexpr double kOpticalAngleTolerance_rad = 0.5 * M_PI / 180.0;
+
 bool samePose(const cp::Pose& a, const cp::Pose& b) {
   const cp::Quat d = a.orientation.conjugate() * b.orientation;
-  return (a.position - b.position).norm() < 1e-6 && std::abs(std::abs(d.w) - 1.0) < 1e-9;
+  const double angle_rad = 2.0 * std::acos(std::min(1.0, std::abs(d.normalized().w)));
+  return (a.position - b.position).norm() < kOpticalPositionTolerance_m && angle_rad < kOpticalAngleTolerance_rad;
 }
 
 class CameraPlugin : public SimPlugin {
@@ -177,7 +183,7 @@ class CameraPlugin : public SimPlugin {
         throw params.error("frameName", "link '" + frame_name + "' is not the optical frame of the camera on link '" +
                                             link_ +
                                             "' (REP 103: z forward, x right, y down; expected rpy -pi/2 0 "
-                                            "-pi/2 from the camera link)");
+                                            "-pi/2 from the camera link, within 0.5 degrees)");
       }
     } else if (ctx.static_tf) {
       ctx.static_tf->sendTransform(transformMessage(ctx.now(), ctx.frame(link_), frame_, link_T_optical_));
