@@ -87,3 +87,42 @@ def test_sigterm_during_start_up_ends_the_node(master, package, executable, ros_
         assert process.returncode == 0, stderr
     finally:
         os.close(terminal)
+
+
+def test_the_driving_stack_runs_under_a_namespace(master, tmp_path):
+    """The four nodes of the driving stack started in namespace /robot1 (several robots or runs on
+    one master): every topic they publish and subscribe moves under /robot1."""
+    master_api = rosgraph.Master("/node_conventions_test", master_uri=master["ROS_MASTER_URI"])
+    env = dict(master, ROS_NAMESPACE="/robot1")
+    stack = [("conde_tracking", "conde_tracking"), ("conde_semaphore", "conde_semaphore"),
+             ("conde_decision", "conde_decision"), ("conde_control", "conde_control")]
+    processes = [subprocess.Popen(["rosrun", package, executable], env=env, stdout=subprocess.DEVNULL,
+                                  stderr=subprocess.DEVNULL, start_new_session=True) for package, executable in stack]
+    expected = {
+        "publishes": {"/robot1/conde_signal", "/robot1/conde_control_reference", "/robot1/conde_decision/state",
+                      "/robot1/conde_decision/marker", "/robot1/cmd_vel"},
+        # (conde_tracking waits for its left camera's CameraInfo before it subscribes to the rest)
+        "subscribes": {"/robot1/conde_camera_tracking_left/camera_info_left",
+                       "/robot1/conde_camera_signalling_panel/image_raw", "/robot1/conde_lane", "/robot1/conde_signal",
+                       "/robot1/odom", "/robot1/conde_control_reference"},
+    }
+    try:
+        deadline = time.monotonic() + 60
+        while True:
+            publishers, subscribers, _ = master_api.getSystemState()
+            published = {topic for topic, nodes in publishers if any(n.startswith("/robot1/") for n in nodes)}
+            subscribed = {topic for topic, nodes in subscribers if any(n.startswith("/robot1/") for n in nodes)}
+            if expected["publishes"] <= published and expected["subscribes"] <= subscribed:
+                break
+            assert time.monotonic() < deadline, (f"missing publications {expected['publishes'] - published}, "
+                                                 f"subscriptions {expected['subscribes'] - subscribed}")
+            time.sleep(0.2)
+        # TF and the clock are shared by every robot (frames carry prefixes); rosout is ROS's own.
+        shared = {"/tf", "/tf_static", "/clock", "/rosout"}
+        ours = (published | subscribed) - shared
+        assert all(t.startswith("/robot1/") for t in ours), sorted(t for t in ours if not t.startswith("/robot1/"))
+    finally:
+        for process in processes:
+            os.killpg(process.pid, signal.SIGTERM)
+        for process in processes:
+            process.wait(timeout=30)
