@@ -68,12 +68,13 @@ import math
 from dataclasses import dataclass, field, fields
 from typing import List, Optional, Tuple
 
+from conde_common.panel_signals import NAMES_BY_CODE, SIGNAL_CODES
 from conde_decision.state_machine import StateMachine, StateMachineSpec
 
-#: conde_msgs/PanelSignal constants and the event name of each.
-NONE, LEFT, RIGHT, FORWARD, STOP, END_OF_TRIAL, PARKING = range(7)
-SIGNAL_NAMES = {NONE: "none", LEFT: "left", RIGHT: "right", FORWARD: "forward", STOP: "stop",
-                END_OF_TRIAL: "end_of_trial", PARKING: "parking"}
+#: conde_msgs/PanelSignal constants and the event name of each (code -> name).
+SIGNAL_NAMES = NAMES_BY_CODE
+NONE, LEFT, RIGHT, FORWARD, STOP, END_OF_TRIAL, PARKING = (SIGNAL_CODES[name] for name in (
+    "none", "left", "right", "forward", "stop", "end_of_trial", "parking"))
 DIRECTIONS = {FORWARD: "forward", LEFT: "left", RIGHT: "right"}
 
 

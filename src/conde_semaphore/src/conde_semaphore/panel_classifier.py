@@ -15,9 +15,7 @@ the tests are on saturation (chroma relative to the brightest channel), not on a
 import cv2
 import numpy as np
 
-# Signal names in conde_msgs/PanelSignal code order (NONE=0 .. PARKING=6).
-SIGNAL_NAMES = ("none", "left", "right", "forward", "stop", "end_of_trial", "parking")
-SIGNAL_CODES = {name: code for code, name in enumerate(SIGNAL_NAMES)}
+from conde_common.panel_signals import SIGNAL_CODES, SIGNAL_NAMES  # noqa: F401 (re-exported)
 
 MIN_CHROMA = 60.0          # max - min channel [0..255]; sky is ~50 at most, dimmed green ~150
 MIN_SATURATION = 0.5       # chroma / max channel; sky and grey are below 0.3, the panel near 1

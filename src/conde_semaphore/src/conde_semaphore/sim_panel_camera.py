@@ -11,7 +11,7 @@ from conde_msgs.srv import SetPanelSignal, SetStartPose, StepSimulation
 from sensor_msgs.msg import Image
 from std_srvs.srv import Empty
 
-from conde_semaphore.image_message import rgb_array
+from conde_common.images import image_to_array
 
 TOP_CAMERA_TOPIC = "/conde_camera_signalling_panel/image_raw"
 SET_SIGNAL_SERVICE = "/signalling_panel_controller/set_signal"
@@ -91,5 +91,5 @@ class SimPanelCamera:
             self.step_service(STEPS_PER_TRY)
             with self.condition:
                 if self.condition.wait_for(is_new, timeout=wait_s):
-                    return rgb_array(self.last_image), self.last_image
+                    return image_to_array(self.last_image), self.last_image
         raise RuntimeError("no image on %s after %d steps" % (self.image_topic, settle_steps + tries * STEPS_PER_TRY))

@@ -1,22 +1,9 @@
-"""Signal names, their conde_msgs/PanelSignal codes, and the keys of the terminal menu.
-
-The codes equal the constants of conde_msgs/PanelSignal (test_signals.py checks that), so this
-module needs no ROS import.
-"""
+"""Signal names, their conde_msgs/PanelSignal codes (from conde_common.panel_signals, which takes
+them from the message), and the keys of the terminal menu."""
 from collections import OrderedDict
 
-# name -> conde_msgs/PanelSignal constant, in code order.
-SIGNAL_CODES = OrderedDict([
-    ("none", 0),
-    ("left", 1),
-    ("right", 2),
-    ("forward", 3),
-    ("stop", 4),
-    ("end_of_trial", 5),
-    ("parking", 6),
-])
-SIGNAL_NAMES = tuple(SIGNAL_CODES)
-_NAMES_BY_CODE = {code: name for name, code in SIGNAL_CODES.items()}
+from conde_common.panel_signals import NAMES_BY_CODE as _NAMES_BY_CODE
+from conde_common.panel_signals import SIGNAL_CODES, SIGNAL_NAMES  # noqa: F401 (re-exported)
 
 # What each signal asks of the robot, for the menu.
 SIGNAL_MEANINGS = {

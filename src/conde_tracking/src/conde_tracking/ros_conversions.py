@@ -1,20 +1,5 @@
-"""Small ROS message <-> numpy conversions (no rospy needed: plain message fields)."""
+"""geometry_msgs -> numpy (no rospy needed: plain message fields). Images: conde_common.images."""
 import numpy as np
-
-#: encodings the lane measurement accepts, with their channel count
-ENCODINGS = {"rgb8": 3, "bgr8": 3, "mono8": 1}
-
-
-def image_to_array(msg):
-    """sensor_msgs/Image (rgb8, bgr8 or mono8) -> (H, W) or (H, W, 3) uint8 array, RGB order."""
-    channels = ENCODINGS.get(msg.encoding)
-    if channels is None:
-        raise ValueError(f"unsupported image encoding '{msg.encoding}' (expected one of: {', '.join(ENCODINGS)})")
-    rows = np.frombuffer(msg.data, dtype=np.uint8).reshape(msg.height, msg.step)
-    img = rows[:, :msg.width * channels].reshape(msg.height, msg.width, channels)
-    if channels == 1:
-        return img[:, :, 0].copy()
-    return img[:, :, ::-1].copy() if msg.encoding == "bgr8" else img.copy()
 
 
 def transform_to_matrix(transform):
