@@ -8,7 +8,7 @@ import cv2
 import numpy as np
 import pytest
 
-from conde_semaphore.panel_classifier import SIGNAL_NAMES, Debouncer, classify_panel
+from conde_semaphore.panel_classifier import SIGNAL_NAMES, Debouncer, classify_panel, colour_classes
 
 IMAGES_DIR = os.path.join(os.path.dirname(os.path.abspath(__file__)), "images")
 
@@ -144,3 +144,29 @@ def test_debouncer_default_is_three_frames():
 def test_debouncer_rejects_bad_frame_counts(bad):
     with pytest.raises(ValueError, match="frames_required must be an integer >= 1, got"):
         Debouncer(bad)
+
+
+def _colour_classes_by_ratios(rgb):
+    """The classes by the ratios to the brightest channel in floating point, as the definition
+    reads (the oracle of the integer version)."""
+    pixels = rgb.astype(np.float64)
+    high = pixels.max(axis=2)
+    chroma = high - pixels.min(axis=2)
+    saturated = (chroma >= 60.0) & (chroma >= 0.5 * high)
+    safe_high = np.maximum(high, 1.0)
+    red, green, blue = (pixels[:, :, k] / safe_high for k in range(3))
+    not_blue = blue < 0.5
+    is_yellow = saturated & not_blue & (red >= 0.6) & (green >= 0.6)
+    classes = np.zeros(high.shape, np.uint8)
+    classes[saturated & not_blue & (red > green) & ~is_yellow] = 1
+    classes[saturated & not_blue & (green >= red) & ~is_yellow] = 2
+    classes[is_yellow] = 3
+    return classes
+
+
+def test_integer_colour_classes_equal_the_ratio_definition_for_every_colour():
+    """All 2^24 RGB colours: the integer tests decide exactly as the ratios."""
+    rg = np.stack(np.meshgrid(np.arange(256), np.arange(256), indexing="ij"), -1).reshape(-1, 2)
+    for blue in range(0, 256, 1):
+        image = np.column_stack([rg, np.full(len(rg), blue)]).astype(np.uint8).reshape(256, 256, 3)
+        assert np.array_equal(colour_classes(image), _colour_classes_by_ratios(image)), f"blue {blue}"

@@ -38,21 +38,19 @@ def classify_panel(image, bgr=False):
 
 
 def colour_classes(rgb):
-    """Per-pixel class: 0 not saturated, 1 red, 2 green, 3 yellow (uint8, H x W)."""
-    pixels = rgb.astype(np.float32)
-    high = pixels.max(axis=2)
-    low = pixels.min(axis=2)
-    chroma = high - low
+    """Per-pixel class: 0 not saturated, 1 red, 2 green, 3 yellow (uint8, H x W).
+
+    The tests on ratios to the brightest channel (saturation, blue < 0.5, red and green >= 0.6)
+    are done in integers (2 chroma >= high, 2 blue < high, 5 red >= 3 high), which for 8-bit
+    channels decides exactly as the ratios would, without a floating-point image."""
+    r, g, b = (rgb[:, :, k].astype(np.int16) for k in range(3))
+    high = np.maximum(np.maximum(r, g), b)
+    chroma = high - np.minimum(np.minimum(r, g), b)
+    safe_high = np.maximum(high, 1)
     saturated = (chroma >= MIN_CHROMA) & (chroma >= MIN_SATURATION * high)
-    safe_high = np.maximum(high, 1.0)
-    red = pixels[:, :, 0] / safe_high
-    green = pixels[:, :, 1] / safe_high
-    blue = pixels[:, :, 2] / safe_high
-    classes = np.zeros(high.shape, np.uint8)
-    not_blue = blue < 0.5
-    is_yellow = saturated & not_blue & (red >= 0.6) & (green >= 0.6)
-    classes[saturated & not_blue & (red > green) & ~is_yellow] = 1
-    classes[saturated & not_blue & (green >= red) & ~is_yellow] = 2
+    candidate = saturated & (2 * b < safe_high)  # not blue
+    is_yellow = candidate & (5 * r >= 3 * safe_high) & (5 * g >= 3 * safe_high)
+    classes = np.where(candidate, np.where(r > g, np.uint8(1), np.uint8(2)), np.uint8(0))
     classes[is_yellow] = 3
     return classes
 
