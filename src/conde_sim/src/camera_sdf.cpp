@@ -49,16 +49,9 @@ cp::CameraModel readWideAngle(PluginParams& params, int width, int height, doubl
 }
 
 void readNoise(PluginParams& params, cp::CameraModel& model) {
-  if (!params.sensorHas("camera/noise")) return;
-  const std::string type = params.sensorString("camera/noise/type", "gaussian");
-  if (type != "gaussian" && type != "none") {
-    throw params.sensorError("camera/noise/type", "unsupported noise type '" + type + "' (expected gaussian or none)");
-  }
-  const double mean = params.sensorDouble("camera/noise/mean", 0.0);
-  const double stddev = params.sensorDouble("camera/noise/stddev", 0.0);
-  if (mean != 0.0) throw params.sensorError("camera/noise/mean", "only zero-mean noise is supported");
-  if (stddev < 0) throw params.sensorError("camera/noise/stddev", "must not be negative");
-  if (type == "gaussian") model.noise_stddev = stddev;
+  const PluginParams::SensorNoise noise = params.sensorNoise("camera/noise");
+  if (noise.mean != 0.0) throw params.sensorError("camera/noise/mean", "only zero-mean noise is supported");
+  if (noise.gaussian) model.noise_stddev = noise.stddev;
 }
 
 void readDistortion(PluginParams& params, cp::CameraModel& model) {

@@ -157,6 +157,32 @@ PluginError PluginParams::sensorError(const std::string& key, const std::string&
 
 bool PluginParams::sensorHas(const std::string& key) const { return sensorElement(key) != nullptr; }
 
+conde_physics::Pose PluginParams::sensorPose() {
+  const std::string text = sensorString("pose", "0 0 0 0 0 0");
+  std::istringstream in(text);
+  double v[6];
+  std::string rest;
+  for (double& x : v) {
+    if (!(in >> x)) throw sensorError("pose", "expected six numbers 'x y z roll pitch yaw', got '" + text + "'");
+  }
+  if (in >> rest) throw sensorError("pose", "expected six numbers 'x y z roll pitch yaw', got '" + text + "'");
+  return conde_physics::Pose::fromXyzRpy(v[0], v[1], v[2], v[3], v[4], v[5]);
+}
+
+PluginParams::SensorNoise PluginParams::sensorNoise(const std::string& path) {
+  SensorNoise noise;
+  if (!sensorHas(path)) return noise;
+  const std::string type = sensorString(path + "/type", "gaussian");
+  if (type != "gaussian" && type != "none") {
+    throw sensorError(path + "/type", "unsupported noise type '" + type + "' (expected gaussian or none)");
+  }
+  noise.gaussian = type == "gaussian";
+  noise.mean = sensorDouble(path + "/mean", 0.0);
+  noise.stddev = sensorDouble(path + "/stddev", 0.0);
+  if (noise.stddev < 0) throw sensorError(path + "/stddev", "must not be negative");
+  return noise;
+}
+
 double PluginParams::sensorDouble(const std::string& key, double fallback) {
   sensor_used_.insert(key);
   const auto* e = sensorElement(key);

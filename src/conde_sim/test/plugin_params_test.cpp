@@ -109,3 +109,38 @@ TEST(PluginParams, NestedSensorKeysAreReadAndChecked) {
 }
 
 }  // namespace
+
+TEST(PluginParams, SensorPoseAndNoiseAreReadAlikeForEverySensor) {
+  Parsed p(
+      "<sensor type=\"ray\" name=\"lidar\">\n<pose>0.1 0 0.2 0 0 1.5707963</pose>\n"
+      "<ray><noise><type>gaussian</type><mean>0</mean><stddev>0.01</stddev></noise></ray>\n"
+      "<plugin name=\"l\" filename=\"libgazebo_ros_laser.so\"/></sensor>");
+  PluginParams params(p.plugin, p.sensor, "r.urdf", "base");
+  const conde_physics::Pose pose = params.sensorPose();
+  EXPECT_DOUBLE_EQ(pose.position.z, 0.2);
+  EXPECT_NEAR(pose.orientation.yaw(), 1.5707963, 1e-9);
+  const PluginParams::SensorNoise noise = params.sensorNoise("ray/noise");
+  EXPECT_TRUE(noise.gaussian);
+  EXPECT_DOUBLE_EQ(noise.stddev, 0.01);
+  EXPECT_FALSE(params.sensorNoise("camera/noise").gaussian);  // no block: no noise
+
+  Parsed bad(
+      "<sensor type=\"ray\" name=\"lidar\">\n<pose>0 0 0.2</pose>\n<ray><noise><type>uniform</type></noise></ray>\n"
+      "<plugin name=\"l\" filename=\"libgazebo_ros_laser.so\"/></sensor>");
+  PluginParams bad_params(bad.plugin, bad.sensor, "r.urdf", "base");
+  try {
+    bad_params.sensorPose();
+    FAIL() << "no error";
+  } catch (const PluginError& e) {
+    EXPECT_STREQ(e.what(),
+                 "r.urdf:2: sensor 'lidar' (ray): <pose>: expected six numbers 'x y z roll pitch yaw', got '0 0 0.2'");
+  }
+  try {
+    bad_params.sensorNoise("ray/noise");
+    FAIL() << "no error";
+  } catch (const PluginError& e) {
+    EXPECT_STREQ(e.what(),
+                 "r.urdf:3: sensor 'lidar' (ray): <ray><noise><type>: unsupported noise type 'uniform' (expected "
+                 "gaussian or none)");
+  }
+}

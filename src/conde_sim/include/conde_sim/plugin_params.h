@@ -48,6 +48,16 @@ class PluginParams {
   long sensorInt(const std::string& key, long fallback);
   bool sensorBool(const std::string& key, bool fallback);
   std::string sensorString(const std::string& key, const std::string& fallback);
+  // What every sensor reads alike. The sensor's <pose> ("x y z roll pitch yaw" in the link; the
+  // identity without one), and a <noise> block at `path` ("camera/noise", "ray/noise"): type
+  // gaussian or none, mean, stddev >= 0 (no block: no noise).
+  conde_physics::Pose sensorPose();
+  struct SensorNoise {
+    bool gaussian = false;
+    double mean = 0.0, stddev = 0.0;
+  };
+  SensorNoise sensorNoise(const std::string& path);
+
   // "r.urdf:57: sensor 'laser' (ray): <ray><scan><horizontal><samples>: <what>", with the line
   // of that element (of the <sensor> when it is absent).
   PluginError sensorError(const std::string& key, const std::string& what) const;

@@ -59,18 +59,6 @@ namespace cp = conde_physics;
 // The camera link's frame (x forward, z up) -> its optical frame (z forward, x right, y down).
 const cp::Quat kLinkToOptical = cp::Quat::fromRpy(-M_PI / 2, 0.0, -M_PI / 2);
 
-// Sensor <pose>: "x y z roll pitch yaw".
-cp::Pose parsePose(PluginParams& params, const std::string& text) {
-  std::istringstream in(text);
-  double v[6];
-  std::string rest;
-  for (double& x : v) {
-    if (!(in >> x)) throw params.sensorError("pose", "expected six numbers 'x y z roll pitch yaw', got '" + text + "'");
-  }
-  if (in >> rest) throw params.sensorError("pose", "expected six numbers 'x y z roll pitch yaw', got '" + text + "'");
-  return cp::Pose::fromXyzRpy(v[0], v[1], v[2], v[3], v[4], v[5]);
-}
-
 // Poses within 1 mm and 0.5 degrees: URDFs write the optical frame's rpy with pi/2 rounded
 // ("-1.57 0 -1.57" is 0.06 degrees off), and that is still the optical frame.
 constexpr double kOpticalPositionTolerance_m = 1e-3;
@@ -131,8 +119,7 @@ class CameraPlugin : public SimPlugin {
     params.sensorString("camera/save", "");  // accepted, unused
 
     // Where the camera sits and which frame its images carry.
-    const cp::Pose sensor_pose =
-        params.sensorHas("pose") ? parsePose(params, params.sensorString("pose", "")) : cp::Pose();
+    const cp::Pose sensor_pose = params.sensorPose();
     link_T_optical_ = sensor_pose * cp::Pose(cp::Vec3(), kLinkToOptical);
     const std::string frame_name = params.getString("frameName", link_ + "_optical");
     frame_ = ctx.frame(frame_name);

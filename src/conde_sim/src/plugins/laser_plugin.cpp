@@ -63,7 +63,7 @@ class LaserPlugin : public SimPlugin {
     }
     LaserScanConfig c;
     c.link = link;
-    c.sensor_in_link = readPose(params);
+    c.sensor_in_link = params.sensorPose();
     const double rate_hz = params.sensorDouble("update_rate", 0.0);
     if (rate_hz < 0) throw params.sensorError("update_rate", "must not be negative, got " + number(rate_hz));
     timer_ = UpdateTimer(rate_hz, ctx.sim->stepS());
@@ -139,33 +139,11 @@ class LaserPlugin : public SimPlugin {
   }
 
  private:
-  // SDF <pose>: "x y z roll pitch yaw" of the sensor in the link.
-  static cp::Pose readPose(PluginParams& params) {
-    const std::string text = params.sensorString("pose", "0 0 0 0 0 0");
-    std::istringstream in(text);
-    double v[6];
-    std::string rest;
-    for (double& x : v) {
-      if (!(in >> x))
-        throw params.sensorError("pose", "expected six numbers (x y z roll pitch yaw), got '" + text + "'");
-    }
-    if (in >> rest) throw params.sensorError("pose", "expected six numbers (x y z roll pitch yaw), got '" + text + "'");
-    return cp::Pose::fromXyzRpy(v[0], v[1], v[2], v[3], v[4], v[5]);
-  }
-
   static void readNoise(PluginParams& params, LaserScanConfig& c) {
-    if (params.sensorHas("ray/noise")) {
-      const std::string type = params.sensorString("ray/noise/type", "gaussian");
-      if (type != "gaussian" && type != "none") {
-        throw params.sensorError("ray/noise/type", "expected 'gaussian' or 'none', got '" + type + "'");
-      }
-      const double mean = params.sensorDouble("ray/noise/mean", 0.0);
-      const double stddev = params.sensorDouble("ray/noise/stddev", 0.0);
-      if (stddev < 0) throw params.sensorError("ray/noise/stddev", "must not be negative, got " + number(stddev));
-      if (type == "gaussian") {
-        c.noise_mean_m = mean;
-        c.noise_stddev_m = stddev;
-      }
+    const PluginParams::SensorNoise noise = params.sensorNoise("ray/noise");
+    if (noise.gaussian) {
+      c.noise_mean_m = noise.mean;
+      c.noise_stddev_m = noise.stddev;
     }
     const double extra = params.getDouble("gaussianNoise", 0.0);
     if (extra < 0) throw params.error("gaussianNoise", "must not be negative");
