@@ -19,33 +19,6 @@ namespace {
 constexpr double kTinyMassKg = 1e-3;
 constexpr double kTinyInertiaKgm2 = 1e-6;
 
-// Keys of <gazebo reference="link"> blocks: those physics reads, and those other parts of the
-// simulator read or that are accepted and ignored (Gazebo rendering/solver hints).
-const std::set<std::string> kSurfaceKeys = {"mu1", "mu2", "kp", "kd"};
-const std::set<std::string> kOtherReferenceKeys = {"sensor",
-                                                   "material",
-                                                   "selfCollide",
-                                                   "gravity",
-                                                   "turnGravityOff",
-                                                   "maxVel",
-                                                   "minDepth",
-                                                   "fdir1",
-                                                   "maxContacts",
-                                                   "provideFeedback",
-                                                   "implicitSpringDamper",
-                                                   "dampingFactor",
-                                                   "laserRetro",
-                                                   "visual",
-                                                   "stopCfm",
-                                                   "stopErp",
-                                                   "cfmDamping",
-                                                   "springStiffness",
-                                                   "springReference",
-                                                   "preserveFixedJoint",
-                                                   "disableFixedJointLumping",
-                                                   "kinematic",
-                                                   "static"};
-
 // Collects console_bridge messages (urdfdom reports parse errors through it).
 class CapturingOutputHandler : public console_bridge::OutputHandler {
  public:
@@ -86,53 +59,6 @@ void addMass(MassProps& acc, double m, const Vec3& com, const Inertia& inertia_a
   acc.inertia = {a.ixx + b.ixx, a.ixy + b.ixy, a.ixz + b.ixz, a.iyy + b.iyy, a.iyz + b.iyz, a.izz + b.izz};
   acc.mass_kg = total;
   acc.com = new_com;
-}
-
-double parseNumber(const std::string& text, const std::string& where) {
-  try {
-    size_t used = 0;
-    const double v = std::stod(text, &used);
-    if (text.find_first_not_of(" \t\r\n", used) != std::string::npos) throw std::invalid_argument(text);
-    return v;
-  } catch (const std::exception&) {
-    throw ModelError(where + ": expected a number, got '" + text + "'");
-  }
-}
-
-// Surface parameters per link from <gazebo reference="..."> blocks; validates keys.
-std::map<std::string, SurfaceParams> readSurfaces(const std::string& urdf_xml, const std::string& source,
-                                                  const urdf::ModelInterface& urdf) {
-  std::map<std::string, SurfaceParams> surfaces;
-  tinyxml2::XMLDocument doc;
-  if (doc.Parse(urdf_xml.c_str()) != tinyxml2::XML_SUCCESS) return surfaces;  // urdfdom reported it
-  const tinyxml2::XMLElement* robot = doc.FirstChildElement("robot");
-  if (!robot) return surfaces;
-  for (const auto* g = robot->FirstChildElement("gazebo"); g; g = g->NextSiblingElement("gazebo")) {
-    const char* reference = g->Attribute("reference");
-    if (!reference) continue;  // model-level blocks (plugins) are read by the simulator
-    const std::string ref(reference);
-    const std::string where = source + ":" + std::to_string(g->GetLineNum()) + ": <gazebo reference=\"" + ref + "\">";
-    const bool is_link = urdf.getLink(ref) != nullptr;
-    if (!is_link && urdf.getJoint(ref) == nullptr) {
-      throw ModelError(where + ": no link or joint named '" + ref + "'");
-    }
-    SurfaceParams& s = surfaces[ref];
-    for (const auto* e = g->FirstChildElement(); e; e = e->NextSiblingElement()) {
-      const std::string key = e->Name();
-      if (kSurfaceKeys.count(key)) {
-        const double v = parseNumber(e->GetText() ? e->GetText() : "", where + " <" + key + ">");
-        if (v < 0) throw ModelError(where + " <" + key + ">: must not be negative, got " + std::to_string(v));
-        if (key == "mu1") s.mu = v;
-        if (key == "mu2") s.mu2 = v;
-        if (key == "kp") s.stiffness_npm = v;
-        if (key == "kd") s.damping_nspm = v;
-      } else if (!kOtherReferenceKeys.count(key)) {
-        throw ModelError(source + ":" + std::to_string(e->GetLineNum()) + ": <gazebo reference=\"" + ref +
-                         "\">: unknown element <" + key + ">");
-      }
-    }
-  }
-  return surfaces;
 }
 
 }  // namespace
@@ -181,7 +107,8 @@ void loadStlMesh(const std::string& path, const Vec3& scale, Shape& shape) {
 }
 
 ArticulatedModel buildModelFromUrdf(const std::string& urdf_xml, const std::string& source,
-                                    const PackageResolver& packages, std::vector<std::string>* warnings) {
+                                    const PackageResolver& packages, std::vector<std::string>* warnings,
+                                    GazeboBlocks* gazebo) {
   auto warn = [&](const std::string& w) {
     if (warnings) warnings->push_back(source + ": " + w);
   };
@@ -206,7 +133,10 @@ ArticulatedModel buildModelFromUrdf(const std::string& urdf_xml, const std::stri
       throw ModelError(source + ": malformed URDF: " + why);
     }
   }
-  const auto surfaces = readSurfaces(urdf_xml, source, *urdf);
+  GazeboBlocks blocks = readGazeboBlocks(urdf_xml, source, [&](const std::string& name) {
+    return urdf->getLink(name) != nullptr || urdf->getJoint(name) != nullptr;
+  });
+  const auto& surfaces = blocks.surfaces;
 
   ArticulatedModel model;
   model.name = urdf->getName();
@@ -370,6 +300,7 @@ ArticulatedModel buildModelFromUrdf(const std::string& urdf_xml, const std::stri
              std::max(body.principal_inertia_kgm2.z, floor));
     body.inertial_frame = Pose(m.com, axes);
   }
+  if (gazebo) *gazebo = std::move(blocks);
   return model;
 }
 

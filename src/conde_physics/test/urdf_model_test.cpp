@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <tinyxml2.h>
+
 #include "conde_physics/urdf_model.h"
 
 namespace cp = conde_physics;
@@ -140,3 +142,35 @@ TEST(UrdfModel, MissingMeshFileIsAnError) {
 }
 
 }  // namespace
+
+// The <gazebo> blocks are read once, with the model: plugins in document order, each sensor with
+// its link, surfaces per link; the model-level flags Gazebo accepts pass, anything else is named.
+TEST(GazeboBlocks, PluginsInDocumentOrderWithTheirSensorsAndLinks) {
+  const std::string urdf =
+      "<robot name=\"r\">\n<link name=\"a\"/>\n"
+      "<gazebo><static>false</static><plugin name=\"drive\" filename=\"libdrive.so\"/></gazebo>\n"
+      "<gazebo reference=\"a\"><mu1>0.4</mu1><sensor name=\"cam\" type=\"camera\">"
+      "<plugin name=\"c\" filename=\"libcam.so\"/></sensor><sensor name=\"bare\" type=\"ray\"/></gazebo>\n"
+      "<gazebo><plugin name=\"truth\" filename=\"libtruth.so\"/></gazebo>\n</robot>";
+  cp::GazeboBlocks blocks;
+  cp::buildModelFromUrdf(urdf, "r.urdf", nullptr, nullptr, &blocks);
+  ASSERT_EQ(blocks.plugins.size(), 4u);
+  EXPECT_STREQ(blocks.plugins[0].plugin->Attribute("filename"), "libdrive.so");
+  EXPECT_EQ(blocks.plugins[0].sensor, nullptr);
+  EXPECT_EQ(blocks.plugins[0].link, "");
+  EXPECT_STREQ(blocks.plugins[1].plugin->Attribute("filename"), "libcam.so");
+  EXPECT_STREQ(blocks.plugins[1].sensor->Attribute("name"), "cam");
+  EXPECT_EQ(blocks.plugins[1].link, "a");
+  EXPECT_EQ(blocks.plugins[2].plugin, nullptr);  // a sensor without a plugin
+  EXPECT_STREQ(blocks.plugins[2].sensor->Attribute("name"), "bare");
+  EXPECT_STREQ(blocks.plugins[3].plugin->Attribute("filename"), "libtruth.so");
+  EXPECT_EQ(blocks.plugins[3].plugin->GetLineNum(), 5);
+  EXPECT_DOUBLE_EQ(blocks.surfaces.at("a").mu, 0.4);
+}
+
+TEST(GazeboBlocks, UnknownModelLevelElementIsNamed) {
+  EXPECT_EQ(errorOf("<robot name=\"r\">\n<link name=\"a\"/>\n<gazebo>\n<plugins/></gazebo></robot>"),
+            "bad.urdf:4: <gazebo>: unknown element <plugins>");
+  EXPECT_EQ(errorOf("<robot name=\"r\">\n<link name=\"a\"/>\n<gazebo reference=\"a\">\n<mu1>-1</mu1></gazebo></robot>"),
+            "bad.urdf:3: <gazebo reference=\"a\"> <mu1>: must not be negative, got -1.000000");
+}

@@ -9,12 +9,6 @@ namespace {
 
 namespace cp = conde_physics;
 
-std::string number(double v) {
-  std::ostringstream out;
-  out << v;
-  return out.str();
-}
-
 // <camera><lens> of a wide-angle camera (SDF defaults: stereographic, scale_to_hfov true,
 // cutoff_angle 1.5707). env_texture_size is accepted and unused: every pixel's ray is cast directly.
 cp::CameraModel readWideAngle(PluginParams& params, int width, int height, double hfov_rad, std::string& lens_type) {
@@ -95,13 +89,13 @@ CameraFromSdf cameraFromSdf(PluginParams& params) {
   const double height = params.sensorDouble("camera/image/height", 240);
   if (width <= 0 || height <= 0 || width != std::floor(width) || height != std::floor(height)) {
     throw params.sensorError("camera/image", "image size must be a positive whole number of pixels (got " +
-                                                 number(width) + "x" + number(height) + ")");
+                                                 formatNumber(width) + "x" + formatNumber(height) + ")");
   }
   const double hfov_rad = params.sensorDouble("camera/horizontal_fov", 1.047);
   const double hfov_max_rad = wide_angle ? 2 * M_PI : M_PI;
   if (!(hfov_rad > 0 && (wide_angle ? hfov_rad <= hfov_max_rad : hfov_rad < hfov_max_rad))) {
     throw params.sensorError("camera/horizontal_fov", std::string("must be in (0, ") + (wide_angle ? "2 pi]" : "pi)") +
-                                                          " rad (got " + number(hfov_rad) + ")");
+                                                          " rad (got " + formatNumber(hfov_rad) + ")");
   }
   CameraFromSdf camera;
   camera.horizontal_fov_rad = hfov_rad;
@@ -131,8 +125,8 @@ CameraFromSdf cameraFromSdf(PluginParams& params) {
   model.near_clip_m = params.sensorDouble("camera/clip/near", 0.1);
   model.far_clip_m = params.sensorDouble("camera/clip/far", 100.0);
   if (!(model.near_clip_m > 0 && model.far_clip_m > model.near_clip_m)) {
-    throw params.sensorError("camera/clip", "needs 0 < near < far (got near " + number(model.near_clip_m) + ", far " +
-                                                number(model.far_clip_m) + ")");
+    throw params.sensorError("camera/clip", "needs 0 < near < far (got near " + formatNumber(model.near_clip_m) +
+                                                ", far " + formatNumber(model.far_clip_m) + ")");
   }
   readNoise(params, model);
   readDistortion(params, model);

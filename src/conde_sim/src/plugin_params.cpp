@@ -6,6 +6,12 @@
 
 namespace conde_sim {
 
+std::string formatNumber(double v) {
+  std::ostringstream out;
+  out << v;
+  return out.str();
+}
+
 namespace {
 
 // The whole of `t` as a T (double or long): nothing for text that is no number, is out of range

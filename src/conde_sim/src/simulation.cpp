@@ -35,7 +35,7 @@ void Simulation::buildWorld() {
 int Simulation::addRobot(const RobotSpec& spec, std::vector<std::string>* warnings) {
   Robot robot;
   robot.spec = spec;
-  robot.model = cp::buildModelFromUrdf(spec.urdf_xml, spec.source, packages_, warnings);
+  robot.model = cp::buildModelFromUrdf(spec.urdf_xml, spec.source, packages_, warnings, &robot.gazebo);
   if (robot.spec.name.empty()) robot.spec.name = robot.model.name;
   for (const Robot& r : robots_) {
     if (r.spec.name == robot.spec.name) {

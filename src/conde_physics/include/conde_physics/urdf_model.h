@@ -3,7 +3,8 @@
 // Links joined by fixed joints are merged into one rigid body (masses and inertias combined
 // with the parallel-axis theorem); revolute, continuous and prismatic joints become engine
 // joints. A root link named "world" welds the model to the world, as in Gazebo.
-// Contact parameters come from Gazebo's <gazebo reference="link"> tags (mu1, mu2, kp, kd).
+// Contact parameters come from Gazebo's <gazebo reference="link"> tags (mu1, mu2, kp, kd;
+// gazebo_blocks.h reads them).
 // Assumptions: floating and planar joints are not supported (an error); <mimic> is ignored with
 // a warning; visual elements are not used by physics.
 #pragma once
@@ -12,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "conde_physics/gazebo_blocks.h"
 #include "conde_physics/model.h"
 #include "conde_physics/resource_path.h"
 
@@ -23,9 +25,11 @@ class ModelError : public std::runtime_error {
 };
 
 // `source` names the description in messages (a file name or a parameter name). Throws
-// ModelError with a one-line message naming the source and the element at fault.
+// ModelError with a one-line message naming the source and the element at fault. `gazebo`, when
+// given, receives the URDF's <gazebo> blocks (the plugins to load).
 ArticulatedModel buildModelFromUrdf(const std::string& urdf_xml, const std::string& source,
-                                    const PackageResolver& packages, std::vector<std::string>* warnings = nullptr);
+                                    const PackageResolver& packages, std::vector<std::string>* warnings = nullptr,
+                                    GazeboBlocks* gazebo = nullptr);
 
 // Reads a binary or ASCII STL file into `shape` (vertices scaled by `scale`). Throws ModelError.
 void loadStlMesh(const std::string& path, const Vec3& scale, Shape& shape);

@@ -1,6 +1,6 @@
-// Finds the Gazebo plugin blocks of a robot's URDF and loads our implementation of each:
-// <gazebo><plugin filename="..."> (model plugins) and
-// <gazebo reference="link"><sensor><plugin filename="..."> (sensor plugins).
+// Loads our implementation of each Gazebo plugin block of a robot's URDF (read once, with the
+// model, by conde_physics/gazebo_blocks.h): <gazebo><plugin filename="..."> (model plugins) and
+// <gazebo reference="link"><sensor><plugin filename="..."> (sensor plugins), in document order.
 #pragma once
 
 #include <memory>

@@ -19,6 +19,9 @@ class PluginError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// A value as error messages quote it: shortest form, no trailing zeros ("0.05", "640", "-1e-06").
+std::string formatNumber(double v);
+
 class PluginParams {
  public:
   // `plugin` is the <plugin> element; `sensor` the enclosing <sensor> element or nullptr;

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "conde_physics/camera_renderer.h"
+#include "conde_physics/gazebo_blocks.h"
 #include "conde_physics/physics_engine.h"
 #include "conde_physics/resource_path.h"
 #include "conde_physics/world_file.h"
@@ -27,6 +28,7 @@ struct RobotSpec {
 struct Robot {
   RobotSpec spec;
   conde_physics::ArticulatedModel model;
+  conde_physics::GazeboBlocks gazebo;  // the URDF's <gazebo> blocks: plugins to load
   conde_physics::ModelId id = -1;
 };
 

@@ -26,7 +26,6 @@
 
 #include <cmath>
 #include <functional>
-#include <sstream>
 
 #include "conde_sim/laser_scanner.h"
 #include "conde_sim/plugin.h"
@@ -36,12 +35,6 @@ namespace conde_sim {
 namespace {
 
 namespace cp = conde_physics;
-
-std::string number(double v) {
-  std::ostringstream s;
-  s << v;
-  return s.str();
-}
 
 class LaserPlugin : public SimPlugin {
  public:
@@ -65,7 +58,7 @@ class LaserPlugin : public SimPlugin {
     c.link = link;
     c.sensor_in_link = params.sensorPose();
     const double rate_hz = params.sensorDouble("update_rate", 0.0);
-    if (rate_hz < 0) throw params.sensorError("update_rate", "must not be negative, got " + number(rate_hz));
+    if (rate_hz < 0) throw params.sensorError("update_rate", "must not be negative, got " + formatNumber(rate_hz));
     timer_ = UpdateTimer(rate_hz, ctx.sim->stepS());
     params.sensorBool("always_on", true);
 
@@ -74,15 +67,15 @@ class LaserPlugin : public SimPlugin {
       throw params.sensorError("ray/scan/horizontal/samples", "must be at least 1, got " + std::to_string(samples));
     const double resolution = params.sensorDouble("ray/scan/horizontal/resolution", 1.0);
     if (!(resolution > 0)) {
-      throw params.sensorError("ray/scan/horizontal/resolution", "must be positive, got " + number(resolution));
+      throw params.sensorError("ray/scan/horizontal/resolution", "must be positive, got " + formatNumber(resolution));
     }
     c.beam_count = static_cast<int>(std::max(1.0, std::round(samples * resolution)));
     c.min_angle_rad = params.sensorDouble("ray/scan/horizontal/min_angle", 0.0);
     c.max_angle_rad = params.sensorDouble("ray/scan/horizontal/max_angle", 0.0);
     if (c.beam_count > 1 && !(c.min_angle_rad < c.max_angle_rad)) {
-      throw params.sensorError(
-          "ray/scan/horizontal/max_angle",
-          "must be greater than <min_angle> (" + number(c.min_angle_rad) + "), got " + number(c.max_angle_rad));
+      throw params.sensorError("ray/scan/horizontal/max_angle", "must be greater than <min_angle> (" +
+                                                                    formatNumber(c.min_angle_rad) + "), got " +
+                                                                    formatNumber(c.max_angle_rad));
     }
     const long vertical = params.sensorInt("ray/scan/vertical/samples", 1);
     if (vertical != 1) {
@@ -93,10 +86,10 @@ class LaserPlugin : public SimPlugin {
     c.min_range_m = params.sensorDouble("ray/range/min", 0.0);
     c.max_range_m = params.sensorDouble("ray/range/max", 0.0);
     if (c.min_range_m < 0)
-      throw params.sensorError("ray/range/min", "must not be negative, got " + number(c.min_range_m));
+      throw params.sensorError("ray/range/min", "must not be negative, got " + formatNumber(c.min_range_m));
     if (!(c.max_range_m > c.min_range_m)) {
-      throw params.sensorError(
-          "ray/range/max", "must be greater than <min> (" + number(c.min_range_m) + "), got " + number(c.max_range_m));
+      throw params.sensorError("ray/range/max", "must be greater than <min> (" + formatNumber(c.min_range_m) +
+                                                    "), got " + formatNumber(c.max_range_m));
     }
     if (params.sensorDouble("ray/range/resolution", 0.0) < 0) {
       throw params.sensorError("ray/range/resolution", "must not be negative");
