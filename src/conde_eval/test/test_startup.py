@@ -1,0 +1,38 @@
+"""The pure part of start_when_ready: roslaunch process names and the master's system state."""
+import pytest
+from conde_eval import startup
+
+
+def test_process_names_map_to_node_names():
+    assert startup.node_name_of_process("conde_tracking-12") == "/conde_tracking"
+    assert startup.node_name_of_process("robot1/conde_tracking-3") == "/robot1/conde_tracking"
+    assert startup.node_name_of_process("signalling-panel-controller-7") == "/signalling-panel-controller"
+
+
+@pytest.mark.parametrize("bad", ["conde_tracking", "conde_tracking-", "-4", "conde_tracking-x1"])
+def test_a_name_roslaunch_does_not_make_is_refused_by_name(bad):
+    with pytest.raises(ValueError, match=f"'{bad}' is not a roslaunch process name"):
+        startup.node_name_of_process(bad)
+
+
+# getSystemState(): [publishers, subscribers, services], each [[topic, [nodes]], ...]
+JUST_INITIALISED = [[["/rosout", ["/tracking", "/decision"]]], [["/clock", ["/tracking", "/decision"]]], []]
+
+
+def test_a_node_with_only_rosout_and_clock_is_not_up():
+    assert startup.nodes_not_up({"/tracking", "/decision"}, JUST_INITIALISED) == ["/decision", "/tracking"]
+
+
+def test_a_node_is_up_with_one_topic_of_its_own_published_or_subscribed():
+    state = [[["/rosout", ["/tracking", "/decision", "/recorder"]], ["/conde_lane", ["/tracking"]]],
+             [["/clock", ["/tracking"]], ["/conde_lane", ["/decision"]]], []]
+    assert startup.nodes_not_up({"/tracking", "/decision", "/recorder", "/absent"}, state) == ["/absent", "/recorder"]
+
+
+def test_the_graph_changes_when_a_node_adds_a_topic():
+    before = [[["/conde_lane", ["/tracking"]]], [], []]
+    after = [[["/conde_lane", ["/tracking"]]], [["/image", ["/tracking"]]], []]
+    expected = {"/tracking"}
+    assert startup.graph_of(expected, before) == startup.graph_of(expected, [[["/conde_lane", ["/tracking"]]], [], []])
+    assert startup.graph_of(expected, before) != startup.graph_of(expected, after)
+    assert startup.graph_of(expected, after) == {"/tracking": frozenset({"/conde_lane", "/image"})}
