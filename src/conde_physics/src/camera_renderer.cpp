@@ -9,137 +9,27 @@
 #include <atomic>
 #include <cmath>
 #include <cstring>
-#include <fstream>
-#include <limits>
-#include <sstream>
 #include <stdexcept>
 
-#include <opencv2/imgcodecs.hpp>
-#include <opencv2/imgproc.hpp>
+#include "ground_pass.h"
+#include "render_detail.h"
 
 namespace conde_physics {
+
+namespace rd = render_detail;
+using rd::kPi;
+using rd::text;
+using rd::toByte;
+
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-constexpr float kNoHit = std::numeric_limits<float>::infinity();
 std::atomic<bool> wide_vectors_allowed{true};  // CameraRenderer::allowWideVectors
-
-// Four lanes of floats / ints (GCC and Clang vector extensions: one SSE2 register on plain
-// x86-64, NEON on ARM; wider vectors get split badly without AVX). Comparisons give Ints masks,
-// -1 for true. Where the CPU has AVX2 (checked at run time), the ground pass runs on eight
-// lanes instead; its helpers are always inlined, so no 32-byte vector crosses a call without
-// AVX (which is what -Wpsabi warns about).
-#pragma GCC diagnostic ignored "-Wpsabi"
-typedef float Floats __attribute__((vector_size(16)));
-typedef std::int32_t Ints __attribute__((vector_size(16)));
-typedef float Floats8 __attribute__((vector_size(32)));
-typedef std::int32_t Ints8 __attribute__((vector_size(32)));
-template <typename V, typename T>
-__attribute__((always_inline)) inline V loadLanes(const T* p) {
-  V v;
-  std::memcpy(&v, p, sizeof v);
-  return v;
-}
-template <typename V, typename T>
-__attribute__((always_inline)) inline void storeLanes(T* p, const V& v) {
-  std::memcpy(p, &v, sizeof v);
-}
 
 // Object lighting: ambient plus Lambert diffuse from a fixed sun above (tilted so that the sides
 // of a box differ). The ground and face images are drawn with their own colours.
 constexpr double kAmbient = 0.4;
 constexpr double kDiffuse = 0.6;
 Vec3 toSunWorld() { return Vec3(0.3, 0.4, 1.0).normalized(); }
-
-std::string text(double value) {
-  std::ostringstream s;
-  s << value;
-  return s.str();
-}
-
-std::uint8_t toByte(double unit_value) {
-  return static_cast<std::uint8_t>(std::lround(std::clamp(unit_value, 0.0, 1.0) * 255.0));
-}
-
-void checkImage(const RgbImage& image, const std::string& what) {
-  if (image.width < 0 || image.height < 0 || image.data.size() != static_cast<size_t>(image.width) * image.height * 3)
-    throw std::invalid_argument(what + ": image data size " + std::to_string(image.data.size()) + " does not match " +
-                                std::to_string(image.width) + "x" + std::to_string(image.height) + " RGB");
-}
-
-void checkImageSize(int width_px, int height_px) {
-  if (width_px <= 0 || height_px <= 0)
-    throw std::invalid_argument("camera image size must be positive (got " + std::to_string(width_px) + "x" +
-                                std::to_string(height_px) + ")");
-}
-
-void checkIndex(int index, int count) {
-  if (index < 0 || index >= count)
-    throw std::out_of_range("render object index " + std::to_string(index) + " out of range (the scene has " +
-                            std::to_string(count) + " objects)");
-}
-
-// --- Lens --------------------------------------------------------------------------------------
-
-// plumb_bob: normalised undistorted (x, y) -> normalised distorted (xd, yd), and its Jacobian.
-void distort(const LensDistortion& d, double x, double y, double& xd, double& yd) {
-  const double r2 = x * x + y * y;
-  const double radial = 1.0 + r2 * (d.k1 + r2 * (d.k2 + r2 * d.k3));
-  xd = x * radial + 2.0 * d.p1 * x * y + d.p2 * (r2 + 2.0 * x * x);
-  yd = y * radial + d.p1 * (r2 + 2.0 * y * y) + 2.0 * d.p2 * x * y;
-}
-
-void distortionJacobian(const LensDistortion& d, double x, double y, double j[2][2]) {
-  const double r2 = x * x + y * y;
-  const double radial = 1.0 + r2 * (d.k1 + r2 * (d.k2 + r2 * d.k3));
-  const double g = d.k1 + r2 * (2.0 * d.k2 + 3.0 * d.k3 * r2);  // d(radial)/d(r2)
-  j[0][0] = radial + 2.0 * x * x * g + 2.0 * d.p1 * y + 6.0 * d.p2 * x;
-  j[0][1] = 2.0 * x * y * g + 2.0 * d.p1 * x + 2.0 * d.p2 * y;
-  j[1][0] = 2.0 * x * y * g + 2.0 * d.p1 * x + 2.0 * d.p2 * y;
-  j[1][1] = radial + 2.0 * y * y * g + 6.0 * d.p1 * y + 2.0 * d.p2 * x;
-}
-
-// Inverts the distortion by damped Newton steps from (xd, yd). False when it does not converge
-// or lands where the lens model folds over (Jacobian not positive), i.e. no unique ray exists.
-bool undistort(const LensDistortion& d, double xd, double yd, double& x, double& y) {
-  constexpr double kTolerance = 1e-12;  // normalised units: ~1e-10 px
-  x = xd;
-  y = yd;
-  double ex = 0.0, ey = 0.0;
-  distort(d, x, y, ex, ey);
-  ex -= xd;
-  ey -= yd;
-  double error = std::hypot(ex, ey);
-  for (int iteration = 0; iteration < 100 && error > kTolerance; ++iteration) {
-    double j[2][2];
-    distortionJacobian(d, x, y, j);
-    const double det = j[0][0] * j[1][1] - j[0][1] * j[1][0];
-    if (!(det > 0.0)) return false;
-    const double step_x = (j[1][1] * ex - j[0][1] * ey) / det;
-    const double step_y = (-j[1][0] * ex + j[0][0] * ey) / det;
-    bool improved = false;
-    for (double scale = 1.0; scale > 1e-6; scale *= 0.5) {
-      const double nx = x - scale * step_x, ny = y - scale * step_y;
-      double fx = 0.0, fy = 0.0;
-      distort(d, nx, ny, fx, fy);
-      const double next_error = std::hypot(fx - xd, fy - yd);
-      if (next_error < error) {
-        x = nx;
-        y = ny;
-        ex = fx - xd;
-        ey = fy - yd;
-        error = next_error;
-        improved = true;
-        break;
-      }
-    }
-    if (!improved) break;
-  }
-  if (!(error <= kTolerance)) return false;
-  double j[2][2];
-  distortionJacobian(d, x, y, j);
-  return j[0][0] * j[1][1] - j[0][1] * j[1][0] > 0.0;
-}
 
 // --- Noise -------------------------------------------------------------------------------------
 
@@ -401,304 +291,16 @@ bool hitObject(const ObjectInView& view, const Vec3& ray_optical, double t_near,
   return false;
 }
 
+// True when some ray of a cone (axis, half angle) may meet the bounding sphere of `view`: the
+// angle between the cone's axis and the sphere's direction is at most half + angular radius.
+inline bool coneMeetsSphere(const Vec3& axis, double half_rad, double cos_half, double sin_half,
+                            const ObjectInView& view) {
+  if (view.surrounds_camera || half_rad + view.angular_radius_rad >= kPi) return true;
+  const double cos_sum = cos_half * view.cos_angular - sin_half * view.sin_angular;
+  return axis.dot(view.direction_optical) >= cos_sum;
+}
+
 }  // namespace
-
-// --- Images ------------------------------------------------------------------------------------
-
-RgbImage loadRgbImage(const std::string& path) {
-  // A file that does not open gets the same message, without OpenCV's warning on stderr.
-  if (!std::ifstream(path).good()) throw std::runtime_error("cannot decode image '" + path + "'");
-  cv::Mat bgr = cv::imread(path, cv::IMREAD_COLOR);
-  if (bgr.empty()) throw std::runtime_error("cannot decode image '" + path + "'");
-  cv::Mat rgb;
-  cv::cvtColor(bgr, rgb, cv::COLOR_BGR2RGB);
-  RgbImage image;
-  image.resize(rgb.cols, rgb.rows);
-  for (int v = 0; v < rgb.rows; ++v) std::memcpy(image.pixel(0, v), rgb.ptr(v), static_cast<size_t>(rgb.cols) * 3);
-  return image;
-}
-
-// --- Camera model ------------------------------------------------------------------------------
-
-// --- Wide-angle lens ---------------------------------------------------------------------------
-
-LensMapping LensMapping::ofType(const std::string& type) {
-  // c1, c2, fun of Gazebo's named lenses (c3 = 0, f = 1).
-  if (type == "gnomonical") return custom(1.0, 1.0, 0.0, "tan");
-  if (type == "stereographic") return custom(2.0, 2.0, 0.0, "tan");
-  if (type == "equidistant") return custom(1.0, 1.0, 0.0, "id");
-  if (type == "equisolid_angle") return custom(2.0, 2.0, 0.0, "sin");
-  if (type == "orthographic") return custom(1.0, 1.0, 0.0, "sin");
-  throw std::invalid_argument("unknown lens type '" + type +
-                              "' (expected gnomonical, stereographic, equidistant, equisolid_angle, orthographic "
-                              "or custom)");
-}
-
-LensMapping LensMapping::custom(double c1, double c2, double c3, const std::string& fun) {
-  if (!(c1 != 0.0 && c2 != 0.0 && std::isfinite(c1) && std::isfinite(c2) && std::isfinite(c3)))
-    throw std::invalid_argument("lens custom_function needs finite c1, c2, c3 with c1 and c2 not zero (got c1 " +
-                                text(c1) + ", c2 " + text(c2) + ", c3 " + text(c3) + ")");
-  LensMapping lens;
-  lens.pinhole = false;
-  lens.c1 = c1;
-  lens.c2 = c2;
-  lens.c3 = c3;
-  if (fun == "tan") {
-    lens.fun = LensFunction::kTan;
-  } else if (fun == "sin") {
-    lens.fun = LensFunction::kSin;
-  } else if (fun == "id") {
-    lens.fun = LensFunction::kIdentity;
-  } else {
-    throw std::invalid_argument("unknown lens function '" + fun + "' (expected tan, sin or id)");
-  }
-  return lens;
-}
-
-double LensMapping::radius(double theta_rad) const {
-  const double a = theta_rad / c2 + c3;
-  switch (fun) {
-    case LensFunction::kTan:
-      return c1 * std::tan(a);
-    case LensFunction::kSin:
-      return c1 * std::sin(a);
-    case LensFunction::kIdentity:
-      break;
-  }
-  return c1 * a;
-}
-
-bool LensMapping::rayAt(double x, double y, Vec3& ray) const {
-  if (pinhole) {
-    ray = Vec3(x, y, 1.0).normalized();
-    return true;
-  }
-  // Invert r = c1 fun(theta / c2 + c3) on the branch that starts at the axis.
-  const double r = std::hypot(x, y), q = r / c1;
-  double a = 0.0;
-  switch (fun) {
-    case LensFunction::kTan:
-      a = std::atan(q);
-      break;
-    case LensFunction::kSin:
-      if (std::abs(q) > 1.0) return false;
-      a = std::asin(q);
-      break;
-    case LensFunction::kIdentity:
-      a = q;
-      break;
-  }
-  const double theta = c2 * (a - c3);
-  if (!(theta >= 0.0 && theta <= cutoff_angle_rad)) return false;
-  const double s = std::sin(theta);
-  ray = r > 0.0 ? Vec3(s * x / r, s * y / r, std::cos(theta)) : Vec3(0.0, 0.0, 1.0);
-  return true;
-}
-
-CameraModel CameraModel::fromHorizontalFov(int width_px, int height_px, double horizontal_fov_rad) {
-  checkImageSize(width_px, height_px);
-  if (!(horizontal_fov_rad > 0.0 && horizontal_fov_rad < kPi))
-    throw std::invalid_argument("camera horizontal_fov must be in (0, pi) rad (got " + text(horizontal_fov_rad) + ")");
-  CameraModel model;
-  model.width_px = width_px;
-  model.height_px = height_px;
-  model.fx_px = width_px / (2.0 * std::tan(horizontal_fov_rad / 2.0));
-  model.fy_px = model.fx_px;
-  model.cx_px = (width_px - 1) / 2.0;
-  model.cy_px = (height_px - 1) / 2.0;
-  return model;
-}
-
-CameraModel CameraModel::fromWideAngle(int width_px, int height_px, double horizontal_fov_rad, const LensMapping& lens,
-                                       bool scale_to_hfov, double focal_scale) {
-  checkImageSize(width_px, height_px);
-  if (!(horizontal_fov_rad > 0.0 && horizontal_fov_rad <= 2.0 * kPi))
-    throw std::invalid_argument("wide-angle camera horizontal_fov must be in (0, 2 pi] rad (got " +
-                                text(horizontal_fov_rad) + ")");
-  if (!(lens.cutoff_angle_rad > 0.0 && lens.cutoff_angle_rad <= kPi))
-    throw std::invalid_argument("lens cutoff_angle must be in (0, pi] rad (got " + text(lens.cutoff_angle_rad) + ")");
-  double focal = focal_scale;
-  if (scale_to_hfov) {
-    // The lens function must still rise at the image edge (tan below pi/2, sin up to pi/2).
-    const double argument = horizontal_fov_rad / 2.0 / lens.c2 + lens.c3;
-    const bool rising = lens.fun == LensFunction::kIdentity ||
-                        (lens.fun == LensFunction::kTan ? argument < kPi / 2 - 1e-6 : argument <= kPi / 2);
-    const double edge = rising ? lens.radius(horizontal_fov_rad / 2.0) : 0.0;
-    if (!(edge > 0.0 && std::isfinite(edge)))
-      throw std::invalid_argument("lens cannot show half the horizontal_fov (" + text(horizontal_fov_rad / 2.0) +
-                                  " rad) at the image edge: its radius there is " + text(edge));
-    focal = 1.0 / edge;
-  }
-  if (!(focal > 0.0 && std::isfinite(focal)))
-    throw std::invalid_argument("lens focal length f must be positive (got " + text(focal) + ")");
-  CameraModel model = fromHorizontalFov(width_px, height_px, kPi / 2);
-  model.fx_px = model.fy_px = focal * width_px / 2.0;
-  model.lens = lens;
-  model.distortion_in_image_units = true;
-  return model;
-}
-
-void CameraModel::setDistortionCenter(double center_x, double center_y) {
-  cx_px = center_x * width_px - 0.5;
-  cy_px = center_y * height_px - 0.5;
-}
-
-bool CameraModel::project(const Vec3& p, double& u_px, double& v_px) const {
-  double x = 0.0, y = 0.0;
-  if (lens.pinhole) {
-    if (!(p.z > 0.0)) return false;
-    x = p.x / p.z;
-    y = p.y / p.z;
-  } else {
-    const double off_axis = std::hypot(p.x, p.y);
-    const double theta = std::atan2(off_axis, p.z);
-    if (!(theta <= lens.cutoff_angle_rad) || p.norm() == 0.0) return false;
-    const double r = lens.radius(theta);
-    if (off_axis > 0.0) {
-      x = r * p.x / off_axis;
-      y = r * p.y / off_axis;
-    }
-  }
-  const double unit_x = distortion_in_image_units ? width_px : fx_px;
-  const double unit_y = distortion_in_image_units ? height_px : fy_px;
-  double xd = 0.0, yd = 0.0;
-  distort(distortion, x * fx_px / unit_x, y * fy_px / unit_y, xd, yd);
-  u_px = unit_x * xd + cx_px;
-  v_px = unit_y * yd + cy_px;
-  return true;
-}
-
-// --- Scene -------------------------------------------------------------------------------------
-
-void RenderScene::setGround(const RgbImage& texture, double x_min_m, double x_max_m, double y_min_m, double y_max_m,
-                            const Vec3& ground_rgb) {
-  checkImage(texture, "ground texture");
-  if (texture.width > 0 && texture.height > 0 && !(x_min_m < x_max_m && y_min_m < y_max_m))
-    throw std::invalid_argument("ground texture ranges must have min < max (got x [" + text(x_min_m) + ", " +
-                                text(x_max_m) + "] m, y [" + text(y_min_m) + ", " + text(y_max_m) + "] m)");
-  ground_levels_.clear();
-  ground_texels_.clear();
-  if (texture.width > 0 && texture.height > 0) {
-    size_t texel_count = 0;
-    for (int w = texture.width, h = texture.height;; w = (w + 1) / 2, h = (h + 1) / 2) {
-      ground_levels_.push_back({w, h, texel_count});
-      texel_count += static_cast<size_t>(w + 1) * (h + 1);
-      if (w == 1 && h == 1) break;
-    }
-    ground_texels_.resize(texel_count);
-    auto texel = [this](const TextureLevel& level, int u, int v) -> std::uint32_t& {
-      return ground_texels_[level.first_texel + static_cast<size_t>(v) * (level.width_px + 1) + u];
-    };
-    // Level 0 from the image, each further level from the one before by rounded 2x2 averages
-    // (where a size is odd, the repeated column or row of the finer level stands in).
-    for (size_t l = 0; l < ground_levels_.size(); ++l) {
-      const TextureLevel& level = ground_levels_[l];
-      for (int v = 0; v <= level.height_px; ++v) {
-        for (int u = 0; u <= level.width_px; ++u) {
-          const int iu = std::min(u, level.width_px - 1), iv = std::min(v, level.height_px - 1);
-          std::uint32_t packed = 0;
-          for (int c = 0; c < 3; ++c) {
-            std::uint32_t value;
-            if (l == 0) {
-              value = texture.pixel(iu, iv)[c];
-            } else {
-              const TextureLevel& fine = ground_levels_[l - 1];
-              value = 2;
-              for (const std::uint32_t t : {texel(fine, 2 * iu, 2 * iv), texel(fine, 2 * iu + 1, 2 * iv),
-                                            texel(fine, 2 * iu, 2 * iv + 1), texel(fine, 2 * iu + 1, 2 * iv + 1)})
-                value += (t >> (8 * c)) & 0xFFu;
-              value /= 4;
-            }
-            packed |= value << (8 * c);
-          }
-          texel(level, u, v) = packed;
-        }
-      }
-    }
-  }
-  ground_x_min_m_ = x_min_m;
-  ground_x_max_m_ = x_max_m;
-  ground_y_min_m_ = y_min_m;
-  ground_y_max_m_ = y_max_m;
-  ground_rgb_ = ground_rgb;
-}
-
-void RenderScene::setGroundColor(const Vec3& ground_rgb) { ground_rgb_ = ground_rgb; }
-
-void RenderScene::setSkyColor(const Vec3& sky_rgb) { sky_rgb_ = sky_rgb; }
-
-int RenderScene::addObject(const RenderObject& object) {
-  const std::string what = "render object " + std::to_string(objects_.size());
-  switch (object.shape) {
-    case RenderShape::kBox:
-      if (!(object.size_m.x > 0.0 && object.size_m.y > 0.0 && object.size_m.z > 0.0))
-        throw std::invalid_argument(what + ": box size must be positive (got " + text(object.size_m.x) + " x " +
-                                    text(object.size_m.y) + " x " + text(object.size_m.z) + " m)");
-      break;
-    case RenderShape::kCylinder:
-    case RenderShape::kCone:
-      if (!(object.length_m > 0.0))
-        throw std::invalid_argument(what + ": length must be positive (got " + text(object.length_m) + " m)");
-      [[fallthrough]];
-    case RenderShape::kSphere:
-      if (!(object.radius_m > 0.0))
-        throw std::invalid_argument(what + ": radius must be positive (got " + text(object.radius_m) + " m)");
-      if (object.face_image.width > 0) throw std::invalid_argument(what + ": only boxes show a face image");
-      break;
-  }
-  checkImage(object.face_image, what + " face image");
-  objects_.push_back(object);
-  objects_.back().pose.orientation = object.pose.orientation.normalized();
-  return static_cast<int>(objects_.size()) - 1;
-}
-
-void RenderScene::setObjectPose(int index, const Pose& pose) {
-  checkIndex(index, objectCount());
-  objects_[index].pose = Pose(pose.position, pose.orientation.normalized());
-}
-
-void RenderScene::setObjectImage(int index, const RgbImage& image) {
-  checkIndex(index, objectCount());
-  if (objects_[index].shape != RenderShape::kBox)
-    throw std::invalid_argument("render object " + std::to_string(index) + ": only boxes show a face image");
-  checkImage(image, "render object " + std::to_string(index) + " face image");
-  objects_[index].face_image = image;
-}
-
-RenderScene renderSceneFromWorld(const WorldDescription& world) {
-  RenderScene scene;
-  const GroundSpec& g = world.ground;
-  if (g.texture_path.empty()) {
-    scene.setGroundColor(g.color_rgb);
-  } else {
-    scene.setGround(loadRgbImage(g.texture_path), g.x_min_m, g.x_max_m, g.y_min_m, g.y_max_m, g.color_rgb);
-  }
-  for (const WorldObject& w : world.objects) {
-    RenderObject o;
-    switch (w.shape) {
-      case ObjectShape::kBox:
-        o.shape = RenderShape::kBox;
-        break;
-      case ObjectShape::kCylinder:
-        o.shape = RenderShape::kCylinder;
-        break;
-      case ObjectShape::kCone:
-        o.shape = RenderShape::kCone;
-        break;
-      case ObjectShape::kSphere:
-        o.shape = RenderShape::kSphere;
-        break;
-    }
-    o.size_m = w.size_m;
-    o.radius_m = w.radius_m;
-    o.length_m = w.length_m;
-    o.pose = w.pose;
-    o.color_rgb = w.color_rgb;
-    if (!w.texture_path.empty()) o.face_image = loadRgbImage(w.texture_path);
-    scene.addObject(o);
-  }
-  return scene;
-}
 
 // --- Renderer ----------------------------------------------------------------------------------
 
@@ -706,7 +308,7 @@ void CameraRenderer::allowWideVectors(bool allowed) { wide_vectors_allowed.store
 
 CameraRenderer::CameraRenderer(const CameraModel& model) : model_(model) {
   const int w = model.width_px, h = model.height_px;
-  checkImageSize(w, h);
+  rd::checkImageSize(w, h);
   if (!(model.fx_px > 0.0 && model.fy_px > 0.0 && std::isfinite(model.fx_px) && std::isfinite(model.fy_px)))
     throw std::invalid_argument("camera focal length must be positive (got fx " + text(model.fx_px) + " px, fy " +
                                 text(model.fy_px) + " px)");
@@ -729,7 +331,7 @@ CameraRenderer::CameraRenderer(const CameraModel& model) : model_(model) {
   for (int v = 0; v < h; ++v) {
     for (int u = 0; u < w; ++u) {
       double x = (u - model.cx_px) / unit_x, y = (v - model.cy_px) / unit_y;
-      if (!lens.isZero() && !undistort(lens, x, y, x, y))
+      if (!lens.isZero() && !rd::undistort(lens, x, y, x, y))
         throw std::invalid_argument("camera distortion (k1 " + text(lens.k1) + ", k2 " + text(lens.k2) + ", k3 " +
                                     text(lens.k3) + ", p1 " + text(lens.p1) + ", p2 " + text(lens.p2) +
                                     ") cannot be inverted at pixel (" + std::to_string(u) + ", " + std::to_string(v) +
@@ -782,137 +384,7 @@ CameraRenderer::CameraRenderer(const CameraModel& model) : model_(model) {
   }
 }
 
-namespace {
-
-// What a ray sees of the ground: nothing (sky), the plain ground, or the texture.
-constexpr std::int32_t kSky = 0, kPlainGround = 1, kTexture = 2;
-
-// The per-frame numbers of the ground pass (see render()).
-struct GroundFrame {
-  float rot[3][3];  // world_R_optical
-  float camera_height = 0.0f, near = 0.0f, far = 0.0f;
-  float u_at_camera = 0.0f, v_at_camera = 0.0f, tex_u_per_m = 0.0f, tex_v_per_m = 0.0f;
-  float u_limit = 0.0f, v_limit = 0.0f, footprint_area_scale = 0.0f;
-  std::int32_t max_level = 0;
-  // The texture: packed texels (R in the low byte, then G, B), its mipmap levels,
-  // and the packed colours of the plain ground and the sky.
-  const std::uint32_t* texels = nullptr;
-  const RenderScene::TextureLevel* levels = nullptr;
-  std::uint32_t ground_packed = 0, sky_packed = 0;
-};
-
-// Per pixel of a tile: depth of the ground hit, kind, mipmap level, top-left texel and 8-bit
-// bilinear weights.
-struct GroundTile {
-  float* depth;
-  std::int32_t *kind, *level, *texel_u, *texel_v, *weight_u, *weight_v;
-};
-
-// Bilinear read of one pixel's texels: red and blue, then green, in 16-bit lanes of one word.
-inline std::uint32_t bilinearTexel(const GroundFrame& g, const GroundTile& t, int k) {
-  const RenderScene::TextureLevel& level = g.levels[t.level[k]];
-  const int stride = level.width_px + 1;
-  const std::uint32_t* p = g.texels + level.first_texel + static_cast<size_t>(t.texel_v[k]) * stride + t.texel_u[k];
-  const std::uint32_t wu = static_cast<std::uint32_t>(t.weight_u[k]), wv = static_cast<std::uint32_t>(t.weight_v[k]);
-  const std::uint32_t p00 = p[0], p01 = p[1], p10 = p[stride], p11 = p[stride + 1];
-  constexpr std::uint32_t kPair = 0x00FF00FFu;
-  const std::uint32_t rb_top = (((p00 & kPair) * (256 - wu) + (p01 & kPair) * wu) >> 8) & kPair;
-  const std::uint32_t rb_bottom = (((p10 & kPair) * (256 - wu) + (p11 & kPair) * wu) >> 8) & kPair;
-  const std::uint32_t g_top = ((((p00 >> 8) & kPair) * (256 - wu) + ((p01 >> 8) & kPair) * wu) >> 8) & kPair;
-  const std::uint32_t g_bottom = ((((p10 >> 8) & kPair) * (256 - wu) + ((p11 >> 8) & kPair) * wu) >> 8) & kPair;
-  const std::uint32_t rb = ((rb_top * (256 - wv) + rb_bottom * wv) >> 8) & kPair;
-  const std::uint32_t gg = ((g_top * (256 - wv) + g_bottom * wv) >> 8) & kPair;
-  return rb | (gg << 8);
-}
-
-// Ground hit of `count` rays (a multiple of the lane count) and their texel addresses, one
-// vector of lanes at a time.
-template <typename F, typename I>
-__attribute__((always_inline)) inline void groundPass(const GroundFrame& g, const float* __restrict rx,
-                                                      const float* __restrict ry, const float* __restrict rz, int count,
-                                                      const GroundTile& out) {
-  constexpr int kWidth = sizeof(F) / sizeof(float);
-  for (int i = 0; i < count; i += kWidth) {
-    const F x = loadLanes<F>(rx + i), y = loadLanes<F>(ry + i), z = loadLanes<F>(rz + i);
-    const F dx = g.rot[0][0] * x + g.rot[0][1] * y + g.rot[0][2] * z;
-    const F dy = g.rot[1][0] * x + g.rot[1][1] * y + g.rot[1][2] * z;
-    const F dz = g.rot[2][0] * x + g.rot[2][1] * y + g.rot[2][2] * z;
-    const F down = -1.0f / dz;  // > 0 for rays that go down
-    const F t = g.camera_height * down;
-    const I hit = (dz < 0.0f) & (t >= g.near) & (t <= g.far);
-    const F u = g.u_at_camera + t * dx * g.tex_u_per_m;
-    const F v = g.v_at_camera - t * dy * g.tex_v_per_m;
-    const I on_texture = (u >= -0.5f) & (u <= g.u_limit) & (v >= -0.5f) & (v <= g.v_limit);
-    // Mipmap level from the exponent bits of 2 rho^2, and 2^-level the same way. (Lanes
-    // without a ground hit may hold inf or NaN here; their kind is kSky.)
-    const F area2 = g.footprint_area_scale * (down * down * down);
-    I l = ((reinterpret_cast<const I&>(area2) >> 23) - 127) >> 1;
-    l = l < 0 ? 0 : l;
-    l = l > g.max_level ? g.max_level : l;
-    const I scale_bits = (127 - l) << 23;
-    const F scale = reinterpret_cast<const F&>(scale_bits);
-    const F uc = u > g.u_limit ? g.u_limit : (u < -0.5f ? -0.5f : u);
-    const F vc = v > g.v_limit ? g.v_limit : (v < -0.5f ? -0.5f : v);
-    F ul = (uc + 0.5f) * scale - 0.5f;
-    F vl = (vc + 0.5f) * scale - 0.5f;
-    ul = ul < 0.0f ? 0.0f : ul;
-    vl = vl < 0.0f ? 0.0f : vl;
-    const I iu = __builtin_convertvector(ul, I), iv = __builtin_convertvector(vl, I);
-    storeLanes(out.depth + i, F(hit ? t : kNoHit));
-    storeLanes(out.kind + i, I(hit & (on_texture ? kTexture : kPlainGround)));
-    storeLanes(out.level + i, l);
-    storeLanes(out.texel_u + i, iu);
-    storeLanes(out.texel_v + i, iv);
-    storeLanes(out.weight_u + i, __builtin_convertvector((ul - __builtin_convertvector(iu, F)) * 256.0f, I));
-    storeLanes(out.weight_v + i, __builtin_convertvector((vl - __builtin_convertvector(iv, F)) * 256.0f, I));
-  }
-}
-
-void groundPass4(const GroundFrame& g, const float* rx, const float* ry, const float* rz, int count,
-                 const GroundTile& out) {
-  groundPass<Floats, Ints>(g, rx, ry, rz, count, out);
-}
-
-#if defined(__x86_64__) && defined(__GNUC__)
-// The same on eight lanes. (The bilinear read stays scalar, in render(): AVX2 gathers made it
-// slower on this machine.)
-__attribute__((target("avx2"))) void groundPass8(const GroundFrame& g, const float* rx, const float* ry,
-                                                 const float* rz, int count, const GroundTile& out) {
-  groundPass<Floats8, Ints8>(g, rx, ry, rz, count, out);
-}
-#endif
-
-using GroundPassFunction = void (*)(const GroundFrame&, const float*, const float*, const float*, int,
-                                    const GroundTile&);
-
-bool haveAvx2() {
-#if defined(__x86_64__) && defined(__GNUC__)
-  static const bool have = __builtin_cpu_supports("avx2");
-  return have;
-#else
-  return false;
-#endif
-}
-
-GroundPassFunction groundPassFunction() {
-#if defined(__x86_64__) && defined(__GNUC__)
-  if (haveAvx2() && wide_vectors_allowed.load(std::memory_order_relaxed)) return groundPass8;
-#endif
-  return groundPass4;
-}
-
-// True when some ray of a cone (axis, half angle) may meet the bounding sphere of `view`: the
-// angle between the cone's axis and the sphere's direction is at most half + angular radius.
-inline bool coneMeetsSphere(const Vec3& axis, double half_rad, double cos_half, double sin_half,
-                            const ObjectInView& view) {
-  if (view.surrounds_camera || half_rad + view.angular_radius_rad >= kPi) return true;
-  const double cos_sum = cos_half * view.cos_angular - sin_half * view.sin_angular;
-  return axis.dot(view.direction_optical) >= cos_sum;
-}
-
-}  // namespace
-
-bool CameraRenderer::wideVectorsAvailable() { return haveAvx2(); }
+bool CameraRenderer::wideVectorsAvailable() { return rd::haveAvx2(); }
 
 void CameraRenderer::render(const RenderScene& scene, const Pose& world_T_optical, int exclude_group,
                             std::mt19937* noise_rng, RgbImage& image) const {
@@ -999,7 +471,7 @@ void CameraRenderer::render(const RenderScene& scene, const Pose& world_T_optica
       std::max(tex_u_per_m, tex_v_per_m) / std::min(model_.fx_px, model_.fy_px) * std::max(camera_world.z, 0.0);
   const float footprint_area_scale = static_cast<float>(2.0 * footprint_m * footprint_m);
   const std::int32_t max_level = textured ? static_cast<std::int32_t>(scene.ground_levels_.size()) - 1 : 0;
-  GroundFrame frame;
+  rd::GroundFrame frame;
   for (int r = 0; r < 3; ++r)
     for (int c = 0; c < 3; ++c) frame.rot[r][c] = static_cast<float>(world_R_optical[r][c]);
   frame.camera_height = static_cast<float>(camera_world.z);
@@ -1021,14 +493,15 @@ void CameraRenderer::render(const RenderScene& scene, const Pose& world_T_optica
   };
   frame.ground_packed = packed(scene.ground_rgb_);
   frame.sky_packed = packed(scene.sky_rgb_);
-  const GroundPassFunction ground_pass = groundPassFunction();
+  const rd::GroundPassFunction ground_pass =
+      rd::groundPassFunction(wide_vectors_allowed.load(std::memory_order_relaxed));
 
   alignas(64) float depth[kTilePixels];
   alignas(64) std::int32_t kind[kTilePixels];
   alignas(64) std::int32_t level[kTilePixels];
   alignas(64) std::int32_t texel_u[kTilePixels], texel_v[kTilePixels];    // top-left texel of the read
   alignas(64) std::int32_t weight_u[kTilePixels], weight_v[kTilePixels];  // 0..255: right column, lower row
-  const GroundTile ground{depth, kind, level, texel_u, texel_v, weight_u, weight_v};
+  const rd::GroundTile ground{depth, kind, level, texel_u, texel_v, weight_u, weight_v};
   for (size_t tile_index = 0; tile_index < tiles_.size(); ++tile_index) {
     const Tile& tile = tiles_[tile_index];
     const size_t first = tile_index * kTilePixels;
@@ -1038,9 +511,9 @@ void CameraRenderer::render(const RenderScene& scene, const Pose& world_T_optica
       std::uint8_t* out = image.pixel(tile.u0, tile.v0 + j);
       for (int i = 0; i < tile.width; ++i, out += 3) {
         const int k = j * kTileWidth + i;
-        const std::uint32_t c = kind[k] == kTexture ? bilinearTexel(frame, ground, k)
-                                : kind[k] == kSky   ? frame.sky_packed
-                                                    : frame.ground_packed;
+        const std::uint32_t c = kind[k] == rd::kTexture ? rd::bilinearTexel(frame, ground, k)
+                                : kind[k] == rd::kSky   ? frame.sky_packed
+                                                        : frame.ground_packed;
         out[0] = static_cast<std::uint8_t>(c);
         out[1] = static_cast<std::uint8_t>(c >> 8);
         out[2] = static_cast<std::uint8_t>(c >> 16);

@@ -1,0 +1,94 @@
+// What cameras see: RGB images, the textured ground plane and the objects on it (boxes with an
+// optional face image, cylinders, cones, spheres), built from a world file or by hand.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "conde_physics/math.h"
+#include "conde_physics/world_file.h"
+
+namespace conde_physics {
+
+class CameraRenderer;
+
+// 8-bit RGB image, rows top to bottom, 3 bytes per pixel, no padding.
+struct RgbImage {
+  int width = 0;
+  int height = 0;
+  std::vector<std::uint8_t> data;  // size width * height * 3
+
+  void resize(int w, int h) {
+    width = w;
+    height = h;
+    data.assign(static_cast<size_t>(w) * h * 3, 0);
+  }
+  const std::uint8_t* pixel(int u, int v) const { return &data[(static_cast<size_t>(v) * width + u) * 3]; }
+  std::uint8_t* pixel(int u, int v) { return &data[(static_cast<size_t>(v) * width + u) * 3]; }
+};
+
+// Reads an image file (any format OpenCV decodes) as RGB. Throws std::runtime_error naming
+// the path when it does not decode.
+RgbImage loadRgbImage(const std::string& path);
+
+enum class RenderShape { kBox, kCylinder, kCone, kSphere };
+
+struct RenderObject {
+  RenderShape shape = RenderShape::kBox;
+  Vec3 size_m;                    // kBox: full edge lengths
+  double radius_m = 0.0;          // kCylinder, kCone (base), kSphere
+  double length_m = 0.0;          // kCylinder, kCone: along local z; a cone's base is at z = -length/2
+  Pose pose;                      // world pose of the shape centre
+  Vec3 color_rgb{0.7, 0.7, 0.7};  // 0..1, flat shaded
+  // kBox only: an image on the local +z face, column 0 at local -x, row 0 at local +y, so it is
+  // upright and not mirrored for a viewer in front of the face (as libgazebo_ros_video). Drawn
+  // unlit (like a screen). Empty = plain colour.
+  RgbImage face_image;
+  int group = -1;  // e.g. the model id of a robot; cameras may exclude one group
+};
+
+// The ground plane z = 0 and everything on it.
+class RenderScene {
+ public:
+  // Ground: the texture covers [x_min, x_max] x [y_min, y_max], columns along +x, row 0 at
+  // y_max, sampled bilinearly; outside it (or without one) the plane has colour ground_rgb.
+  // Where a pixel's footprint on the ground covers two texels or more (far or grazing ground),
+  // it is read bilinearly from the mipmap level whose texel best matches the footprint's area
+  // (as OpenGL's LINEAR_MIPMAP_NEAREST, which picks by the longer axis): less aliasing, and
+  // neighbouring pixels read neighbouring texels.
+  void setGround(const RgbImage& texture, double x_min_m, double x_max_m, double y_min_m, double y_max_m,
+                 const Vec3& ground_rgb);
+  void setGroundColor(const Vec3& ground_rgb);
+  void setSkyColor(const Vec3& sky_rgb);  // where a ray meets nothing; default (0.7, 0.8, 0.9)
+
+  int addObject(const RenderObject& object);  // returns its index
+  void setObjectPose(int index, const Pose& pose);
+  void setObjectImage(int index, const RgbImage& image);  // kBox only; replaces the face image
+  const RenderObject& object(int index) const { return objects_[index]; }
+  int objectCount() const { return static_cast<int>(objects_.size()); }
+
+  // The ground texture as a mipmap: level 0 is the image, level L + 1 averages 2x2 texels of
+  // level L (its size rounded up, edges repeated). Texels are packed (R in the low byte, then G,
+  // B, 0); each level has one more column and row repeating its last ones, so a bilinear read
+  // never leaves it. (Layout for the renderer.)
+  struct TextureLevel {
+    int width_px = 0, height_px = 0;  // without the repeated column and row
+    size_t first_texel = 0;           // in ground_texels_; rows of width_px + 1 texels
+  };
+
+ private:
+  friend class CameraRenderer;
+  std::vector<TextureLevel> ground_levels_;  // empty: no texture
+  std::vector<std::uint32_t> ground_texels_;
+  double ground_x_min_m_ = 0.0, ground_x_max_m_ = 0.0, ground_y_min_m_ = 0.0, ground_y_max_m_ = 0.0;
+  Vec3 ground_rgb_{0.7, 0.7, 0.7};
+  Vec3 sky_rgb_{0.7, 0.8, 0.9};
+  std::vector<RenderObject> objects_;
+};
+
+// The ground and every object of a world file (textures loaded; display panels start with their
+// texture or their colour). Object i of the world is object i of the scene.
+RenderScene renderSceneFromWorld(const WorldDescription& world);
+
+}  // namespace conde_physics

@@ -1,0 +1,178 @@
+// The render scene: images, the ground texture's mipmap, the objects, and the scene of a world
+// file.
+#include "conde_physics/render_scene.h"
+
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include <algorithm>
+#include <cstring>
+#include <fstream>
+#include <stdexcept>
+#include <string>
+
+#include "render_detail.h"
+
+namespace conde_physics {
+
+using render_detail::checkImage;
+using render_detail::text;
+
+namespace {
+
+void checkIndex(int index, int count) {
+  if (index < 0 || index >= count)
+    throw std::out_of_range("render object index " + std::to_string(index) + " out of range (the scene has " +
+                            std::to_string(count) + " objects)");
+}
+
+}  // namespace
+
+// --- Images ------------------------------------------------------------------------------------
+
+RgbImage loadRgbImage(const std::string& path) {
+  // A file that does not open gets the same message, without OpenCV's warning on stderr.
+  if (!std::ifstream(path).good()) throw std::runtime_error("cannot decode image '" + path + "'");
+  cv::Mat bgr = cv::imread(path, cv::IMREAD_COLOR);
+  if (bgr.empty()) throw std::runtime_error("cannot decode image '" + path + "'");
+  cv::Mat rgb;
+  cv::cvtColor(bgr, rgb, cv::COLOR_BGR2RGB);
+  RgbImage image;
+  image.resize(rgb.cols, rgb.rows);
+  for (int v = 0; v < rgb.rows; ++v) std::memcpy(image.pixel(0, v), rgb.ptr(v), static_cast<size_t>(rgb.cols) * 3);
+  return image;
+}
+
+// --- Scene -------------------------------------------------------------------------------------
+
+void RenderScene::setGround(const RgbImage& texture, double x_min_m, double x_max_m, double y_min_m, double y_max_m,
+                            const Vec3& ground_rgb) {
+  checkImage(texture, "ground texture");
+  if (texture.width > 0 && texture.height > 0 && !(x_min_m < x_max_m && y_min_m < y_max_m))
+    throw std::invalid_argument("ground texture ranges must have min < max (got x [" + text(x_min_m) + ", " +
+                                text(x_max_m) + "] m, y [" + text(y_min_m) + ", " + text(y_max_m) + "] m)");
+  ground_levels_.clear();
+  ground_texels_.clear();
+  if (texture.width > 0 && texture.height > 0) {
+    size_t texel_count = 0;
+    for (int w = texture.width, h = texture.height;; w = (w + 1) / 2, h = (h + 1) / 2) {
+      ground_levels_.push_back({w, h, texel_count});
+      texel_count += static_cast<size_t>(w + 1) * (h + 1);
+      if (w == 1 && h == 1) break;
+    }
+    ground_texels_.resize(texel_count);
+    auto texel = [this](const TextureLevel& level, int u, int v) -> std::uint32_t& {
+      return ground_texels_[level.first_texel + static_cast<size_t>(v) * (level.width_px + 1) + u];
+    };
+    // Level 0 from the image, each further level from the one before by rounded 2x2 averages
+    // (where a size is odd, the repeated column or row of the finer level stands in).
+    for (size_t l = 0; l < ground_levels_.size(); ++l) {
+      const TextureLevel& level = ground_levels_[l];
+      for (int v = 0; v <= level.height_px; ++v) {
+        for (int u = 0; u <= level.width_px; ++u) {
+          const int iu = std::min(u, level.width_px - 1), iv = std::min(v, level.height_px - 1);
+          std::uint32_t packed = 0;
+          for (int c = 0; c < 3; ++c) {
+            std::uint32_t value;
+            if (l == 0) {
+              value = texture.pixel(iu, iv)[c];
+            } else {
+              const TextureLevel& fine = ground_levels_[l - 1];
+              value = 2;
+              for (const std::uint32_t t : {texel(fine, 2 * iu, 2 * iv), texel(fine, 2 * iu + 1, 2 * iv),
+                                            texel(fine, 2 * iu, 2 * iv + 1), texel(fine, 2 * iu + 1, 2 * iv + 1)})
+                value += (t >> (8 * c)) & 0xFFu;
+              value /= 4;
+            }
+            packed |= value << (8 * c);
+          }
+          texel(level, u, v) = packed;
+        }
+      }
+    }
+  }
+  ground_x_min_m_ = x_min_m;
+  ground_x_max_m_ = x_max_m;
+  ground_y_min_m_ = y_min_m;
+  ground_y_max_m_ = y_max_m;
+  ground_rgb_ = ground_rgb;
+}
+
+void RenderScene::setGroundColor(const Vec3& ground_rgb) { ground_rgb_ = ground_rgb; }
+
+void RenderScene::setSkyColor(const Vec3& sky_rgb) { sky_rgb_ = sky_rgb; }
+
+int RenderScene::addObject(const RenderObject& object) {
+  const std::string what = "render object " + std::to_string(objects_.size());
+  switch (object.shape) {
+    case RenderShape::kBox:
+      if (!(object.size_m.x > 0.0 && object.size_m.y > 0.0 && object.size_m.z > 0.0))
+        throw std::invalid_argument(what + ": box size must be positive (got " + text(object.size_m.x) + " x " +
+                                    text(object.size_m.y) + " x " + text(object.size_m.z) + " m)");
+      break;
+    case RenderShape::kCylinder:
+    case RenderShape::kCone:
+      if (!(object.length_m > 0.0))
+        throw std::invalid_argument(what + ": length must be positive (got " + text(object.length_m) + " m)");
+      [[fallthrough]];
+    case RenderShape::kSphere:
+      if (!(object.radius_m > 0.0))
+        throw std::invalid_argument(what + ": radius must be positive (got " + text(object.radius_m) + " m)");
+      if (object.face_image.width > 0) throw std::invalid_argument(what + ": only boxes show a face image");
+      break;
+  }
+  checkImage(object.face_image, what + " face image");
+  objects_.push_back(object);
+  objects_.back().pose.orientation = object.pose.orientation.normalized();
+  return static_cast<int>(objects_.size()) - 1;
+}
+
+void RenderScene::setObjectPose(int index, const Pose& pose) {
+  checkIndex(index, objectCount());
+  objects_[index].pose = Pose(pose.position, pose.orientation.normalized());
+}
+
+void RenderScene::setObjectImage(int index, const RgbImage& image) {
+  checkIndex(index, objectCount());
+  if (objects_[index].shape != RenderShape::kBox)
+    throw std::invalid_argument("render object " + std::to_string(index) + ": only boxes show a face image");
+  checkImage(image, "render object " + std::to_string(index) + " face image");
+  objects_[index].face_image = image;
+}
+
+RenderScene renderSceneFromWorld(const WorldDescription& world) {
+  RenderScene scene;
+  const GroundSpec& g = world.ground;
+  if (g.texture_path.empty()) {
+    scene.setGroundColor(g.color_rgb);
+  } else {
+    scene.setGround(loadRgbImage(g.texture_path), g.x_min_m, g.x_max_m, g.y_min_m, g.y_max_m, g.color_rgb);
+  }
+  for (const WorldObject& w : world.objects) {
+    RenderObject o;
+    switch (w.shape) {
+      case ObjectShape::kBox:
+        o.shape = RenderShape::kBox;
+        break;
+      case ObjectShape::kCylinder:
+        o.shape = RenderShape::kCylinder;
+        break;
+      case ObjectShape::kCone:
+        o.shape = RenderShape::kCone;
+        break;
+      case ObjectShape::kSphere:
+        o.shape = RenderShape::kSphere;
+        break;
+    }
+    o.size_m = w.size_m;
+    o.radius_m = w.radius_m;
+    o.length_m = w.length_m;
+    o.pose = w.pose;
+    o.color_rgb = w.color_rgb;
+    if (!w.texture_path.empty()) o.face_image = loadRgbImage(w.texture_path);
+    scene.addObject(o);
+  }
+  return scene;
+}
+
+}  // namespace conde_physics
