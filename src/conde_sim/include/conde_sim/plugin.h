@@ -1,10 +1,11 @@
 // Gazebo-style plugins of the simulator, and the registry that maps gazebo_ros plugin file
 // names (libgazebo_ros_diff_drive.so, ...) to our implementations.
 //
-// Every plugin has one shape: load() reads all its parameters (each with its Gazebo default)
-// and logs the resolved values once; beforeStep() runs before each physics step (commands,
-// efforts); afterStep() after it (sensors, odometry), rate-limited in simulated time by an
-// UpdateTimer (update_timer.h). The StepLoop (step_loop.h) calls them.
+// Every plugin has one shape: configure() (called by load(), which keeps the context) reads all
+// its parameters (each with its Gazebo default) and logs the resolved values once; beforeStep()
+// runs before each physics step (commands, efforts); afterStep() after it (sensors, odometry),
+// rate-limited in simulated time by an UpdateTimer (update_timer.h). The StepLoop (step_loop.h)
+// calls them.
 // ROS callbacks run between steps, on the node's thread, so no plugin needs a lock.
 #pragma once
 
@@ -23,6 +24,8 @@
 
 namespace conde_sim {
 
+namespace cp = conde_physics;  // the plugins' short name for the physics layer
+
 struct PluginContext {
   Simulation* sim = nullptr;
   int robot = -1;            // index of the robot that carries the plugin
@@ -40,10 +43,21 @@ struct PluginContext {
 // beforeStep() and afterStep() (StepHooks) run around each physics step, in the StepLoop.
 class SimPlugin : public StepHooks {
  public:
-  // Reads parameters and sets up topics. Throws PluginError naming the key at fault.
-  virtual void load(PluginContext& ctx, PluginParams& params) = 0;
+  // Keeps the context (ctx_) and configures the plugin with the node handle of its topics (the
+  // robot's namespace, then <robotNamespace>). Throws PluginError naming the key at fault.
+  void load(const PluginContext& ctx, PluginParams& params) {
+    ctx_ = ctx;
+    ros::NodeHandle nh = ctx_.nodeHandle(params);
+    configure(params, nh);
+  }
   // After the world was reset: forget commands and integrated state.
   virtual void reset() {}
+
+ protected:
+  // Reads parameters and sets up topics on `nh`.
+  virtual void configure(PluginParams& params, ros::NodeHandle& nh) = 0;
+
+  PluginContext ctx_;
 };
 
 using PluginFactory = std::function<std::unique_ptr<SimPlugin>()>;

@@ -42,8 +42,6 @@
 namespace conde_sim {
 namespace {
 
-namespace cp = conde_physics;
-
 PidController::Gains readGains(PluginParams& params, const std::string& prefix, const PidController::Gains& fallback) {
   const std::string gains_key = prefix + "PidGains", clamp_key = prefix + "PidIClamp", torque_key = prefix + "Torque";
   const cp::Vec3 pid = params.getVec3(gains_key, cp::Vec3(fallback.p, fallback.i, fallback.d));
@@ -67,9 +65,7 @@ double nonNegative(PluginParams& params, const std::string& key, double fallback
 
 class AckermannDrivePlugin : public SimPlugin {
  public:
-  void load(PluginContext& ctx, PluginParams& params) override {
-    ctx_ = ctx;
-    ros::NodeHandle nh = ctx.nodeHandle(params);
+  void configure(PluginParams& params, ros::NodeHandle& nh) override {
     AckermannDrive::Config c;
     c.left_steering_joint = params.requireString("leftSteeringJoint");
     c.right_steering_joint = params.requireString("rightSteeringJoint");
@@ -80,7 +76,7 @@ class AckermannDrivePlugin : public SimPlugin {
     for (const char* key : {"leftSteeringJoint", "rightSteeringJoint", "leftRearWheelJoint", "rightRearWheelJoint",
                             "leftFrontWheelJoint", "rightFrontWheelJoint"}) {
       const std::string name = params.getString(key, "");
-      if (!name.empty()) requireJoint(ctx, params, key, name);
+      if (!name.empty()) requireJoint(ctx_, params, key, name);
     }
     const std::string drive_wheels = params.getString("driveWheels", "rear");
     if (drive_wheels != "rear" && drive_wheels != "front" && drive_wheels != "all") {
@@ -106,25 +102,25 @@ class AckermannDrivePlugin : public SimPlugin {
     const std::string twist_topic = params.getString("twistTopic", "cmd_vel");
     const std::string odometry_topic = params.getString("odometryTopic", "odom");
     OdometryPublisher::Options odom;
-    odom.odom_frame = ctx.frame(params.getString("odometryFrame", "odom"));
-    odom.base_frame = ctx.frame(c.base_link);
+    odom.odom_frame = ctx_.frame(params.getString("odometryFrame", "odom"));
+    odom.base_frame = ctx_.frame(c.base_link);
     odom.publish_odom_tf = params.getBool("publishOdomTF", true);
     odom.publish_world_to_odom_tf = params.getBool("publishWorldToOdomTF", true);
     const bool publish_joint_states = params.getBool("publishJointStates", true);
     try {
-      drive_ = std::make_unique<AckermannDrive>(*ctx.sim, ctx.robot, c);
+      drive_ = std::make_unique<AckermannDrive>(*ctx_.sim, ctx_.robot, c);
     } catch (const AckermannConfigError& e) {
       throw params.error(e.key, e.what());
     }
 
-    robot_name_ = ctx.sim->robot(ctx.robot).spec.name;
+    robot_name_ = ctx_.sim->robot(ctx_.robot).spec.name;
     if (!command_topic.empty()) drive_sub_ = nh.subscribe(command_topic, 1, &AckermannDrivePlugin::onDrive, this);
     if (!twist_topic.empty()) twist_sub_ = nh.subscribe(twist_topic, 1, &AckermannDrivePlugin::onTwist, this);
-    odometry_ = OdometryPublisher(ctx, odom);
+    odometry_ = OdometryPublisher(ctx_, odom);
     odometry_.advertise(nh, odometry_topic);
     if (publish_joint_states) {
       joint_pub_ = nh.advertise<sensor_msgs::JointState>("joint_states", 10);
-      const cp::ArticulatedModel& model = ctx.sim->robot(ctx.robot).model;
+      const cp::ArticulatedModel& model = ctx_.sim->robot(ctx_.robot).model;
       for (int j = 0; j < AckermannDrive::kJointCount; ++j) {
         if (drive_->joint(j) < 0) continue;
         joint_state_.name.push_back(model.joints[drive_->joint(j)].name);
@@ -199,7 +195,6 @@ class AckermannDrivePlugin : public SimPlugin {
     joint_pub_.publish(joint_state_);
   }
 
-  PluginContext ctx_;
   std::unique_ptr<AckermannDrive> drive_;
   std::string robot_name_;
   bool timeout_reported_ = false;

@@ -54,8 +54,6 @@
 namespace conde_sim {
 namespace {
 
-namespace cp = conde_physics;
-
 // The camera link's frame (x forward, z up) -> its optical frame (z forward, x right, y down).
 const cp::Quat kLinkToOptical = cp::Quat::fromRpy(-M_PI / 2, 0.0, -M_PI / 2);
 
@@ -72,8 +70,7 @@ bool samePose(const cp::Pose& a, const cp::Pose& b) {
 
 class CameraPlugin : public SimPlugin {
  public:
-  void load(PluginContext& ctx, PluginParams& params) override {
-    ctx_ = ctx;
+  void configure(PluginParams& params, ros::NodeHandle& nh) override {
     link_ = params.referenceLink();
     const bool wide_angle = params.inSensor() && params.sensorType() == "wideanglecamera";
     if (!params.inSensor() || (params.sensorType() != "camera" && !wide_angle) || link_.empty()) {
@@ -81,7 +78,7 @@ class CameraPlugin : public SimPlugin {
                         ": must sit in a <sensor type=\"camera\"> or <sensor type=\"wideanglecamera\"> "
                         "inside <gazebo reference=\"link\">");
     }
-    const auto& robot = ctx.sim->robot(ctx.robot);
+    const auto& robot = ctx_.sim->robot(ctx_.robot);
     if (robot.model.bodyIndex(link_) < 0) {
       throw PluginError(params.where() + ": robot '" + robot.spec.name + "' has no link '" + link_ + "'");
     }
@@ -112,7 +109,7 @@ class CameraPlugin : public SimPlugin {
     if (rate_hz <= 0) rate_hz = 30.0;            // Gazebo renders unbounded; here a camera needs a rate
     // Exactly rate_hz frames per simulated second, also when the period is not a whole number of
     // steps (30 Hz at 1 kHz: 33, 33, 34 steps apart).
-    frame_timer_ = UpdateTimer(rate_hz, ctx.sim->stepS());
+    frame_timer_ = UpdateTimer(rate_hz, ctx_.sim->stepS());
     params.getBool("alwaysOn", true);
     params.sensorBool("always_on", true);
     params.ignore({"visualize", "borderCrop", "autoDistortion", "camera_info_topic", "topic"});
@@ -122,7 +119,7 @@ class CameraPlugin : public SimPlugin {
     const cp::Pose sensor_pose = params.sensorPose();
     link_T_optical_ = sensor_pose * cp::Pose(cp::Vec3(), kLinkToOptical);
     const std::string frame_name = params.getString("frameName", link_ + "_optical");
-    frame_ = ctx.frame(frame_name);
+    frame_ = ctx_.frame(frame_name);
     int frame_body = -1;
     cp::Pose frame_in_body, link_in_body;
     if (robot.model.linkInBody(frame_name, frame_body, frame_in_body)) {
@@ -135,8 +132,8 @@ class CameraPlugin : public SimPlugin {
                                             "' (REP 103: z forward, x right, y down; expected rpy -pi/2 0 "
                                             "-pi/2 from the camera link, within 0.5 degrees)");
       }
-    } else if (ctx.static_tf) {
-      ctx.static_tf->sendTransform(transformMessage(ctx.now(), ctx.frame(link_), frame_, link_T_optical_));
+    } else if (ctx_.static_tf) {
+      ctx_.static_tf->sendTransform(transformMessage(ctx_.now(), ctx_.frame(link_), frame_, link_T_optical_));
     }
 
     try {
@@ -146,9 +143,9 @@ class CameraPlugin : public SimPlugin {
     }
     rng_.seed(std::hash<std::string>()(robot.spec.name + "/" + link_));
 
-    ros::NodeHandle nh(ctx.nodeHandle(params), camera_name);
-    image_pub_ = nh.advertise<sensor_msgs::Image>(image_topic, 2);
-    info_pub_ = nh.advertise<sensor_msgs::CameraInfo>(info_topic, 2);
+    ros::NodeHandle camera_nh(nh, camera_name);
+    image_pub_ = camera_nh.advertise<sensor_msgs::Image>(image_topic, 2);
+    info_pub_ = camera_nh.advertise<sensor_msgs::CameraInfo>(info_topic, 2);
     fillCameraInfo(model);
     ROS_INFO(
         "%s: camera on link %s: %dx%d, %s lens, hfov %.4f rad (fx %.2f px), %s distortion, %.1f Hz, %s + %s in "
@@ -217,7 +214,6 @@ class CameraPlugin : public SimPlugin {
     }
   }
 
-  PluginContext ctx_;
   std::string link_, frame_, encoding_;
   std::string lens_type_ = "pinhole";
   cp::Pose link_T_optical_;

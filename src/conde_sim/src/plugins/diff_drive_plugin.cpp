@@ -24,19 +24,15 @@
 namespace conde_sim {
 namespace {
 
-namespace cp = conde_physics;
-
 class DiffDrivePlugin : public SimPlugin {
  public:
-  void load(PluginContext& ctx, PluginParams& params) override {
-    ctx_ = ctx;
-    ros::NodeHandle nh = ctx.nodeHandle(params);
+  void configure(PluginParams& params, ros::NodeHandle& nh) override {
     DiffDrive::Config c;
     DiffDriveParams& p = c.params;
     c.left_joint = params.requireString("leftJoint");
     c.right_joint = params.requireString("rightJoint");
-    requireJoint(ctx, params, "leftJoint", c.left_joint);
-    requireJoint(ctx, params, "rightJoint", c.right_joint);
+    requireJoint(ctx_, params, "leftJoint", c.left_joint);
+    requireJoint(ctx_, params, "rightJoint", c.right_joint);
     p.wheel_separation_m = params.getDouble("wheelSeparation", p.wheel_separation_m);
     p.wheel_diameter_m = params.getDouble("wheelDiameter", p.wheel_diameter_m);
     p.wheel_acceleration_mps2 = params.getDouble("wheelAcceleration", p.wheel_acceleration_mps2);
@@ -52,12 +48,12 @@ class DiffDrivePlugin : public SimPlugin {
     const std::string command_topic = params.getString("commandTopic", "cmd_vel");
     const std::string odometry_topic = params.getString("odometryTopic", "odom");
     OdometryPublisher::Options odom;
-    odom.odom_frame = ctx.frame(params.getString("odometryFrame", "odom"));
+    odom.odom_frame = ctx_.frame(params.getString("odometryFrame", "odom"));
     c.base_link = params.getString("robotBaseFrame", "base_footprint");
-    odom.base_frame = ctx.frame(c.base_link);
+    odom.base_frame = ctx_.frame(c.base_link);
     int body = -1;
     cp::Pose unused;
-    if (!ctx.sim->robot(ctx.robot).model.linkInBody(c.base_link, body, unused)) {
+    if (!ctx_.sim->robot(ctx_.robot).model.linkInBody(c.base_link, body, unused)) {
       throw params.error("robotBaseFrame", "robot has no link named '" + c.base_link + "'");
     }
     c.encoder_odometry = readEncoderOdometry(params);
@@ -69,9 +65,9 @@ class DiffDrivePlugin : public SimPlugin {
     odom.publish_world_to_odom_tf = params.getBool("publishWorldToOdomTF", true);
     params.ignore({"alwaysOn", "legacyMode", "rosDebugLevel"});
 
-    drive_ = std::make_unique<DiffDrive>(*ctx.sim, ctx.robot, c);
+    drive_ = std::make_unique<DiffDrive>(*ctx_.sim, ctx_.robot, c);
     cmd_sub_ = nh.subscribe(command_topic, 1, &DiffDrivePlugin::onCommand, this);
-    odometry_ = OdometryPublisher(ctx, odom);
+    odometry_ = OdometryPublisher(ctx_, odom);
     if (publish_odometry_) odometry_.advertise(nh, odometry_topic);
     if (publish_wheel_joint_state_) joint_pub_ = nh.advertise<sensor_msgs::JointState>("joint_states", 10);
     command_topic_ = cmd_sub_.getTopic();
@@ -79,8 +75,8 @@ class DiffDrivePlugin : public SimPlugin {
     ROS_INFO(
         "%s: diff drive on joints %s/%s, separation %.4f m, diameter %.4f m, torque %.2f N m, %.1f Hz, "
         "command %s, odometry %s (%s) in %s -> %s, command timeout %.2f s",
-        ctx.sim->robot(ctx.robot).spec.name.c_str(), c.left_joint.c_str(), c.right_joint.c_str(), p.wheel_separation_m,
-        p.wheel_diameter_m, c.wheel_torque_nm, c.update_rate_hz, command_topic_.c_str(),
+        ctx_.sim->robot(ctx_.robot).spec.name.c_str(), c.left_joint.c_str(), c.right_joint.c_str(),
+        p.wheel_separation_m, p.wheel_diameter_m, c.wheel_torque_nm, c.update_rate_hz, command_topic_.c_str(),
         publish_odometry_ ? odometry_.topic().c_str() : "(off)", c.encoder_odometry ? "encoder" : "world",
         odom.odom_frame.c_str(), odom.base_frame.c_str(), p.command_timeout_s);
   }
@@ -144,7 +140,6 @@ class DiffDrivePlugin : public SimPlugin {
     }
   }
 
-  PluginContext ctx_;
   std::unique_ptr<DiffDrive> drive_;
   std::string command_topic_;
   bool publish_odometry_ = true, publish_wheel_tf_ = false, publish_wheel_joint_state_ = false;

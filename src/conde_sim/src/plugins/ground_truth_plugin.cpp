@@ -17,17 +17,13 @@
 namespace conde_sim {
 namespace {
 
-namespace cp = conde_physics;
-
 class GroundTruthPlugin : public SimPlugin {
  public:
-  void load(PluginContext& ctx, PluginParams& params) override {
-    ctx_ = ctx;
-    ros::NodeHandle nh = ctx.nodeHandle(params);
+  void configure(PluginParams& params, ros::NodeHandle& nh) override {
     body_ = params.requireString("bodyName");
     int body = -1;
     cp::Pose unused;
-    if (!ctx.sim->robot(ctx.robot).model.linkInBody(body_, body, unused)) {
+    if (!ctx_.sim->robot(ctx_.robot).model.linkInBody(body_, body, unused)) {
       throw params.error("bodyName", "robot has no link named '" + body_ + "'");
     }
     const std::string topic = params.requireString("topicName");
@@ -37,7 +33,7 @@ class GroundTruthPlugin : public SimPlugin {
     }
     const double rate_hz = params.getDouble("updateRate", 0.0);
     if (rate_hz < 0) throw params.error("updateRate", "must not be negative");
-    timer_ = UpdateTimer(rate_hz, ctx.sim->stepS());
+    timer_ = UpdateTimer(rate_hz, ctx_.sim->stepS());
     offset_ = cp::Pose(params.getVec3("xyzOffsets", cp::Vec3()), cp::Quat());
     const cp::Vec3 rpy = params.getVec3("rpyOffsets", cp::Vec3());
     offset_.orientation = cp::Quat::fromRpy(rpy.x, rpy.y, rpy.z);
@@ -45,7 +41,7 @@ class GroundTruthPlugin : public SimPlugin {
     if (noise_stddev_ < 0) throw params.error("gaussianNoise", "must not be negative");
     params.ignore({"alwaysOn"});
     pub_ = nh.advertise<nav_msgs::Odometry>(topic, 10);
-    ROS_INFO("%s: ground truth of link %s on %s in frame %s at %.1f Hz", ctx.sim->robot(ctx.robot).spec.name.c_str(),
+    ROS_INFO("%s: ground truth of link %s on %s in frame %s at %.1f Hz", ctx_.sim->robot(ctx_.robot).spec.name.c_str(),
              body_.c_str(), pub_.getTopic().c_str(), frame_.c_str(), rate_hz);
   }
 
@@ -79,7 +75,6 @@ class GroundTruthPlugin : public SimPlugin {
  private:
   double noise() { return noise_stddev_ > 0 ? gauss_(rng_) * noise_stddev_ : 0.0; }
 
-  PluginContext ctx_;
   std::string body_, frame_;
   cp::Pose offset_;
   double noise_stddev_ = 0.0;

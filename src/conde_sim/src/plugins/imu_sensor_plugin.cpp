@@ -24,24 +24,20 @@
 namespace conde_sim {
 namespace {
 
-namespace cp = conde_physics;
-
 class ImuSensorPlugin : public SimPlugin {
  public:
-  void load(PluginContext& ctx, PluginParams& params) override {
-    ctx_ = ctx;
-    ros::NodeHandle nh = ctx.nodeHandle(params);
+  void configure(PluginParams& params, ros::NodeHandle& nh) override {
     link_ = params.referenceLink();
     if (!params.inSensor() || link_.empty()) {
       throw PluginError(params.where() + ": must sit in a <sensor type=\"imu\"> inside <gazebo reference=\"link\">");
     }
     const std::string topic = params.getString("topicName", "imu_data");
-    frame_ = ctx.frame(params.requireString("frameName"));
+    frame_ = ctx_.frame(params.requireString("frameName"));
     double rate_hz = params.getDouble("updateRateHZ", 1.0);
     const double sensor_rate_hz = params.sensorDouble("update_rate", 0.0);
     if (!params.has("updateRateHZ") && sensor_rate_hz > 0) rate_hz = sensor_rate_hz;
     if (rate_hz < 0) throw params.error("updateRateHZ", "must not be negative");
-    timer_ = UpdateTimer(rate_hz, ctx.sim->stepS());
+    timer_ = UpdateTimer(rate_hz, ctx_.sim->stepS());
     noise_stddev_ = params.getDouble("gaussianNoise", 0.0);
     if (noise_stddev_ < 0) throw params.error("gaussianNoise", "must not be negative");
     params.getVec3("xyzOffset", cp::Vec3());
@@ -50,9 +46,9 @@ class ImuSensorPlugin : public SimPlugin {
     params.sensorBool("always_on", true);
     params.ignore({"visualize", "pose", "topic", "imu", "bodyName", "alwaysOn"});
     pub_ = nh.advertise<sensor_msgs::Imu>(topic, 10);
-    last_velocity_ = ctx.sim->linkTwist(ctx.robot, link_).linear_mps;
+    last_velocity_ = ctx_.sim->linkTwist(ctx_.robot, link_).linear_mps;
     ROS_INFO("%s: IMU on link %s publishing %s in frame %s at %.1f Hz, noise %.4f",
-             ctx.sim->robot(ctx.robot).spec.name.c_str(), link_.c_str(), pub_.getTopic().c_str(), frame_.c_str(),
+             ctx_.sim->robot(ctx_.robot).spec.name.c_str(), link_.c_str(), pub_.getTopic().c_str(), frame_.c_str(),
              rate_hz, noise_stddev_);
   }
 
@@ -93,7 +89,6 @@ class ImuSensorPlugin : public SimPlugin {
  private:
   double noise() { return noise_stddev_ > 0 ? gauss_(rng_) * noise_stddev_ : 0.0; }
 
-  PluginContext ctx_;
   std::string link_, frame_;
   cp::Quat rpy_offset_;
   cp::Vec3 last_velocity_;

@@ -14,21 +14,19 @@ namespace {
 
 class JointStatePublisherPlugin : public SimPlugin {
  public:
-  void load(PluginContext& ctx, PluginParams& params) override {
-    ctx_ = ctx;
-    ros::NodeHandle nh = ctx.nodeHandle(params);
+  void configure(PluginParams& params, ros::NodeHandle& nh) override {
     const std::vector<std::string> names = params.getList("jointName");
     if (names.empty()) throw params.error("jointName", "required parameter is missing");
-    for (const auto& name : names) joints_.push_back(requireJoint(ctx, params, "jointName", name));
+    for (const auto& name : names) joints_.push_back(requireJoint(ctx_, params, "jointName", name));
     const double rate_hz = params.getDouble("updateRate", 100.0);
     if (rate_hz < 0) throw params.error("updateRate", "must not be negative");
-    timer_ = UpdateTimer(rate_hz, ctx.sim->stepS());
+    timer_ = UpdateTimer(rate_hz, ctx_.sim->stepS());
     params.ignore({"alwaysOn"});
     pub_ = nh.advertise<sensor_msgs::JointState>("joint_states", 10);
     msg_.name = names;
     msg_.position.resize(names.size());
     msg_.velocity.resize(names.size());
-    ROS_INFO("%s: joint states of %zu joints on %s at %.1f Hz", ctx.sim->robot(ctx.robot).spec.name.c_str(),
+    ROS_INFO("%s: joint states of %zu joints on %s at %.1f Hz", ctx_.sim->robot(ctx_.robot).spec.name.c_str(),
              names.size(), pub_.getTopic().c_str(), rate_hz);
   }
 
@@ -45,7 +43,6 @@ class JointStatePublisherPlugin : public SimPlugin {
   }
 
  private:
-  PluginContext ctx_;
   std::vector<int> joints_;
   UpdateTimer timer_;
   ros::Publisher pub_;

@@ -34,13 +34,9 @@
 namespace conde_sim {
 namespace {
 
-namespace cp = conde_physics;
-
 class LaserPlugin : public SimPlugin {
  public:
-  void load(PluginContext& ctx, PluginParams& params) override {
-    ctx_ = ctx;
-    ros::NodeHandle nh = ctx.nodeHandle(params);
+  void configure(PluginParams& params, ros::NodeHandle& nh) override {
     const std::string link = params.referenceLink();
     if (!params.inSensor() || link.empty()) {
       throw PluginError(params.where() + ": must sit in a <sensor type=\"ray\"> inside <gazebo reference=\"link\">");
@@ -51,7 +47,7 @@ class LaserPlugin : public SimPlugin {
     }
     int body = -1;
     cp::Pose unused;
-    if (!ctx.sim->robot(ctx.robot).model.linkInBody(link, body, unused)) {
+    if (!ctx_.sim->robot(ctx_.robot).model.linkInBody(link, body, unused)) {
       throw PluginError(params.where() + ": <gazebo reference=\"" + link + "\"> must name a link to carry the sensor");
     }
     LaserScanConfig c;
@@ -59,7 +55,7 @@ class LaserPlugin : public SimPlugin {
     c.sensor_in_link = params.sensorPose();
     const double rate_hz = params.sensorDouble("update_rate", 0.0);
     if (rate_hz < 0) throw params.sensorError("update_rate", "must not be negative, got " + formatNumber(rate_hz));
-    timer_ = UpdateTimer(rate_hz, ctx.sim->stepS());
+    timer_ = UpdateTimer(rate_hz, ctx_.sim->stepS());
     params.sensorBool("always_on", true);
 
     const long samples = params.sensorInt("ray/scan/horizontal/samples", 640);
@@ -97,20 +93,20 @@ class LaserPlugin : public SimPlugin {
     readNoise(params, c);
     // Each sensor its own noise, the same in every run.
     c.noise_seed = static_cast<std::uint32_t>(
-        std::hash<std::string>()(ctx.sim->robot(ctx.robot).spec.name + "/" + params.sensorName()));
+        std::hash<std::string>()(ctx_.sim->robot(ctx_.robot).spec.name + "/" + params.sensorName()));
 
     const std::string topic = params.getString("topicName", "scan");
-    frame_ = ctx.frame(params.getString("frameName", link));
+    frame_ = ctx_.frame(params.getString("frameName", link));
     if (frame_.size() > 1 && frame_[0] == '/') frame_ = frame_.substr(1);  // tf2 frames have no leading slash
     params.ignore({"hokuyoMinIntensity", "updateRate", "alwaysOn", "visualize", "topic"});
-    scanner_ = std::make_unique<LaserScanner>(*ctx.sim, ctx.robot, c);
+    scanner_ = std::make_unique<LaserScanner>(*ctx_.sim, ctx_.robot, c);
 
     msg_.header.frame_id = frame_;
     msg_.angle_min = static_cast<float>(c.min_angle_rad);
     msg_.angle_max = static_cast<float>(c.beam_count > 1 ? c.max_angle_rad : c.min_angle_rad);
     msg_.angle_increment = static_cast<float>(scanner_->angleIncrement());
     msg_.time_increment = 0.0f;  // all beams at once
-    msg_.scan_time = static_cast<float>(timer_.stepsPerUpdate() * ctx.sim->stepS());
+    msg_.scan_time = static_cast<float>(timer_.stepsPerUpdate() * ctx_.sim->stepS());
     msg_.range_min = static_cast<float>(c.min_range_m);
     msg_.range_max = static_cast<float>(c.max_range_m);
     msg_.ranges.resize(c.beam_count);
@@ -118,9 +114,9 @@ class LaserPlugin : public SimPlugin {
     ROS_INFO(
         "%s: LiDAR '%s' on link %s: %d beams over [%.4f, %.4f] rad, %.3f..%.3f m, noise %.4f m, %.1f Hz, "
         "%s in frame %s",
-        ctx.sim->robot(ctx.robot).spec.name.c_str(), params.sensorName().c_str(), link.c_str(), c.beam_count,
+        ctx_.sim->robot(ctx_.robot).spec.name.c_str(), params.sensorName().c_str(), link.c_str(), c.beam_count,
         c.min_angle_rad, c.max_angle_rad, c.min_range_m, c.max_range_m, c.noise_stddev_m,
-        1.0 / (timer_.stepsPerUpdate() * ctx.sim->stepS()), pub_.getTopic().c_str(), frame_.c_str());
+        1.0 / (timer_.stepsPerUpdate() * ctx_.sim->stepS()), pub_.getTopic().c_str(), frame_.c_str());
   }
 
   void afterStep() override {
@@ -143,7 +139,6 @@ class LaserPlugin : public SimPlugin {
     c.noise_stddev_m = std::hypot(c.noise_stddev_m, extra);  // independent noises add in variance
   }
 
-  PluginContext ctx_;
   std::unique_ptr<LaserScanner> scanner_;
   std::string frame_;
   UpdateTimer timer_;

@@ -46,8 +46,6 @@
 namespace conde_sim {
 namespace {
 
-namespace cp = conde_physics;
-
 constexpr char kJointStateType[] = "joint_state_controller/JointStateController";
 
 std::string supportedTypes() {
@@ -87,10 +85,9 @@ std::string typeName(XmlRpc::XmlRpcValue::Type t) {
 
 class RosControlPlugin : public SimPlugin {
  public:
-  void load(PluginContext& ctx, PluginParams& params) override {
-    ctx_ = ctx;
+  void configure(PluginParams& params, ros::NodeHandle& nh) override {
     params_where_ = params.where();
-    nh_ = ctx.nodeHandle(params);
+    nh_ = nh;
     const std::string sim_type = params.getString("robotSimType", "gazebo_ros_control/DefaultRobotHWSim");
     if (sim_type != "gazebo_ros_control/DefaultRobotHWSim") {
       throw params.error("robotSimType",
@@ -98,7 +95,7 @@ class RosControlPlugin : public SimPlugin {
     }
     const double period_s = params.getDouble("controlPeriod", 0.0);
     if (period_s < 0) throw params.error("controlPeriod", "must not be negative");
-    control_timer_ = period_s > 0 ? UpdateTimer::everySteps(std::llround(period_s / ctx.sim->stepS())) : UpdateTimer();
+    control_timer_ = period_s > 0 ? UpdateTimer::everySteps(std::llround(period_s / ctx_.sim->stepS())) : UpdateTimer();
     const std::string estop_topic = params.getString("eStopTopic", "");
     params.ignore({"robotParam", "legacyModeNS"});
 
@@ -114,7 +111,7 @@ class RosControlPlugin : public SimPlugin {
     std::string summary;
     for (const auto& c : controllers_) summary += " " + c.name;
     if (joint_state_pub_) summary += " " + joint_state_name_;
-    ROS_INFO("%s: ros_control controllers in %s:%s", ctx.sim->robot(ctx.robot).spec.name.c_str(),
+    ROS_INFO("%s: ros_control controllers in %s:%s", ctx_.sim->robot(ctx_.robot).spec.name.c_str(),
              nh_.getNamespace().c_str(), summary.c_str());
   }
 
@@ -310,7 +307,6 @@ class RosControlPlugin : public SimPlugin {
     for (auto& c : controllers_) c.controller->setStopped(msg->data);
   }
 
-  PluginContext ctx_;
   ros::NodeHandle nh_;
   std::string params_where_;
   UpdateTimer control_timer_, joint_state_timer_;

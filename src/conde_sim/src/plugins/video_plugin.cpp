@@ -18,20 +18,17 @@
 namespace conde_sim {
 namespace {
 
-namespace cp = conde_physics;
-
 class VideoPlugin : public SimPlugin {
  public:
-  void load(PluginContext& ctx, PluginParams& params) override {
-    ctx_ = ctx;
+  void configure(PluginParams& params, ros::NodeHandle& nh) override {
     const std::string link = params.referenceLink();
     if (link.empty()) throw PluginError(params.where() + ": must sit in <gazebo reference=\"link\">");
-    const auto& robot = ctx.sim->robot(ctx.robot);
+    const auto& robot = ctx_.sim->robot(ctx_.robot);
     if (robot.model.bodyIndex(link) < 0) {
       throw PluginError(params.where() + ": robot '" + robot.spec.name + "' has no link '" + link + "'");
     }
-    for (int index : ctx.sim->renderObjectsOfLink(ctx.robot, link)) {
-      if (ctx.sim->renderScene().object(index).shape == cp::RenderShape::kBox) {
+    for (int index : ctx_.sim->renderObjectsOfLink(ctx_.robot, link)) {
+      if (ctx_.sim->renderScene().object(index).shape == cp::RenderShape::kBox) {
         scene_object_ = index;
         break;
       }
@@ -43,7 +40,6 @@ class VideoPlugin : public SimPlugin {
     max_width_px_ = static_cast<int>(params.getDouble("width", 320));
     params.getDouble("height", 240);
     if (max_width_px_ <= 0) throw params.error("width", "must be positive");
-    ros::NodeHandle nh = ctx.nodeHandle(params);
     sub_ = nh.subscribe(topic, 1, &VideoPlugin::onImage, this);
     ROS_INFO("%s: display panel on link %s shows %s", robot.spec.name.c_str(), link.c_str(), sub_.getTopic().c_str());
   }
@@ -58,7 +54,6 @@ class VideoPlugin : public SimPlugin {
     ctx_.sim->renderScene().setObjectImage(scene_object_, image_);
   }
 
-  PluginContext ctx_;
   int scene_object_ = -1;
   int max_width_px_ = 320;
   cp::RgbImage image_;
