@@ -150,20 +150,10 @@ RenderScene renderSceneFromWorld(const WorldDescription& world) {
   }
   for (const WorldObject& w : world.objects) {
     RenderObject o;
-    switch (w.shape) {
-      case ObjectShape::kBox:
-        o.shape = RenderShape::kBox;
-        break;
-      case ObjectShape::kCylinder:
-        o.shape = RenderShape::kCylinder;
-        break;
-      case ObjectShape::kCone:
-        o.shape = RenderShape::kCone;
-        break;
-      case ObjectShape::kSphere:
-        o.shape = RenderShape::kSphere;
-        break;
-    }
+    o.shape = w.shape == ObjectShape::kBox        ? RenderShape::kBox
+              : w.shape == ObjectShape::kCylinder ? RenderShape::kCylinder
+              : w.shape == ObjectShape::kCone     ? RenderShape::kCone
+                                                  : RenderShape::kSphere;
     o.size_m = w.size_m;
     o.radius_m = w.radius_m;
     o.length_m = w.length_m;

@@ -39,6 +39,22 @@ std::optional<bool> boolText(const std::string& t) {
   return std::nullopt;
 }
 
+// The whole of `t` as a T (double, long or bool), and what an error says was expected.
+template <class T>
+std::optional<T> parsed(const std::string& t) {
+  if constexpr (std::is_same_v<T, bool>) {
+    return boolText(t);
+  } else {
+    return wholeNumber<T>(t);
+  }
+}
+template <class T>
+const char* expected() {
+  if constexpr (std::is_same_v<T, bool>) return "true, false, 1 or 0";
+  if constexpr (std::is_integral_v<T>) return "an integer";
+  return "a number";
+}
+
 }  // namespace
 
 PluginParams::PluginParams(const tinyxml2::XMLElement* plugin, const tinyxml2::XMLElement* sensor, std::string source,
@@ -189,32 +205,21 @@ PluginParams::SensorNoise PluginParams::sensorNoise(const std::string& path) {
   return noise;
 }
 
-double PluginParams::sensorDouble(const std::string& key, double fallback) {
+template <class T>
+T PluginParams::sensorValue(const std::string& key, T fallback) {
   sensor_used_.insert(key);
   const auto* e = sensorElement(key);
   if (!e) return fallback;
   const std::string t = text(e);
-  if (const std::optional<double> v = wholeNumber<double>(t)) return *v;
-  throw sensorError(key, "expected a number, got '" + t + "'");
+  if (const std::optional<T> v = parsed<T>(t)) return *v;
+  throw sensorError(key, std::string("expected ") + expected<T>() + ", got '" + t + "'");
 }
 
-long PluginParams::sensorInt(const std::string& key, long fallback) {
-  sensor_used_.insert(key);
-  const auto* e = sensorElement(key);
-  if (!e) return fallback;
-  const std::string t = text(e);
-  if (const std::optional<long> v = wholeNumber<long>(t)) return *v;
-  throw sensorError(key, "expected an integer, got '" + t + "'");
-}
+double PluginParams::sensorDouble(const std::string& key, double fallback) { return sensorValue(key, fallback); }
 
-bool PluginParams::sensorBool(const std::string& key, bool fallback) {
-  sensor_used_.insert(key);
-  const auto* e = sensorElement(key);
-  if (!e) return fallback;
-  const std::string t = text(e);
-  if (const std::optional<bool> v = boolText(t)) return *v;
-  throw sensorError(key, "expected true, false, 1 or 0, got '" + t + "'");
-}
+long PluginParams::sensorInt(const std::string& key, long fallback) { return sensorValue(key, fallback); }
+
+bool PluginParams::sensorBool(const std::string& key, bool fallback) { return sensorValue(key, fallback); }
 
 std::string PluginParams::sensorString(const std::string& key, const std::string& fallback) {
   sensor_used_.insert(key);

@@ -83,6 +83,9 @@ class PluginParams {
   std::string text(const tinyxml2::XMLElement* e) const;
   double toDouble(const tinyxml2::XMLElement* e, const std::string& key) const;
   const tinyxml2::XMLElement* sensorElement(const std::string& path) const;
+  // A <sensor> value of type T (double, long, bool), or `fallback` when the element is absent.
+  template <class T>
+  T sensorValue(const std::string& key, T fallback);
   void checkSensorChildren(const tinyxml2::XMLElement* parent, const std::string& path) const;
 
   const tinyxml2::XMLElement* plugin_;

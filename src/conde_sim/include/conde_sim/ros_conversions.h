@@ -23,21 +23,19 @@ inline geometry_msgs::Quaternion toMsg(const conde_physics::Quat& q) {
   return m;
 }
 
-inline geometry_msgs::Point toPointMsg(const conde_physics::Vec3& v) {
-  geometry_msgs::Point m;
+// A message with x, y, z fields (Point, Vector3) from a vector.
+template <class Msg>
+Msg toXyzMsg(const conde_physics::Vec3& v) {
+  Msg m;
   m.x = v.x;
   m.y = v.y;
   m.z = v.z;
   return m;
 }
 
-inline geometry_msgs::Vector3 toVector3Msg(const conde_physics::Vec3& v) {
-  geometry_msgs::Vector3 m;
-  m.x = v.x;
-  m.y = v.y;
-  m.z = v.z;
-  return m;
-}
+inline geometry_msgs::Point toPointMsg(const conde_physics::Vec3& v) { return toXyzMsg<geometry_msgs::Point>(v); }
+
+inline geometry_msgs::Vector3 toVector3Msg(const conde_physics::Vec3& v) { return toXyzMsg<geometry_msgs::Vector3>(v); }
 
 inline geometry_msgs::Pose toMsg(const conde_physics::Pose& p) {
   geometry_msgs::Pose m;

@@ -37,6 +37,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <sstream>
 
 #include "conde_sim/joint_controller.h"
@@ -65,22 +66,12 @@ bool looksLikeControllerType(const std::string& type) {
 }
 
 std::string typeName(XmlRpc::XmlRpcValue::Type t) {
-  switch (t) {
-    case XmlRpc::XmlRpcValue::TypeBoolean:
-      return "a boolean";
-    case XmlRpc::XmlRpcValue::TypeInt:
-      return "an integer";
-    case XmlRpc::XmlRpcValue::TypeDouble:
-      return "a number";
-    case XmlRpc::XmlRpcValue::TypeString:
-      return "a string";
-    case XmlRpc::XmlRpcValue::TypeArray:
-      return "a list";
-    case XmlRpc::XmlRpcValue::TypeStruct:
-      return "a dictionary";
-    default:
-      return "something else";
-  }
+  using V = XmlRpc::XmlRpcValue;
+  static const std::map<V::Type, std::string> names = {{V::TypeBoolean, "a boolean"}, {V::TypeInt, "an integer"},
+                                                       {V::TypeDouble, "a number"},   {V::TypeString, "a string"},
+                                                       {V::TypeArray, "a list"},      {V::TypeStruct, "a dictionary"}};
+  const auto it = names.find(t);
+  return it == names.end() ? "something else" : it->second;
 }
 
 class RosControlPlugin : public SimPlugin {
