@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 """Conde's cameras through ROS (see cameras.test): rates in sim time, CameraInfo, optical frames
 in TF, and the signalling-panel monitors seen by the top camera."""
+import functools
 import math
 import time
 import unittest
@@ -16,6 +17,8 @@ from std_srvs.srv import Empty
 
 from conde_msgs.srv import StepSimulation
 
+import stepped_sim
+
 WALL_TIMEOUT_S = 90.0  # generous: the machine may be slow and busy
 FRAME_S = 1.0 / 30.0
 
@@ -30,13 +33,7 @@ CAMERAS = {
 }
 
 
-def wait_for(predicate, what, timeout_s=WALL_TIMEOUT_S):
-    end = time.monotonic() + timeout_s
-    while time.monotonic() < end and not rospy.is_shutdown():
-        if predicate():
-            return
-        time.sleep(0.02)
-    raise AssertionError(f"timed out after {timeout_s} s waiting for {what}")
+wait_for = functools.partial(stepped_sim.wait_for, timeout_s=WALL_TIMEOUT_S)
 
 
 def as_array(msg):

@@ -1,7 +1,6 @@
 #!/usr/bin/env python3
 """Wiring test of sim.launch with a real roscore (see sim_smoke.test)."""
 import math
-import time
 import unittest
 import xml.etree.ElementTree as ET
 
@@ -13,17 +12,7 @@ from nav_msgs.msg import Odometry
 from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import Imu
 
-WALL_TIMEOUT_S = 60.0  # generous: the machine may be slow and busy
-
-
-def wait_for(predicate, what):
-    """Polls `predicate` until it holds; wall-clock timeout because sim time may not run yet."""
-    end = time.monotonic() + WALL_TIMEOUT_S
-    while time.monotonic() < end and not rospy.is_shutdown():
-        if predicate():
-            return
-        time.sleep(0.02)
-    raise AssertionError(f"timed out after {WALL_TIMEOUT_S} s waiting for {what}")
+from stepped_sim import wait_for  # on the wall clock: sim time may not run yet
 
 
 class SimSmokeTest(unittest.TestCase):

@@ -60,47 +60,34 @@ def run_node(env, urdf, controllers=None, **params):
     return proc.returncode, proc.stderr
 
 
+def startup_error(env, urdf, controllers=None):
+    """The error line of a start of conde_sim_node that must fail."""
+    code, err = run_node(env, urdf, controllers)
+    assert code != 0
+    return error_line(err)
+
+
 # ---------------------------------------------------------------- Ackermann drive
 
 ACKERMANN = "plugin 'ackermann_drive' (libconde_ackermann_drive.so)"
 
 
-def test_steering_joint_missing(master):
-    urdf = changed(car_urdf(), "<rightSteeringJoint>right_steering_joint</rightSteeringJoint>", "")
-    code, err = run_node(master, urdf)
-    assert code != 0
-    line = line_of(urdf, 'filename="libconde_ackermann_drive.so"')
-    assert error_line(err) == (f"/robot_description:{line}: {ACKERMANN}: "
-                               "<rightSteeringJoint>: required parameter is missing")
-
-
-def test_steering_joint_unknown(master):
-    urdf = changed(car_urdf(), "<leftSteeringJoint>left_steering_joint<", "<leftSteeringJoint>left_steer<")
-    code, err = run_node(master, urdf)
-    assert code != 0
-    line = line_of(urdf, 'filename="libconde_ackermann_drive.so"')
-    assert error_line(err) == (f"/robot_description:{line}: {ACKERMANN}: <leftSteeringJoint>: "
-                               "robot 'ackermann_car' has no movable joint named 'left_steer'")
-
-
-def test_steering_joint_about_the_wrong_axis(master):
+@pytest.mark.parametrize("old, new, detail", [
+    ("<rightSteeringJoint>right_steering_joint</rightSteeringJoint>", "",
+     "<rightSteeringJoint>: required parameter is missing"),
+    ("<leftSteeringJoint>left_steering_joint<", "<leftSteeringJoint>left_steer<",
+     "<leftSteeringJoint>: robot 'ackermann_car' has no movable joint named 'left_steer'"),
     # A wheel joint (about y) named as the steering joint.
-    urdf = changed(car_urdf(), "<rightSteeringJoint>right_steering_joint<",
-                   "<rightSteeringJoint>right_front_wheel_joint<")
-    code, err = run_node(master, urdf)
-    assert code != 0
+    ("<rightSteeringJoint>right_steering_joint<", "<rightSteeringJoint>right_front_wheel_joint<",
+     "<rightSteeringJoint>: joint 'right_front_wheel_joint' must turn about the vertical (z) axis of 'base_footprint'"),
+    ("<driveWheels>rear</driveWheels>", "<driveWheels>4wd</driveWheels>",
+     "<driveWheels>: expected 'rear', 'front' or 'all', got '4wd'"),
+], ids=["steering_joint_missing", "steering_joint_unknown", "steering_joint_about_the_wrong_axis",
+        "unknown_drive_wheels"])
+def test_bad_ackermann_drive(master, old, new, detail):
+    urdf = changed(car_urdf(), old, new)
     line = line_of(urdf, 'filename="libconde_ackermann_drive.so"')
-    assert error_line(err) == (f"/robot_description:{line}: {ACKERMANN}: <rightSteeringJoint>: joint "
-                               "'right_front_wheel_joint' must turn about the vertical (z) axis of 'base_footprint'")
-
-
-def test_unknown_drive_wheels(master):
-    urdf = changed(car_urdf(), "<driveWheels>rear</driveWheels>", "<driveWheels>4wd</driveWheels>")
-    code, err = run_node(master, urdf)
-    assert code != 0
-    line = line_of(urdf, 'filename="libconde_ackermann_drive.so"')
-    assert error_line(err) == (f"/robot_description:{line}: {ACKERMANN}: <driveWheels>: "
-                               "expected 'rear', 'front' or 'all', got '4wd'")
+    assert startup_error(master, urdf) == f"/robot_description:{line}: {ACKERMANN}: {detail}"
 
 
 # ---------------------------------------------------------------- ros_control controllers
@@ -108,26 +95,25 @@ def test_unknown_drive_wheels(master):
 ROS_CONTROL = "plugin 'gazebo_ros_control' (libgazebo_ros_control.so)"
 
 
+def ros_control_error(master, urdf, controllers):
+    """The start-up error of the ros_control car with `controllers`, and the URDF line it must name."""
+    return startup_error(master, urdf, controllers), line_of(urdf, 'filename="libgazebo_ros_control.so"')
+
+
 def test_controller_with_unknown_joint(master):
-    urdf = car_urdf("ros_control")
     controllers = dict(CONTROLLERS)
     controllers["left_steering_ctrlr"] = dict(CONTROLLERS["left_steering_ctrlr"], joint="left_steer")
-    code, err = run_node(master, urdf, controllers)
-    assert code != 0
-    line = line_of(urdf, 'filename="libgazebo_ros_control.so"')
-    assert error_line(err) == (f"/robot_description:{line}: {ROS_CONTROL}: controller 'left_steering_ctrlr': "
-                               "parameter /left_steering_ctrlr/joint: robot 'ackermann_car' has no movable joint "
-                               "named 'left_steer'")
+    error, line = ros_control_error(master, car_urdf("ros_control"), controllers)
+    assert error == (f"/robot_description:{line}: {ROS_CONTROL}: controller 'left_steering_ctrlr': "
+                     "parameter /left_steering_ctrlr/joint: robot 'ackermann_car' has no movable joint "
+                     "named 'left_steer'")
 
 
 def test_controller_of_an_unsupported_type(master):
-    urdf = car_urdf("ros_control")
     controllers = dict(CONTROLLERS)
     controllers["base_ctrlr"] = {"type": "diff_drive_controller/DiffDriveController"}
-    code, err = run_node(master, urdf, controllers)
-    assert code != 0
-    line = line_of(urdf, 'filename="libgazebo_ros_control.so"')
-    assert error_line(err) == (
+    error, line = ros_control_error(master, car_urdf("ros_control"), controllers)
+    assert error == (
         f"/robot_description:{line}: {ROS_CONTROL}: controller 'base_ctrlr': parameter /base_ctrlr/type: "
         "unsupported controller type 'diff_drive_controller/DiffDriveController' (supported: "
         "effort_controllers/JointPositionController, effort_controllers/JointVelocityController, "
@@ -136,25 +122,20 @@ def test_controller_of_an_unsupported_type(master):
 
 
 def test_controller_with_an_unknown_pid_key(master):
-    urdf = car_urdf("ros_control")
     controllers = dict(CONTROLLERS)
     controllers["left_steering_ctrlr"] = dict(CONTROLLERS["left_steering_ctrlr"], pid={"p": 1.0, "I": 0.5})
-    code, err = run_node(master, urdf, controllers)
-    assert code != 0
-    line = line_of(urdf, 'filename="libgazebo_ros_control.so"')
-    assert error_line(err) == (f"/robot_description:{line}: {ROS_CONTROL}: controller 'left_steering_ctrlr': "
-                               "parameter /left_steering_ctrlr/pid/I: unknown key (expected one of: p, i, d, "
-                               "i_clamp, i_clamp_min, i_clamp_max, antiwindup, publish_state)")
+    error, line = ros_control_error(master, car_urdf("ros_control"), controllers)
+    assert error == (f"/robot_description:{line}: {ROS_CONTROL}: controller 'left_steering_ctrlr': "
+                     "parameter /left_steering_ctrlr/pid/I: unknown key (expected one of: p, i, d, "
+                     "i_clamp, i_clamp_min, i_clamp_max, antiwindup, publish_state)")
 
 
 def test_listed_controller_without_yaml(master):
     urdf = changed(car_urdf("ros_control"), "<legacyModeNS>true</legacyModeNS>",
                    "<legacyModeNS>true</legacyModeNS><controllers>joint_state_ctrlr steer_ctrlr</controllers>")
-    code, err = run_node(master, urdf, CONTROLLERS)
-    assert code != 0
-    line = line_of(urdf, 'filename="libgazebo_ros_control.so"')
-    assert error_line(err) == (f"/robot_description:{line}: {ROS_CONTROL}: controller 'steer_ctrlr': parameter "
-                               "/steer_ctrlr/type: not set: load the controller YAML before the simulator starts")
+    error, line = ros_control_error(master, urdf, CONTROLLERS)
+    assert error == (f"/robot_description:{line}: {ROS_CONTROL}: controller 'steer_ctrlr': parameter "
+                     "/steer_ctrlr/type: not set: load the controller YAML before the simulator starts")
 
 
 # ---------------------------------------------------------------- LiDAR
@@ -162,41 +143,23 @@ def test_listed_controller_without_yaml(master):
 LIDAR = "sensor 'lidar' (ray)"
 
 
-def test_lidar_with_zero_samples(master):
-    urdf = changed(car_urdf(), "<samples>1081</samples>", "<samples>0</samples>")
-    code, err = run_node(master, urdf)
-    assert code != 0
-    line = line_of(urdf, "<samples>0</samples>")
-    assert error_line(err) == (f"/robot_description:{line}: {LIDAR}: "
-                               "<ray><scan><horizontal><samples>: must be at least 1, got 0")
-
-
-def test_lidar_with_min_angle_not_below_max_angle(master):
-    urdf = changed(car_urdf(), "<min_angle>-2.35619449</min_angle>", "<min_angle>1.0</min_angle>")
-    urdf = changed(urdf, "<max_angle>2.35619449</max_angle>", "<max_angle>0.5</max_angle>")
-    code, err = run_node(master, urdf)
-    assert code != 0
-    line = line_of(urdf, "<max_angle>0.5</max_angle>")
-    assert error_line(err) == (f"/robot_description:{line}: {LIDAR}: <ray><scan><horizontal><max_angle>: "
-                               "must be greater than <min_angle> (1), got 0.5")
-
-
-def test_lidar_with_min_range_not_below_max_range(master):
-    urdf = changed(car_urdf(), "<min>0.06</min>", "<min>5</min>")
-    urdf = changed(urdf, "<max>10.0</max>", "<max>2</max>")
-    code, err = run_node(master, urdf)
-    assert code != 0
-    line = line_of(urdf, "<max>2</max>")
-    assert error_line(err) == (f"/robot_description:{line}: {LIDAR}: "
-                               "<ray><range><max>: must be greater than <min> (5), got 2")
-
-
-def test_lidar_with_unknown_element(master):
-    urdf = changed(car_urdf(), "<resolution>0.01</resolution>", "<resolution>0.01</resolution><step>0.1</step>")
-    code, err = run_node(master, urdf)
-    assert code != 0
-    line = line_of(urdf, "<step>0.1</step>")
-    assert error_line(err) == f"/robot_description:{line}: {LIDAR}: unknown element <ray><range><step>"
+@pytest.mark.parametrize("edits, named_line, detail", [
+    ([("<samples>1081</samples>", "<samples>0</samples>")], "<samples>0</samples>",
+     "<ray><scan><horizontal><samples>: must be at least 1, got 0"),
+    ([("<min_angle>-2.35619449</min_angle>", "<min_angle>1.0</min_angle>"),
+      ("<max_angle>2.35619449</max_angle>", "<max_angle>0.5</max_angle>")], "<max_angle>0.5</max_angle>",
+     "<ray><scan><horizontal><max_angle>: must be greater than <min_angle> (1), got 0.5"),
+    ([("<min>0.06</min>", "<min>5</min>"), ("<max>10.0</max>", "<max>2</max>")], "<max>2</max>",
+     "<ray><range><max>: must be greater than <min> (5), got 2"),
+    ([("<resolution>0.01</resolution>", "<resolution>0.01</resolution><step>0.1</step>")], "<step>0.1</step>",
+     "unknown element <ray><range><step>"),
+], ids=["zero_samples", "min_angle_not_below_max_angle", "min_range_not_below_max_range", "unknown_element"])
+def test_bad_lidar(master, edits, named_line, detail):
+    urdf = car_urdf()
+    for old, new in edits:
+        urdf = changed(urdf, old, new)
+    line = line_of(urdf, named_line)
+    assert startup_error(master, urdf) == f"/robot_description:{line}: {LIDAR}: {detail}"
 
 
 # ---------------------------------------------------------------- good input

@@ -3,6 +3,8 @@ ROS_PACKAGE_PATH (so `$(find conde_description)` resolves to it), a cache of exp
 lookups into the parsed URDF."""
 
 import os
+import shutil
+import subprocess
 import xml.etree.ElementTree as ET
 
 import numpy as np
@@ -30,6 +32,47 @@ class XacroRobot:
         if key not in self._trees:
             self._trees[key] = ET.fromstring(self.process(**args))
         return self._trees[key]
+
+
+def args_id(args):
+    """A test id for a set of xacro args: 'name=value,...', or 'defaults'."""
+    return ','.join('%s=%s' % kv for kv in sorted(args.items())) or 'defaults'
+
+
+def check_urdf(urdf_text, tmp_path, file_name):
+    """Runs check_urdf (liburdfdom-tools) on `urdf_text`, written to tmp_path/file_name; asserts that
+    it accepts it and returns what it printed."""
+    check_urdf = shutil.which('check_urdf')
+    assert check_urdf, 'check_urdf (liburdfdom-tools) is not installed'
+    urdf_file = tmp_path / file_name
+    urdf_file.write_text(urdf_text)
+    result = subprocess.run([check_urdf, str(urdf_file)], capture_output=True, text=True)
+    assert result.returncode == 0, result.stdout + result.stderr
+    return result.stdout
+
+
+def assert_no_leftover_xacro(urdf_text):
+    assert 'xacro:' not in urdf_text.replace('xmlns:xacro', '')
+    assert '${' not in urdf_text and '$(' not in urdf_text
+
+
+def parent_links(root):
+    """child link name -> parent link name, over every joint."""
+    return {j.find('child').get('link'): j.find('parent').get('link') for j in root.findall('joint')}
+
+
+def assert_frame_tree(root, root_link, parent_of):
+    """The joints make one tree hanging from root_link, in which each link of `parent_of` (link
+    name -> parent link name) hangs from its parent."""
+    parents = parent_links(root)
+    assert set(links(root)) - set(parents) == {root_link}
+    for link, parent in parent_of.items():
+        assert parents[link] == parent, link
+
+
+def movable_joints(root):
+    """Names of the joints that are not fixed."""
+    return {n for n, j in joints(root).items() if j.get('type') != 'fixed'}
 
 
 def floats(text):

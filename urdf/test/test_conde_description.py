@@ -8,13 +8,12 @@ those measured on the original Gazebo model (conde.sdf).
 """
 
 import math
-import shutil
-import subprocess
 
 import numpy as np
 import pytest
 
-from description_helpers import XacroRobot, floats, joints, links
+from description_helpers import (XacroRobot, args_id, assert_frame_tree, assert_no_leftover_xacro, check_urdf, floats,
+                                 joints, links, movable_joints)
 
 ROBOT = XacroRobot('conde.urdf.xacro')
 process = ROBOT.process
@@ -130,17 +129,11 @@ def fixed_group(root, link_name):
 # ----------------------------------------------------------------------------------------------
 # validity
 # ----------------------------------------------------------------------------------------------
-@pytest.mark.parametrize('args', ARG_SETS, ids=lambda a: ','.join(
-    '%s=%s' % kv for kv in sorted(a.items())) or 'defaults')
+@pytest.mark.parametrize('args', ARG_SETS, ids=args_id)
 def test_check_urdf_accepts_every_argument_combination(args, tmp_path):
-    check_urdf = shutil.which('check_urdf')
-    assert check_urdf, 'check_urdf (liburdfdom-tools) is not installed'
-    urdf_file = tmp_path / 'conde.urdf'
-    urdf_file.write_text(process(**args))
-    result = subprocess.run([check_urdf, str(urdf_file)], capture_output=True, text=True)
-    assert result.returncode == 0, result.stdout + result.stderr
-    assert 'Successfully Parsed XML' in result.stdout
-    assert 'root Link: base_footprint' in result.stdout
+    printed = check_urdf(process(**args), tmp_path, 'conde.urdf')
+    assert 'Successfully Parsed XML' in printed
+    assert 'root Link: base_footprint' in printed
 
 
 @pytest.mark.parametrize('args, name', [
@@ -155,20 +148,14 @@ def test_invalid_arguments_are_rejected(args, name):
 def test_frame_tree():
     root = robot()
     assert root.get('name') == 'conde'
-    all_links = links(root)
-    assert all_links[ROOT].find('inertial') is None, 'root link must be massless'
-    parents = {j.find('child').get('link'): j.find('parent').get('link')
-               for j in root.findall('joint')}
-    assert set(all_links) - set(parents) == {ROOT}
-    assert parents['base_link'] == ROOT
-    for link in ['left_wheel', 'right_wheel', 'caster', 'imu_link',
-                 'camera_tracking_left_link', 'camera_tracking_right_link',
-                 'camera_signalling_panel_link']:
-        assert parents[link] == 'base_link', link
-    for cam in ['camera_tracking_left', 'camera_tracking_right', 'camera_signalling_panel']:
-        assert parents[cam + '_optical'] == cam + '_link'
-    movable = {n for n, j in joints(root).items() if j.get('type') != 'fixed'}
-    assert movable == {'left_wheel_joint', 'right_wheel_joint'}
+    assert links(root)[ROOT].find('inertial') is None, 'root link must be massless'
+    cameras = ['camera_tracking_left', 'camera_tracking_right', 'camera_signalling_panel']
+    assert_frame_tree(root, ROOT, dict(
+        {'base_link': ROOT},
+        **{link: 'base_link' for link in ['left_wheel', 'right_wheel', 'caster', 'imu_link'] + [
+            cam + '_link' for cam in cameras]},
+        **{cam + '_optical': cam + '_link' for cam in cameras}))
+    assert movable_joints(root) == {'left_wheel_joint', 'right_wheel_joint'}
 
 
 def test_base_link_is_the_original_chassis_frame():
@@ -438,6 +425,4 @@ def test_imu_follows_its_argument(imu):
 
 
 def test_generated_urdf_has_no_leftover_xacro():
-    text = process()
-    assert 'xacro:' not in text.replace('xmlns:xacro', '')
-    assert '${' not in text and '$(' not in text
+    assert_no_leftover_xacro(process())

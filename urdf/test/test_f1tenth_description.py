@@ -10,13 +10,12 @@ the ones the issue asks for (0.33 m wheelbase class, 1081-beam 270 degree LiDAR 
 
 import itertools
 import math
-import shutil
-import subprocess
 
 import numpy as np
 import pytest
 
-from description_helpers import XacroRobot, floats, joints, links, mass, plugin_params
+from description_helpers import (XacroRobot, args_id, assert_frame_tree, assert_no_leftover_xacro, check_urdf, floats,
+                                 joints, links, mass, movable_joints, plugin_params)
 
 ROBOT = XacroRobot('f1tenth.urdf.xacro')
 process = ROBOT.process
@@ -32,10 +31,6 @@ ARG_SETS = [{}, {'drive': '2wd'}, {'prefix': 'car7/'}, {'odometry_source': 'worl
     if 'false' in values]
 MOVABLE = {'left_steering_joint', 'right_steering_joint', 'left_front_wheel_joint',
            'right_front_wheel_joint', 'left_rear_wheel_joint', 'right_rear_wheel_joint'}
-
-
-def args_id(args):
-    return ','.join('%s=%s' % kv for kv in sorted(args.items())) or 'defaults'
 
 
 def position_in_root(root, link_name, root_name='base_footprint'):
@@ -61,13 +56,8 @@ def sensor(root, sensor_type):
 # ----------------------------------------------------------------------------------------------
 @pytest.mark.parametrize('args', ARG_SETS, ids=args_id)
 def test_check_urdf_accepts_every_argument_combination(args, tmp_path):
-    check_urdf = shutil.which('check_urdf')
-    assert check_urdf, 'check_urdf (liburdfdom-tools) is not installed'
-    urdf_file = tmp_path / 'f1tenth.urdf'
-    urdf_file.write_text(process(**args))
-    result = subprocess.run([check_urdf, str(urdf_file)], capture_output=True, text=True)
-    assert result.returncode == 0, result.stdout + result.stderr
-    assert 'root Link: %sbase_footprint' % args.get('prefix', '') in result.stdout
+    printed = check_urdf(process(**args), tmp_path, 'f1tenth.urdf')
+    assert 'root Link: %sbase_footprint' % args.get('prefix', '') in printed
 
 
 @pytest.mark.parametrize('name, value', [('drive', 'awd'), ('lidar', 'yes'), ('imu', '1'), ('camera', 'on'),
@@ -78,9 +68,7 @@ def test_invalid_arguments_are_rejected_naming_the_argument(name, value):
 
 
 def test_generated_urdf_has_no_leftover_xacro():
-    text = process()
-    assert 'xacro:' not in text.replace('xmlns:xacro', '')
-    assert '${' not in text and '$(' not in text
+    assert_no_leftover_xacro(process())
 
 
 # ----------------------------------------------------------------------------------------------
@@ -89,25 +77,20 @@ def test_generated_urdf_has_no_leftover_xacro():
 def test_frame_tree_and_movable_joints():
     root = robot()
     assert root.get('name') == 'f1tenth'
-    parents = {j.find('child').get('link'): j.find('parent').get('link') for j in root.findall('joint')}
-    assert set(links(root)) - set(parents) == {'base_footprint'}
     assert links(root)['base_footprint'].find('inertial') is None, 'the root link must be massless'
-    assert parents['base_link'] == 'base_footprint'
-    for link in ('left_rear_wheel', 'right_rear_wheel', 'left_steering_link', 'right_steering_link', 'laser',
-                 'imu_link', 'camera_link'):
-        assert parents[link] == 'base_link', link
-    assert parents['left_front_wheel'] == 'left_steering_link'
-    assert parents['right_front_wheel'] == 'right_steering_link'
-    assert parents['camera_optical'] == 'camera_link'
-    movable = {n for n, j in joints(root).items() if j.get('type') != 'fixed'}
-    assert movable == MOVABLE
+    assert_frame_tree(root, 'base_footprint', dict(
+        {link: 'base_link' for link in ('left_rear_wheel', 'right_rear_wheel', 'left_steering_link',
+                                        'right_steering_link', 'laser', 'imu_link', 'camera_link')},
+        base_link='base_footprint', left_front_wheel='left_steering_link', right_front_wheel='right_steering_link',
+        camera_optical='camera_link'))
+    assert movable_joints(root) == MOVABLE
 
 
 def test_prefix_names_every_link_joint_and_frame():
     root = robot(prefix='car7/')
     assert all(name.startswith('car7/') for name in links(root)), sorted(links(root))
     assert all(name.startswith('car7/') for name in joints(root)), sorted(joints(root))
-    assert {n for n, j in joints(root).items() if j.get('type') != 'fixed'} == {'car7/' + n for n in MOVABLE}
+    assert movable_joints(root) == {'car7/' + n for n in MOVABLE}
     drive = plugin_params(root, 'libconde_ackermann_drive.so')
     for key in ('leftSteeringJoint', 'rightSteeringJoint', 'leftFrontWheelJoint', 'rightFrontWheelJoint',
                 'leftRearWheelJoint', 'rightRearWheelJoint'):

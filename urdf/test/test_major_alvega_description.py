@@ -8,14 +8,13 @@ parsed with xml.etree and validated with check_urdf (liburdfdom-tools).
 """
 
 import math
-import shutil
-import subprocess
 import xml.etree.ElementTree as ET
 
 import numpy as np
 import pytest
 
-from description_helpers import XacroRobot, floats, joints, links, mass, plugin_params
+from description_helpers import (XacroRobot, assert_frame_tree, assert_no_leftover_xacro, check_urdf, floats, joints,
+                                 links, mass, movable_joints, plugin_params)
 
 ROBOT = XacroRobot('major_alvega.urdf.xacro')
 process = ROBOT.process
@@ -78,13 +77,7 @@ def surface(root, link):
 # ----------------------------------------------------------------------------------------------
 @pytest.mark.parametrize('cameras', ['true', 'false'])
 def test_check_urdf_accepts_the_robot(cameras, tmp_path):
-    check_urdf = shutil.which('check_urdf')
-    assert check_urdf, 'check_urdf (liburdfdom-tools) is not installed'
-    urdf_file = tmp_path / 'major_alvega.urdf'
-    urdf_file.write_text(process(cameras=cameras))
-    result = subprocess.run([check_urdf, str(urdf_file)], capture_output=True, text=True)
-    assert result.returncode == 0, result.stdout + result.stderr
-    assert 'root Link: base_link' in result.stdout
+    assert 'root Link: base_link' in check_urdf(process(cameras=cameras), tmp_path, 'major_alvega.urdf')
 
 
 def test_invalid_cameras_argument_is_rejected_naming_it():
@@ -93,9 +86,7 @@ def test_invalid_cameras_argument_is_rejected_naming_it():
 
 
 def test_generated_urdf_has_no_leftover_xacro():
-    text = process()
-    assert 'xacro:' not in text.replace('xmlns:xacro', '')
-    assert '${' not in text and '$(' not in text
+    assert_no_leftover_xacro(process())
 
 
 # ----------------------------------------------------------------------------------------------
@@ -104,18 +95,13 @@ def test_generated_urdf_has_no_leftover_xacro():
 def test_frame_tree_and_joint_names():
     root = robot()
     assert root.get('name') == 'major_alvega'
-    parents = {j.find('child').get('link'): j.find('parent').get('link') for j in root.findall('joint')}
-    assert set(links(root)) - set(parents) == {'base_link'}
     assert links(root)['base_link'].find('inertial') is None, 'base_link has no inertial, as in the original'
-    assert parents['chassis'] == 'base_link'
-    for link in ('top_chassis', 'bar_chassis', 'left_rear_wheel', 'right_rear_wheel', 'left_steering_link',
-                 'right_steering_link', 'camera_link', 'top_camera_link'):
-        assert parents[link] == 'chassis', link
-    assert parents['left_front_wheel'] == 'left_steering_link'
-    assert parents['right_front_wheel'] == 'right_steering_link'
-    assert parents['camera_link_optical'] == 'camera_link'
-    assert parents['top_camera_link_optical'] == 'top_camera_link'
-    assert {n for n, j in joints(root).items() if j.get('type') != 'fixed'} == MOVABLE
+    assert_frame_tree(root, 'base_link', dict(
+        {link: 'chassis' for link in ('top_chassis', 'bar_chassis', 'left_rear_wheel', 'right_rear_wheel',
+                                      'left_steering_link', 'right_steering_link', 'camera_link', 'top_camera_link')},
+        chassis='base_link', left_front_wheel='left_steering_link', right_front_wheel='right_steering_link',
+        camera_link_optical='camera_link', top_camera_link_optical='top_camera_link'))
+    assert movable_joints(root) == MOVABLE
     np.testing.assert_allclose(pose_in_root(root, 'chassis')[0], [0, 0, 0])
 
 

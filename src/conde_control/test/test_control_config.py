@@ -36,35 +36,21 @@ def test_missing_keys_keep_defaults(tmp_path):
     assert load_config(write(tmp_path, "", "empty.yaml")) == ControlConfig()
 
 
-def test_unknown_key(tmp_path):
-    path = write(tmp_path, "max_linear_mps: 0.4\nmax_speed: 2\n")
-    assert error_of(path) == f"{path}: unknown key 'max_speed' (expected one of: {KEYS})"
-
-
-def test_negative_limit(tmp_path):
-    path = write(tmp_path, "max_angular_accel_radps2: -3\n")
-    assert error_of(path) == f"{path}: max_angular_accel_radps2: a limit must be > 0, got -3"
-
-
-def test_zero_limit(tmp_path):
-    path = write(tmp_path, "max_linear_mps: 0\n")
-    assert error_of(path) == f"{path}: max_linear_mps: a limit must be > 0, got 0"
-
-
-def test_negative_gain(tmp_path):
-    path = write(tmp_path, "heading_gain_per_m: -1.5\n")
-    assert error_of(path) == f"{path}: heading_gain_per_m: a gain must be >= 0, got -1.5"
-
-
-@pytest.mark.parametrize("text, shown", [("fast", "'fast'"), ("true", "True"), (".nan", "nan"), ("[1, 2]", "[1, 2]")])
-def test_not_a_number(tmp_path, text, shown):
-    path = write(tmp_path, f"max_linear_mps: {text}\n")
-    assert error_of(path) == f"{path}: max_linear_mps: expected a finite number, got {shown}"
-
-
-def test_not_a_mapping(tmp_path):
-    path = write(tmp_path, "- max_linear_mps: 1\n")
-    assert error_of(path) == f"{path}: expected a mapping of gains and limits, got list"
+@pytest.mark.parametrize("text, message", [
+    ("max_linear_mps: 0.4\nmax_speed: 2\n", f"unknown key 'max_speed' (expected one of: {KEYS})"),
+    ("max_angular_accel_radps2: -3\n", "max_angular_accel_radps2: a limit must be > 0, got -3"),
+    ("max_linear_mps: 0\n", "max_linear_mps: a limit must be > 0, got 0"),
+    ("heading_gain_per_m: -1.5\n", "heading_gain_per_m: a gain must be >= 0, got -1.5"),
+    ("max_linear_mps: fast\n", "max_linear_mps: expected a finite number, got 'fast'"),
+    ("max_linear_mps: true\n", "max_linear_mps: expected a finite number, got True"),
+    ("max_linear_mps: .nan\n", "max_linear_mps: expected a finite number, got nan"),
+    ("max_linear_mps: [1, 2]\n", "max_linear_mps: expected a finite number, got [1, 2]"),
+    ("- max_linear_mps: 1\n", "expected a mapping of gains and limits, got list"),
+], ids=["unknown_key", "negative_limit", "zero_limit", "negative_gain", "not_a_number-fast", "not_a_number-true",
+        "not_a_number-nan", "not_a_number-list", "not_a_mapping"])
+def test_bad_file_names_itself_and_the_problem(tmp_path, text, message):
+    path = write(tmp_path, text)
+    assert error_of(path) == f"{path}: {message}"
 
 
 def test_missing_file(tmp_path):

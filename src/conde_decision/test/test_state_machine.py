@@ -94,92 +94,72 @@ def modified(tmp_path, change):
     return write(tmp_path, data)
 
 
-def test_unknown_target_state(tmp_path):
-    path = modified(tmp_path, lambda d: d["states"]["follow_lane"]["on"].update(signal_stop="stoped"))
-    assert error_of(path) == f"{path}: states.follow_lane.on.signal_stop: unknown target state 'stoped'"
+def in_command(state, edit):
+    """A change of the default description: `edit` applied to the command of `state`."""
+    return lambda d: edit(d["states"][state]["command"])
+
+
+def without_the_parking_signal(d):
+    for state in ("wait_for_go", "follow_lane", "approach_stop", "stopped", "approach_finish"):
+        d["states"][state]["on"].pop("signal_parking")
+
+
+# (id, change of the default description, message after "<file>: ")
+MODIFIED = [
+    ("unknown_target_state", lambda d: d["states"]["follow_lane"]["on"].update(signal_stop="stoped"),
+     "states.follow_lane.on.signal_stop: unknown target state 'stoped'"),
+    ("unknown_event", lambda d: d["states"]["follow_lane"]["on"].update(see_stop="approach_stop"),
+     f"states.follow_lane.on.see_stop: unknown event 'see_stop' (expected one of: {EVENT_LIST})"),
+    ("unknown_initial_state", lambda d: d.update(initial="start"), "initial: unknown state 'start'"),
+    ("missing_initial", lambda d: d.pop("initial"), "missing key 'initial'"),
+    ("unknown_top_level_key", lambda d: d.update(version=2),
+     "unknown key 'version' (expected one of: initial, states)"),
+    ("unknown_state_key", lambda d: d["states"]["stopped"].update(colour="red"),
+     "states.stopped: unknown key 'colour' (expected one of: description, command, on)"),
+    ("unknown_command_key", in_command("stopped", lambda c: c.update(lane="left")),
+     "states.stopped.command: unknown key 'lane' (expected one of: speed, branch, distance_m, radius_m)"),
+    ("unknown_speed", in_command("follow_lane", lambda c: c.update(speed="fast")),
+     "states.follow_lane.command.speed: unknown speed 'fast' (expected one of: cruise, stop, stop_at_crosswalk)"),
+    ("missing_speed", in_command("follow_lane", lambda c: c.pop("speed")),
+     "states.follow_lane.command: missing key 'speed'"),
+    ("missing_command", lambda d: d["states"]["parked"].pop("command"), "states.parked: missing key 'command'"),
+    ("unknown_branch", in_command("turn_left", lambda c: c.update(branch="up")),
+     "states.turn_left.command.branch: unknown branch 'up' (expected one of: none, left, right)"),
+] + [
+    ("bad_distance-%s" % value, in_command("turn_left", lambda c, v=value: c.update(distance_m=v)),
+     f"states.turn_left.command.distance_m: expected a distance > 0 [m], got {value!r}") for value in (0, -1.0, "far")
+] + [
+    ("distance_event_without_distance", in_command("turn_left", lambda c: c.pop("distance_m")),
+     "states.turn_left.on.distance_elapsed: the state has no command.distance_m, so the event never fires"),
+    ("unreachable_state", without_the_parking_signal,
+     "states.go_to_parking: unreachable from the initial state 'wait_for_go'"),
+    ("transitions_must_be_a_mapping", lambda d: d["states"]["stopped"].update(on=["signal_forward"]),
+     "states.stopped.on: expected a mapping of events to states"),
+    ("return_is_not_a_state_name", lambda d: d["states"].update({"return": {"command": {"speed": "stop"}}}),
+     "states.return: 'return' is a reserved target (back to the previous state), not a state name"),
+    ("an_arc_needs_a_branch", in_command("turn_left", lambda c: c.update(branch="none")),
+     "states.turn_left.command.radius_m: an arc needs a branch (left or right) to turn toward"),
+]
+
+
+@pytest.mark.parametrize("change, message", [case[1:] for case in MODIFIED], ids=[case[0] for case in MODIFIED])
+def test_invalid_description(tmp_path, change, message):
+    path = modified(tmp_path, change)
+    assert error_of(path) == f"{path}: {message}"
+
+
+@pytest.mark.parametrize("text, message", [
+    ("initial: a\nstates: {}\n", "states: expected a non-empty mapping of state names to states"),
+    ("- initial\n", "expected a mapping with keys initial and states, got list"),
+], ids=["states_must_be_a_non_empty_mapping", "not_a_mapping"])
+def test_invalid_file(tmp_path, text, message):
+    path = write(tmp_path, text)
+    assert error_of(path) == f"{path}: {message}"
 
 
 def test_unknown_target_state_fixture():
     path = os.path.join(FIXTURES, "unknown_state.yaml")
     assert error_of(path) == f"{path}: states.follow_lane.on.signal_stop: unknown target state 'stoped'"
-
-
-def test_unknown_event(tmp_path):
-    path = modified(tmp_path, lambda d: d["states"]["follow_lane"]["on"].update(see_stop="approach_stop"))
-    assert error_of(path) == (f"{path}: states.follow_lane.on.see_stop: unknown event 'see_stop' "
-                              f"(expected one of: {EVENT_LIST})")
-
-
-def test_unknown_initial_state(tmp_path):
-    path = modified(tmp_path, lambda d: d.update(initial="start"))
-    assert error_of(path) == f"{path}: initial: unknown state 'start'"
-
-
-def test_missing_initial(tmp_path):
-    path = modified(tmp_path, lambda d: d.pop("initial"))
-    assert error_of(path) == f"{path}: missing key 'initial'"
-
-
-def test_unknown_top_level_key(tmp_path):
-    path = modified(tmp_path, lambda d: d.update(version=2))
-    assert error_of(path) == f"{path}: unknown key 'version' (expected one of: initial, states)"
-
-
-def test_unknown_state_key(tmp_path):
-    path = modified(tmp_path, lambda d: d["states"]["stopped"].update(colour="red"))
-    assert error_of(path) == f"{path}: states.stopped: unknown key 'colour' (expected one of: description, command, on)"
-
-
-def test_unknown_command_key(tmp_path):
-    path = modified(tmp_path, lambda d: d["states"]["stopped"]["command"].update(lane="left"))
-    assert error_of(path) == (f"{path}: states.stopped.command: unknown key 'lane' "
-                              "(expected one of: speed, branch, distance_m, radius_m)")
-
-
-def test_unknown_speed(tmp_path):
-    path = modified(tmp_path, lambda d: d["states"]["follow_lane"]["command"].update(speed="fast"))
-    assert error_of(path) == (f"{path}: states.follow_lane.command.speed: unknown speed 'fast' "
-                              "(expected one of: cruise, stop, stop_at_crosswalk)")
-
-
-def test_missing_speed(tmp_path):
-    path = modified(tmp_path, lambda d: d["states"]["follow_lane"]["command"].pop("speed"))
-    assert error_of(path) == f"{path}: states.follow_lane.command: missing key 'speed'"
-
-
-def test_missing_command(tmp_path):
-    path = modified(tmp_path, lambda d: d["states"]["parked"].pop("command"))
-    assert error_of(path) == f"{path}: states.parked: missing key 'command'"
-
-
-def test_unknown_branch(tmp_path):
-    path = modified(tmp_path, lambda d: d["states"]["turn_left"]["command"].update(branch="up"))
-    assert error_of(path) == (f"{path}: states.turn_left.command.branch: unknown branch 'up' "
-                              "(expected one of: none, left, right)")
-
-
-@pytest.mark.parametrize("value", [0, -1.0, "far"])
-def test_bad_distance(tmp_path, value):
-    path = modified(tmp_path, lambda d: d["states"]["turn_left"]["command"].update(distance_m=value))
-    assert error_of(path) == f"{path}: states.turn_left.command.distance_m: expected a distance > 0 [m], got {value!r}"
-
-
-def test_distance_event_without_distance(tmp_path):
-    path = modified(tmp_path, lambda d: d["states"]["turn_left"]["command"].pop("distance_m"))
-    assert error_of(path) == (f"{path}: states.turn_left.on.distance_elapsed: "
-                              "the state has no command.distance_m, so the event never fires")
-
-
-def test_unreachable_state(tmp_path):
-    def change(d):
-        d["states"]["wait_for_go"]["on"].pop("signal_parking")
-        d["states"]["follow_lane"]["on"].pop("signal_parking")
-        d["states"]["approach_stop"]["on"].pop("signal_parking")
-        d["states"]["stopped"]["on"].pop("signal_parking")
-        d["states"]["approach_finish"]["on"].pop("signal_parking")
-
-    path = modified(tmp_path, change)
-    assert error_of(path) == f"{path}: states.go_to_parking: unreachable from the initial state 'wait_for_go'"
 
 
 def test_duplicate_key(tmp_path):
@@ -188,21 +168,6 @@ def test_duplicate_key(tmp_path):
     path = write(tmp_path, text)
     line = text.splitlines().index("      signal_stop: stopped") + 1
     assert error_of(path) == f"{path}: YAML error: duplicate key 'signal_stop' in \"{path}\", line {line}, column 7"
-
-
-def test_transitions_must_be_a_mapping(tmp_path):
-    path = modified(tmp_path, lambda d: d["states"]["stopped"].update(on=["signal_forward"]))
-    assert error_of(path) == f"{path}: states.stopped.on: expected a mapping of events to states"
-
-
-def test_states_must_be_a_non_empty_mapping(tmp_path):
-    path = write(tmp_path, "initial: a\nstates: {}\n")
-    assert error_of(path) == f"{path}: states: expected a non-empty mapping of state names to states"
-
-
-def test_not_a_mapping(tmp_path):
-    path = write(tmp_path, "- initial\n")
-    assert error_of(path) == f"{path}: expected a mapping with keys initial and states, got list"
 
 
 def test_missing_file(tmp_path):
@@ -231,15 +196,3 @@ def test_return_goes_back_to_the_state_a_turn_was_entered_from():
                          ("signal_forward", "follow_lane"), ("merge_left", "turn_left"),
                          ("distance_elapsed", "follow_lane")):
         assert machine.handle(event) == state
-
-
-def test_return_is_not_a_state_name(tmp_path):
-    path = modified(tmp_path, lambda d: d["states"].update({"return": {"command": {"speed": "stop"}}}))
-    assert error_of(path) == (f"{path}: states.return: 'return' is a reserved target (back to the previous "
-                              "state), not a state name")
-
-
-def test_an_arc_needs_a_branch(tmp_path):
-    path = modified(tmp_path, lambda d: d["states"]["turn_left"]["command"].update(branch="none"))
-    assert error_of(path) == (f"{path}: states.turn_left.command.radius_m: "
-                              "an arc needs a branch (left or right) to turn toward")

@@ -124,36 +124,27 @@ def error_lines(stderr, node):
     return [line for line in stderr.splitlines() if line.startswith(node + ": error: ")]
 
 
-@pytest.mark.parametrize("params, message", [
-    ({}, "parameter /lap_timer/cars: expected a non-empty list of car namespaces, got None"),
-    ({"cars": ["car0", "car0"]}, "parameter /lap_timer/cars: a car is listed twice: ['car0', 'car0']"),
-    ({"cars": ["car0"]}, "parameter /lap_timer/start_line_m is required: [[x, y], [x, y]] of the start/finish line"),
-    ({"cars": ["car0"], "start_line_m": [[0, 0], [0, 0]]},
+@pytest.mark.parametrize("node, params, message", [
+    ("lap_timer", {}, "parameter /lap_timer/cars: expected a non-empty list of car namespaces, got None"),
+    ("lap_timer", {"cars": ["car0", "car0"]}, "parameter /lap_timer/cars: a car is listed twice: ['car0', 'car0']"),
+    ("lap_timer", {"cars": ["car0"]},
+     "parameter /lap_timer/start_line_m is required: [[x, y], [x, y]] of the start/finish line"),
+    ("lap_timer", {"cars": ["car0"], "start_line_m": [[0, 0], [0, 0]]},
      "parameter /lap_timer/start_line_m: expected [[x, y], [x, y]] in metres, got [[0, 0], [0, 0]] "
      "(the two ends of a line must differ, got (0.0, 0.0) twice)"),
-    ({"cars": ["car0"], "start_line_m": [[0, -1], [0, 1]], "checkpoints_m": [[[1, 2]]]},
+    ("lap_timer", {"cars": ["car0"], "start_line_m": [[0, -1], [0, 1]], "checkpoints_m": [[[1, 2]]]},
      "parameter /lap_timer/checkpoints_m[0]: expected [[x, y], [x, y]] in metres, got [[1, 2]] "
      "(expected two points)"),
-    ({"cars": ["car0"], "start_line_m": [[0, -1], [0, 1]], "csv_path": "/no/such/dir/laps.csv"},
+    ("lap_timer", {"cars": ["car0"], "start_line_m": [[0, -1], [0, 1]], "csv_path": "/no/such/dir/laps.csv"},
      "parameter /lap_timer/csv_path: directory /no/such/dir does not exist"),
+    ("gap_follower", {"max_speed_mps": 0.0}, "parameter /gap_follower/max_speed_mps: must be > 0, got 0.0"),
+    ("gap_follower", {"lookahead_m": "far"}, "parameter /gap_follower/lookahead_m: expected a number, got 'far'"),
+    ("gap_follower", {"enabled": "yes"}, "parameter /gap_follower/enabled: expected true or false, got 'yes'"),
+    ("gap_follower", {"start_delay_s": -1.0},
+     "parameter /gap_follower/start_delay_s: expected a number >= 0 [s], got -1.0"),
 ])
-def test_lap_timer_bad_parameters(core, params, message):
-    core.set_params({"/lap_timer/" + k: v for k, v in params.items()}, clear=["/lap_timer"])
-    proc = subprocess.run(["rosrun", "conde_racing", "lap_timer"], env=core.env, capture_output=True, text=True,
-                          timeout=120)
+def test_bad_parameters_exit_with_their_message(core, node, params, message):
+    core.set_params({"/%s/%s" % (node, k): v for k, v in params.items()}, clear=["/" + node])
+    proc = subprocess.run(["rosrun", "conde_racing", node], env=core.env, capture_output=True, text=True, timeout=120)
     assert proc.returncode == 1
-    assert error_lines(proc.stderr, "lap_timer") == ["lap_timer: error: " + message]
-
-
-@pytest.mark.parametrize("params, message", [
-    ({"max_speed_mps": 0.0}, "parameter /gap_follower/max_speed_mps: must be > 0, got 0.0"),
-    ({"lookahead_m": "far"}, "parameter /gap_follower/lookahead_m: expected a number, got 'far'"),
-    ({"enabled": "yes"}, "parameter /gap_follower/enabled: expected true or false, got 'yes'"),
-    ({"start_delay_s": -1.0}, "parameter /gap_follower/start_delay_s: expected a number >= 0 [s], got -1.0"),
-])
-def test_gap_follower_bad_parameters(core, params, message):
-    core.set_params({"/gap_follower/" + k: v for k, v in params.items()}, clear=["/gap_follower"])
-    proc = subprocess.run(["rosrun", "conde_racing", "gap_follower"], env=core.env, capture_output=True, text=True,
-                          timeout=120)
-    assert proc.returncode == 1
-    assert error_lines(proc.stderr, "gap_follower") == ["gap_follower: error: " + message]
+    assert error_lines(proc.stderr, node) == [node + ": error: " + message]

@@ -94,12 +94,16 @@ def test_grid_fits_behind_the_start_line_on_the_main_straight():
         assert a.x_m - b.x_m - (rt.CAR_NOSE_M + 0.11) == pytest.approx(0.15, abs=1e-9)
 
 
-def test_world_file_is_generated_from_the_geometry():
-    path = os.path.join(WORLDS_DIR, rw.WORLD_FILE)
+def generated(path, fresh):
+    """The committed file at `path`, parsed, once it is checked to be what the generator writes now."""
     with open(path) as f:
         text = f.read()
-    assert text == rw.world_yaml(LINE), "stale: run `rosrun conde_racing generate_racetrack`"
-    world = yaml.safe_load(text)
+    assert text == fresh, "stale: run `rosrun conde_racing generate_racetrack`"
+    return yaml.safe_load(text)
+
+
+def test_world_file_is_generated_from_the_geometry():
+    world = generated(os.path.join(WORLDS_DIR, rw.WORLD_FILE), rw.world_yaml(LINE))
     assert world["format"] == "conde_world/1" and world["name"] == "racetrack"
     assert set(world["spawn"]) == {"grid%d" % k for k in range(16)}
     walls = [o for o in world["objects"] if o["name"].startswith("wall_")]
@@ -108,11 +112,7 @@ def test_world_file_is_generated_from_the_geometry():
 
 
 def test_timing_file_is_generated_from_the_geometry():
-    path = os.path.join(RACING_DIR, rw.TIMING_FILE)
-    with open(path) as f:
-        text = f.read()
-    assert text == rw.timing_yaml(LINE), "stale: run `rosrun conde_racing generate_racetrack`"
-    timing = yaml.safe_load(text)
+    timing = generated(os.path.join(RACING_DIR, rw.TIMING_FILE), rw.timing_yaml(LINE))
     right, left = timing["start_line_m"]
     assert right == [rt.START_LINE_S_M, -rt.HALF_WIDTH_M] and left == [rt.START_LINE_S_M, rt.HALF_WIDTH_M]
     assert len(timing["checkpoints_m"]) == len(rt.CHECKPOINT_S_M)

@@ -6,6 +6,7 @@ Needs the built workspace: `source devel/setup.bash` (the node is started with r
 import signal
 import subprocess
 import termios
+from contextlib import closing
 
 import numpy as np
 import pytest
@@ -148,11 +149,9 @@ steps:
   - {at_s: 5.0, signal: forward}
   - {at_s: 20.0, signal: end_of_trial}
 """)
-    clock = SimClock()
-    truth = topic_log(SIGNAL_TOPIC, PanelSignal)
-    node = start_node(master, tmp_path, {"mode": "schedule", "schedule": path, "image_width_px": 320,
-                                         "image_height_px": 240}, sim_time=True)
-    try:
+    with (closing(SimClock()) as clock, topic_log(SIGNAL_TOPIC, PanelSignal) as truth,
+          start_node(master, tmp_path, {"mode": "schedule", "schedule": path, "image_width_px": 320,
+                                        "image_height_px": 240}, sim_time=True)):
         # No /clock yet: ROS time is 0, and the schedule's step at 0 s shows at once.
         assert stamp_s(truth.wait_for(lambda m: m.signal == PanelSignal.STOP, "STOP at t = 0")) == 0.0
         clock.wait_for_subscriber()
@@ -171,10 +170,6 @@ steps:
         # The service still works once the schedule is done.
         assert set_signal("parking").success
         truth.wait_for(lambda m: m.signal == PanelSignal.PARKING, "PARKING from the service")
-    finally:
-        node.stop()
-        truth.close()
-        clock.close()
 
 
 def test_schedule_starting_on_the_first_clock(master, tmp_path):
@@ -184,11 +179,9 @@ steps:
   - {at_s: 0.0, signal: stop}
   - {at_s: 5.0, signal: right}
 """)
-    clock = SimClock()
-    truth = topic_log(SIGNAL_TOPIC, PanelSignal)
-    node = start_node(master, tmp_path, {"mode": "schedule", "schedule": path, "image_width_px": 64,
-                                         "image_height_px": 48}, sim_time=True)
-    try:
+    with (closing(SimClock()) as clock, topic_log(SIGNAL_TOPIC, PanelSignal) as truth,
+          start_node(master, tmp_path, {"mode": "schedule", "schedule": path, "image_width_px": 64,
+                                        "image_height_px": 48}, sim_time=True) as node):
         truth.wait_for(lambda m: m.signal == PanelSignal.NONE, "the initial NONE")
         clock.wait_for_subscriber()
         clock.publish(100.0)
@@ -196,10 +189,6 @@ steps:
         clock.publish(104.0, 104.99, 105.0)
         assert stamp_s(truth.wait_for(lambda m: m.signal == PanelSignal.RIGHT, "RIGHT")) == 105.0
         assert "schedule: 2 steps, t = 0 at ROS time 100.000 s (start_on: first_clock)" in node.output()
-    finally:
-        node.stop()
-        truth.close()
-        clock.close()
 
 
 def run_to_exit(master, tmp_path, params):
@@ -238,11 +227,9 @@ def test_bad_parameters_exit_with_their_message(master, tmp_path):
 
 
 def test_menu_keys_on_a_terminal(master, tmp_path):
-    terminal = Terminal()
-    truth = topic_log(SIGNAL_TOPIC, PanelSignal)
-    node = start_node(master, tmp_path, {"mode": "menu", "image_width_px": 64, "image_height_px": 48},
-                      stdin=terminal.slave_fd, stdout=terminal.slave_fd)
-    try:
+    with (Terminal() as terminal, topic_log(SIGNAL_TOPIC, PanelSignal) as truth,
+          start_node(master, tmp_path, {"mode": "menu", "image_width_px": 64, "image_height_px": 48},
+                     stdin=terminal.slave_fd, stdout=terminal.slave_fd) as node):
         # As in the original, the menu starts on stop.
         truth.wait_for(lambda m: m.signal == PanelSignal.STOP, "the initial STOP")
         wait_until(lambda: b"Choose the semaphore [Press <Esc> to exit]" in terminal.output, "the menu")
@@ -265,27 +252,17 @@ def test_menu_keys_on_a_terminal(master, tmp_path):
         terminal.type(b"\x1b")
         assert node.wait() == 0
         assert termios.tcgetattr(terminal.slave_fd) == terminal.saved  # terminal restored
-    finally:
-        node.stop()
-        truth.close()
-        terminal.close()
 
 
 def test_menu_restores_the_terminal_on_ctrl_c(master, tmp_path):
-    terminal = Terminal()
-    truth = topic_log(SIGNAL_TOPIC, PanelSignal)
-    node = start_node(master, tmp_path, {"mode": "menu", "image_width_px": 64, "image_height_px": 48},
-                      stdin=terminal.slave_fd, stdout=terminal.slave_fd, controlling_terminal=True)
-    try:
+    with (Terminal() as terminal, topic_log(SIGNAL_TOPIC, PanelSignal) as truth,
+          start_node(master, tmp_path, {"mode": "menu", "image_width_px": 64, "image_height_px": 48},
+                     stdin=terminal.slave_fd, stdout=terminal.slave_fd, controlling_terminal=True) as node):
         truth.wait_for(lambda m: m.signal == PanelSignal.STOP, "the initial STOP")
         wait_until(terminal.in_cbreak_mode, "the terminal in cbreak mode")
         terminal.type(b"\x03")  # Ctrl-C: the terminal sends SIGINT to the node
         node.wait()
         assert termios.tcgetattr(terminal.slave_fd) == terminal.saved
-    finally:
-        node.stop()
-        truth.close()
-        terminal.close()
 
 
 @pytest.mark.parametrize("mode", ["service", "schedule"])
@@ -294,14 +271,10 @@ def test_node_stops_on_sigterm(master, tmp_path, mode):
     without an exception, so every wait of the node must check for shutdown (here a schedule
     step an hour ahead on the wall clock)."""
     path = write_schedule(tmp_path, "steps:\n  - {at_s: 0.0, signal: stop}\n  - {at_s: 3600.0, signal: left}\n")
-    truth = topic_log(SIGNAL_TOPIC, PanelSignal)
-    node = start_node(master, tmp_path, {"mode": mode, "schedule": path, "initial_signal": "stop",
-                                         "image_width_px": 64, "image_height_px": 48})
-    try:
+    with (topic_log(SIGNAL_TOPIC, PanelSignal) as truth,
+          start_node(master, tmp_path, {"mode": mode, "schedule": path, "initial_signal": "stop",
+                                        "image_width_px": 64, "image_height_px": 48}) as node):
         truth.wait_for(lambda m: m.signal == PanelSignal.STOP, "STOP")
         rospy.wait_for_service(NODE + "/set_signal", timeout=TIMEOUT_S)
         node.process.send_signal(signal.SIGTERM)
         assert node.wait(timeout_s=30) == 0
-    finally:
-        node.stop()
-        truth.close()

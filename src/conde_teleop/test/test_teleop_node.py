@@ -77,11 +77,9 @@ def wait_until_ready(commands, terminal):
 def test_every_key_on_the_terminal_within_the_limits(master, tmp_path):
     """Non-default steps and limits, so that the parameters are seen to be read; the limits are
     not whole numbers of steps."""
-    terminal = Terminal()
-    commands = Commands("/cmd_vel")
-    node = start_teleop(master, tmp_path, terminal, ["_linear_step_mps:=0.2", "_max_linear_mps:=0.3",
-                                                     "_angular_step_radps:=0.5", "_max_angular_radps:=0.75"])
-    try:
+    with (Terminal() as terminal, Commands("/cmd_vel") as commands,
+          start_teleop(master, tmp_path, terminal, ["_linear_step_mps:=0.2", "_max_linear_mps:=0.3",
+                                                    "_angular_step_radps:=0.5", "_max_angular_radps:=0.75"]) as node):
         wait_until_ready(commands, terminal)
         steps = [  # (keys typed at once, the command after them [m/s, rad/s])
             (b"i", (0.2, 0.0)),
@@ -124,17 +122,11 @@ def test_every_key_on_the_terminal_within_the_limits(master, tmp_path):
         assert "  i or Up      faster forward    linear  +0.2 m/s (up to 0.3 m/s)" in text
         assert "linear -0.20 m/s, angular +0.75 rad/s" in text
         assert "conde_teleop: quit key 'q': stopping the robot and quitting" in text
-    finally:
-        node.stop()
-        commands.close()
-        terminal.close()
 
 
 def test_ctrl_c_stops_the_robot_and_restores_the_terminal(master, tmp_path):
-    terminal = Terminal()
-    commands = Commands("/cmd_vel")
-    node = start_teleop(master, tmp_path, terminal, controlling_terminal=True)
-    try:
+    with (Terminal() as terminal, Commands("/cmd_vel") as commands,
+          start_teleop(master, tmp_path, terminal, controlling_terminal=True) as node):
         wait_until_ready(commands, terminal)
         assert "  j or Left    turn left         angular +0.25 rad/s (up to 1.5 rad/s)" in terminal.output.decode()
         count = len(commands.messages)
@@ -147,19 +139,13 @@ def test_ctrl_c_stops_the_robot_and_restores_the_terminal(master, tmp_path):
         assert command_of(commands.messages[-1]) == (0.0, 0.0)
         assert terminal.restored()
         assert "conde_teleop: signal SIGINT: stopping the robot and quitting" in terminal.output.decode()
-    finally:
-        node.stop()
-        commands.close()
-        terminal.close()
 
 
 def test_sigterm_in_a_namespace(master, tmp_path):
     """cmd_vel is a relative name: in namespace robot1 the node publishes /robot1/cmd_vel and
     reads its parameters from /robot1/conde_teleop."""
-    terminal = Terminal()
-    commands = Commands("/robot1/cmd_vel")
-    node = start_teleop(master, tmp_path, terminal, ["_max_angular_radps:=0.25"], namespace="robot1")
-    try:
+    with (Terminal() as terminal, Commands("/robot1/cmd_vel") as commands,
+          start_teleop(master, tmp_path, terminal, ["_max_angular_radps:=0.25"], namespace="robot1") as node):
         wait_until_ready(commands, terminal)
         count = len(commands.messages)
         terminal.type(b"lll")
@@ -172,21 +158,15 @@ def test_sigterm_in_a_namespace(master, tmp_path):
         assert commands.distinct() == [(0.0, 0.0), (0.0, -0.25), (0.0, 0.0)]
         assert terminal.restored()
         assert "publishing on /robot1/cmd_vel at 10 Hz" in terminal.output.decode()
-    finally:
-        node.stop()
-        commands.close()
-        terminal.close()
 
 
 def test_launch_file(master, tmp_path):
     """roslaunch with a limit and a remapped topic; stopping roslaunch stops the robot."""
-    terminal = Terminal()
-    commands = Commands("/teleop/cmd_vel")
     master.set_params({}, clear=["/conde_teleop"])
-    launch = LoggedProcess(["roslaunch", "conde_teleop", "conde_teleop.launch", "max_linear_mps:=0.15",
-                            "cmd_vel:=/teleop/cmd_vel"], master.env, tmp_path, stdin=terminal.slave_fd,
-                           stdout=terminal.slave_fd)
-    try:
+    with (Terminal() as terminal, Commands("/teleop/cmd_vel") as commands,
+          LoggedProcess(["roslaunch", "conde_teleop", "conde_teleop.launch", "max_linear_mps:=0.15",
+                         "cmd_vel:=/teleop/cmd_vel"], master.env, tmp_path, stdin=terminal.slave_fd,
+                        stdout=terminal.slave_fd) as launch):
         wait_until_ready(commands, terminal)
         for keys, command in ((b"i", (0.1, 0.0)), (b"ii", (0.15, 0.0)), (b"j", (0.15, 0.25))):
             count = len(commands.messages)
@@ -198,10 +178,6 @@ def test_launch_file(master, tmp_path):
         commands.wait_for_command((0.0, 0.0), since=count)
         assert commands.distinct() == pytest.approx([(0.0, 0.0), (0.1, 0.0), (0.15, 0.0), (0.15, 0.25), (0.0, 0.0)])
         assert terminal.restored()
-    finally:
-        launch.stop()
-        commands.close()
-        terminal.close()
 
 
 @pytest.mark.parametrize("arg, message", [
@@ -215,26 +191,19 @@ def test_launch_file(master, tmp_path):
     ("_rate_hz:=true", "parameter /conde_teleop/rate_hz: expected a number > 0, got True"),
 ])
 def test_bad_parameter_exits_with_its_message(master, tmp_path, arg, message):
-    terminal = Terminal()  # a terminal, so that the parameter is the only thing wrong
-    node = start_teleop(master, tmp_path, terminal, [arg])
-    try:
+    # A terminal, so that the parameter is the only thing wrong.
+    with Terminal() as terminal, start_teleop(master, tmp_path, terminal, [arg]) as node:
         assert node.wait() == 1, node.stderr()
         errors = [line for line in node.stderr().splitlines() if line.startswith("conde_teleop: error: ")]
         assert errors == ["conde_teleop: error: " + message], node.stderr()
         assert terminal.restored()
-    finally:
-        node.stop()
-        terminal.close()
 
 
 def test_stdin_not_a_terminal_exits_with_its_message(master, tmp_path):
     master.set_params({}, clear=["/conde_teleop"])
-    node = LoggedProcess(["rosrun", "conde_teleop", "conde_teleop"], master.env, tmp_path)  # stdin: /dev/null
-    try:
+    with LoggedProcess(["rosrun", "conde_teleop", "conde_teleop"], master.env, tmp_path) as node:  # stdin: /dev/null
         assert node.wait() == 1, node.stderr()
         errors = [line for line in node.stderr().splitlines() if line.startswith("conde_teleop: error: ")]
         assert errors == ["conde_teleop: error: stdin is not a terminal, and the keys are read from it: run the "
                           "node in a terminal (rosrun conde_teleop conde_teleop, or roslaunch with "
                           "launch_prefix:='xterm -e')"], node.stderr()
-    finally:
-        node.stop()

@@ -12,7 +12,7 @@ Names are URDF links and ros_control controllers; diameters are in metres.
 import math
 from dataclasses import dataclass
 
-import yaml
+from conde_common.config_files import parse_yaml, read_text
 
 FRONT_WHEELS = ('left_front_wheel', 'right_front_wheel')
 REAR_WHEELS = ('left_rear_wheel', 'right_rear_wheel')
@@ -92,12 +92,7 @@ def _wheel(path, name, entry, keys):
 
 def parse_wheel_config(text, path):
     """The wheel file's `text`; `path` names it in errors."""
-    try:
-        data = yaml.safe_load(text)
-    except yaml.YAMLError as e:
-        mark = getattr(e, 'problem_mark', None)
-        where = ':%d' % (mark.line + 1) if mark is not None else ''
-        raise ConfigError('%s%s: malformed YAML: %s' % (path, where, getattr(e, 'problem', None) or e)) from None
+    data = parse_yaml(text, path, ConfigError, 'malformed YAML')
     if not isinstance(data, dict):
         raise ConfigError('%s: expected a dictionary with %s, got %s'
                           % (path, ', '.join(FRONT_WHEELS + REAR_WHEELS), _describe(data)))
@@ -126,9 +121,4 @@ def parse_wheel_config(text, path):
 
 def load_wheel_config(path):
     """Reads and checks the wheel file at `path`."""
-    try:
-        with open(path, encoding='utf-8') as f:
-            text = f.read()
-    except OSError as e:
-        raise ConfigError('%s: cannot read the file: %s' % (path, e.strerror or e)) from None
-    return parse_wheel_config(text, path)
+    return parse_wheel_config(read_text(path, ConfigError, 'the file'), path)

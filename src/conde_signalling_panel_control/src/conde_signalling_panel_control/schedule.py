@@ -15,8 +15,7 @@ non-zero ROS time the node sees, for clocks that do not start at 0 (e.g. a bag p
 import math
 from collections import namedtuple
 
-import yaml
-
+from conde_common.config_files import parse_yaml, read_text
 from conde_signalling_panel_control.signals import SIGNAL_NAMES, unknown_signal_message
 
 START_ON_VALUES = ("node_start", "first_clock")
@@ -33,19 +32,8 @@ class ScheduleError(ValueError):
 
 def load_schedule(path):
     """Reads and validates a schedule file; raises ScheduleError."""
-    try:
-        with open(path, encoding="utf-8") as stream:
-            text = stream.read()
-    except OSError as error:
-        raise ScheduleError("%s: cannot read schedule: %s" % (path, error.strerror or error)) from None
-    try:
-        data = yaml.safe_load(text)
-    except yaml.YAMLError as error:
-        mark = getattr(error, "problem_mark", None)
-        where = ":%d" % (mark.line + 1) if mark is not None else ""
-        problem = getattr(error, "problem", None) or str(error)
-        raise ScheduleError("%s%s: invalid YAML: %s" % (path, where, problem)) from None
-    return parse_schedule(data, path)
+    text = read_text(path, ScheduleError, "schedule")
+    return parse_schedule(parse_yaml(text, path, ScheduleError, "invalid YAML"), path)
 
 
 def parse_schedule(data, source):

@@ -8,7 +8,8 @@ import threading
 
 class Terminal:
     """A pseudo-terminal: the node gets its slave side as stdin and stdout; the test types on the
-    master side and collects what the node prints (`output`, bytes)."""
+    master side and collects what the node prints (`output`, bytes). A `with` block closes both
+    sides on the way out."""
 
     def __init__(self):
         self.master_fd, self.slave_fd = pty.openpty()
@@ -41,3 +42,9 @@ class Terminal:
     def close(self):
         os.close(self.slave_fd)
         os.close(self.master_fd)
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc_info):
+        self.close()

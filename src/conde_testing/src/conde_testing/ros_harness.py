@@ -230,7 +230,8 @@ def run_probe(probe_path, node_command, env, timeout_s=300.0):
 class LoggedProcess:
     """A command under test: stdin and stdout as given; what it writes to stdout (unless given)
     and to stderr is kept in log_dir/stdout.txt and log_dir/stderr.txt. Python processes write
-    unbuffered (PYTHONUNBUFFERED=1), so a test reads their log lines while they run."""
+    unbuffered (PYTHONUNBUFFERED=1), so a test reads their log lines while they run. A `with`
+    block stops it on the way out."""
 
     def __init__(self, command, env, log_dir, stdin=subprocess.DEVNULL, stdout=None):
         env = dict(env, PYTHONUNBUFFERED="1")
@@ -256,10 +257,17 @@ class LoggedProcess:
         """SIGINT if it still runs, SIGKILL after 30 s."""
         stop_process(self.process)
 
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc_info):
+        self.stop()
+
 
 class TopicLog:
     """Every message received on a topic (this process must have joined the master), and waiting
-    for the ones that match. describe(message) shows a message in a time-out's message."""
+    for the ones that match. describe(message) shows a message in a time-out's message. A `with`
+    block unsubscribes on the way out."""
 
     def __init__(self, topic, message_type, describe=str, queue_size=100):
         import rospy  # here: the pure tests must not need ROS
@@ -301,6 +309,12 @@ class TopicLog:
 
     def close(self):
         self.subscriber.unregister()
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc_info):
+        self.close()
 
 
 def xacro_finding(package_dir):
