@@ -52,7 +52,7 @@ def test_waits_at_the_start_until_go():
     assert outs[-1].lateral_offset_ref_m == 0.0 and outs[-1].heading_ref_rad == 0.0
     # It drives off the start crosswalk; that is no crossing.
     assert event_positions(road, "crosswalk_left") == [pytest.approx(CONFIG.crosswalk_length_m, abs=STEP_M)]
-    assert road.logic.crossings == 0
+    assert road.logic.lap_counter.crossings == 0
 
 
 def test_low_confidence_and_none_signals_are_ignored():
@@ -227,7 +227,7 @@ def test_stop_before_the_crosswalk_and_go_on(speed_scale):
     assert signal(road, FORWARD) == [("stopped", "signal_forward", "follow_lane")]
     road.until("crosswalk_left")  # dead-reckoned from the last sighting: within 10 % of the way
     assert road.s == pytest.approx(edge + CONFIG.crosswalk_length_m, abs=0.1)
-    assert road.logic.crossings == 1
+    assert road.logic.lap_counter.crossings == 1
 
 
 def test_stop_decelerates_smoothly():
@@ -263,11 +263,11 @@ def test_two_laps_then_end_of_trial():
     road = make()
     signal(road, FORWARD)
     road.drive_m(4 * HALF_LAP_M - 2.0)  # past the south loop's turn back onto the central road
-    assert road.logic.crossings == 3 and road.logic.laps == 1
+    assert road.logic.lap_counter.crossings == 3 and road.logic.lap_counter.laps == 1
     assert signal(road, END_OF_TRIAL) == [("follow_lane", "signal_end_of_trial", "approach_finish")]
     out = road.until("crosswalk_reached")
     assert out.events == ["crosswalk_reached", "lap_completed"]
-    assert out.state == "finished" and road.logic.laps == 2
+    assert out.state == "finished" and road.logic.lap_counter.laps == 2
     road.run(2.0)
     for code in (FORWARD, LEFT, STOP, PARKING):  # stays stopped whatever the panel shows
         assert signal(road, code) == []
@@ -275,8 +275,8 @@ def test_two_laps_then_end_of_trial():
     assert 4 * HALF_LAP_M - CONFIG.crosswalk_zone_m <= stand_s < 4 * HALF_LAP_M
     # Lap 1: one lap at cruise speed (minus the arrival zone), plus 0.25 s lost ramping up.
     lap1_s = (2 * HALF_LAP_M - CONFIG.crosswalk_zone_m) / CRUISE + CRUISE / (2 * CONFIG.speed_ramp_mps2)
-    assert road.logic.lap_times_s[0] == pytest.approx(lap1_s, abs=2 * DT_S)
-    assert lap1_s < road.logic.lap_times_s[1] < lap1_s + 2.0  # braking at the end costs a little
+    assert road.logic.lap_counter.lap_times_s[0] == pytest.approx(lap1_s, abs=2 * DT_S)
+    assert lap1_s < road.logic.lap_counter.lap_times_s[1] < lap1_s + 2.0  # braking at the end costs a little
 
 
 def test_crossings_and_laps_are_counted_on_arrival():
@@ -287,7 +287,7 @@ def test_crossings_and_laps_are_counted_on_arrival():
     assert arrivals == [pytest.approx(k * HALF_LAP_M - CONFIG.crosswalk_zone_m, abs=STEP_M) for k in (1, 2, 3)]
     assert event_positions(road, "lap_completed") == [arrivals[1]]
     assert len(event_positions(road, "crosswalk_left")) == 4  # the start + 3 crossings
-    assert road.logic.crossings == 3 and road.logic.laps == 1
+    assert road.logic.lap_counter.crossings == 3 and road.logic.lap_counter.laps == 1
 
 
 def test_dead_reckoning_is_corrected_by_crosswalk_sightings():
@@ -358,11 +358,11 @@ def test_time_gaps_are_capped():
     logic.on_lane(Lane(), 0.0)
     for k in range(1, 31):
         logic.on_lane(Lane(), k * DT_S)
-    travelled = logic.travelled_m
+    travelled = logic.road.travelled_m
     logic.on_lane(Lane(), 1000.0)  # e.g. the tracker paused
-    assert logic.travelled_m - travelled == pytest.approx(CRUISE * CONFIG.max_step_s)
+    assert logic.road.travelled_m - travelled == pytest.approx(CRUISE * CONFIG.max_step_s)
     logic.on_lane(Lane(), 10.0)  # time went backwards: no motion
-    assert logic.travelled_m - travelled == pytest.approx(CRUISE * CONFIG.max_step_s)
+    assert logic.road.travelled_m - travelled == pytest.approx(CRUISE * CONFIG.max_step_s)
 
 
 # --- configuration --------------------------------------------------------------------------------

@@ -52,11 +52,15 @@ i.e. toward the road centre line) and whether the point is on the road.
 
 import math
 from dataclasses import dataclass
-from typing import List, Sequence, Tuple
+from typing import List, Tuple
 
 import numpy as np
 
-TWO_PI = 2.0 * math.pi
+from .path_primitives import TWO_PI, Arc, Path, Segment
+from .path_primitives import as_points as _as_points
+from .path_primitives import plain_float as _f
+from .path_primitives import plain_point as _r
+from .path_primitives import rotated as _rot
 
 # ----------------------------------------------------------------------------------------------
 # Measured / chosen dimensions (m)
@@ -131,187 +135,8 @@ SPAWNS = {
 
 
 # ----------------------------------------------------------------------------------------------
-# Primitives
+# Painted strokes and roads (on the primitives of path_primitives)
 # ----------------------------------------------------------------------------------------------
-
-def _as_points(points) -> np.ndarray:
-    p = np.asarray(points, dtype=float)
-    return p.reshape(-1, 2)
-
-
-@dataclass(frozen=True)
-class Segment:
-    """Straight segment from p0 to p1, parametrised by arc length s in [0, length]."""
-
-    p0: Tuple[float, float]
-    p1: Tuple[float, float]
-
-    kind = "line"
-
-    @property
-    def length(self) -> float:
-        return math.hypot(self.p1[0] - self.p0[0], self.p1[1] - self.p0[1])
-
-    @property
-    def direction(self) -> np.ndarray:
-        d = np.subtract(self.p1, self.p0)
-        return d / np.hypot(d[0], d[1])
-
-    def point(self, s) -> np.ndarray:
-        s = np.asarray(s, dtype=float)
-        return np.asarray(self.p0) + s[..., None] * self.direction
-
-    def heading(self, s) -> np.ndarray:
-        d = self.direction
-        return np.full(np.shape(s), math.atan2(d[1], d[0]))
-
-    def project(self, points) -> Tuple[np.ndarray, np.ndarray]:
-        """Arc length of the perpendicular foot (not clamped) and lateral offset (+ = left)."""
-        p = _as_points(points) - np.asarray(self.p0)
-        d = self.direction
-        return p @ d, d[0] * p[:, 1] - d[1] * p[:, 0]
-
-    def offset(self, d: float) -> "Segment":
-        """The parallel segment d to the left (negative d: to the right)."""
-        u = self.direction
-        n = np.array([-u[1], u[0]]) * d
-        return Segment(tuple(np.add(self.p0, n)), tuple(np.add(self.p1, n)))
-
-    def reversed(self) -> "Segment":
-        return Segment(self.p1, self.p0)
-
-    def sub(self, s0: float, s1: float) -> "Segment":
-        return Segment(tuple(self.point(s0)), tuple(self.point(s1)))
-
-    def mirrored_y(self) -> "Segment":
-        return Segment((self.p0[0], -self.p0[1]), (self.p1[0], -self.p1[1]))
-
-    def transformed(self, angle: float, origin) -> "Segment":
-        return Segment(_rot(self.p0, angle, origin), _rot(self.p1, angle, origin))
-
-    def to_dict(self) -> dict:
-        return {"type": "line", "from": _r(self.p0), "to": _r(self.p1)}
-
-
-@dataclass(frozen=True)
-class Arc:
-    """Circular arc: centre, radius, start angle and signed sweep (+ = counter-clockwise)."""
-
-    centre: Tuple[float, float]
-    radius: float
-    start: float
-    sweep: float
-
-    kind = "arc"
-
-    @property
-    def sense(self) -> float:
-        return 1.0 if self.sweep > 0 else -1.0
-
-    @property
-    def length(self) -> float:
-        return self.radius * abs(self.sweep)
-
-    def angle(self, s) -> np.ndarray:
-        return self.start + self.sense * np.asarray(s, dtype=float) / self.radius
-
-    def point(self, s) -> np.ndarray:
-        a = self.angle(s)
-        return np.stack([self.centre[0] + self.radius * np.cos(a),
-                         self.centre[1] + self.radius * np.sin(a)], axis=-1)
-
-    def heading(self, s) -> np.ndarray:
-        return self.angle(s) + self.sense * math.pi / 2.0
-
-    def project(self, points) -> Tuple[np.ndarray, np.ndarray]:
-        """Arc length of the radial foot and lateral offset (+ = left of the direction of travel).
-
-        Angles outside the sweep map to s < 0 or s > length, split half-way round the gap."""
-        p = _as_points(points) - np.asarray(self.centre)
-        dist = np.hypot(p[:, 0], p[:, 1])
-        rel = np.mod(self.sense * (np.arctan2(p[:, 1], p[:, 0]) - self.start), TWO_PI)
-        span = abs(self.sweep)
-        rel = np.where(rel > span + (TWO_PI - span) / 2.0, rel - TWO_PI, rel)
-        return rel * self.radius, self.sense * (self.radius - dist)
-
-    def offset(self, d: float) -> "Arc":
-        r = self.radius - self.sense * d
-        if r <= 0:
-            raise ValueError("offset %.3f m collapses an arc of radius %.3f m" % (d, self.radius))
-        return Arc(self.centre, r, self.start, self.sweep)
-
-    def reversed(self) -> "Arc":
-        return Arc(self.centre, self.radius, self.start + self.sweep, -self.sweep)
-
-    def sub(self, s0: float, s1: float) -> "Arc":
-        return Arc(self.centre, self.radius, float(self.angle(s0)), self.sense * (s1 - s0) / self.radius)
-
-    def mirrored_y(self) -> "Arc":
-        return Arc((self.centre[0], -self.centre[1]), self.radius, -self.start, -self.sweep)
-
-    def transformed(self, angle: float, origin) -> "Arc":
-        return Arc(_rot(self.centre, angle, origin), self.radius, self.start + angle, self.sweep)
-
-    def to_dict(self) -> dict:
-        return {"type": "arc", "centre": _r(self.centre), "radius_m": _f(self.radius, 6),
-                "start_rad": _f(self.start, 6), "sweep_rad": _f(self.sweep, 6)}
-
-
-def _rot(p, angle, origin) -> Tuple[float, float]:
-    c, s = math.cos(angle), math.sin(angle)
-    return (origin[0] + c * p[0] - s * p[1], origin[1] + s * p[0] + c * p[1])
-
-
-def _f(v, nd=6) -> float:
-    """A plain Python float rounded to nd decimals (for the YAML export)."""
-    return round(float(v), nd) + 0.0  # + 0.0 turns -0.0 into 0.0
-
-
-def _r(p, nd=6) -> List[float]:
-    return [_f(v, nd) for v in p]
-
-
-class Path:
-    """A chain of primitives parametrised by the total arc length."""
-
-    def __init__(self, prims: Sequence):
-        self.prims = list(prims)
-        lengths = [p.length for p in self.prims]
-        self.starts = np.concatenate([[0.0], np.cumsum(lengths)[:-1]])
-        self.length = float(sum(lengths))
-
-    def offset(self, d: float) -> "Path":
-        return Path([p.offset(d) for p in self.prims])
-
-    def reversed(self) -> "Path":
-        return Path([p.reversed() for p in reversed(self.prims)])
-
-    def mirrored_y(self) -> "Path":
-        return Path([p.mirrored_y() for p in self.prims])
-
-    def _locate(self, s):
-        s = np.asarray(s, dtype=float)
-        i = np.clip(np.searchsorted(self.starts, s, side="right") - 1, 0, len(self.prims) - 1)
-        return i, s - self.starts[i]
-
-    def point(self, s) -> np.ndarray:
-        i, ls = self._locate(s)
-        out = np.empty(np.shape(s) + (2,))
-        for k, p in enumerate(self.prims):
-            m = i == k
-            if np.any(m):
-                out[m] = p.point(ls[m])
-        return out
-
-    def heading(self, s) -> np.ndarray:
-        i, ls = self._locate(s)
-        out = np.empty(np.shape(s))
-        for k, p in enumerate(self.prims):
-            m = i == k
-            if np.any(m):
-                out[m] = p.heading(ls[m])
-        return out
-
 
 @dataclass(frozen=True)
 class Stroke:
@@ -657,7 +482,7 @@ class Track:
             n = int(math.ceil(path.length / spacing - 1e-9))
             s = np.arange(n) * (path.length / n)
             xy = path.point(s)
-            i, _ = path._locate(s)
+            i, _ = path.locate(s)
             kinds = np.array([p.kind for p in path.prims])[i]
             section = np.where(kinds == "arc", "curve", "straight").astype(object)
             section[self.in_crosswalk(xy)] = "crosswalk"

@@ -37,6 +37,7 @@ from dataclasses import dataclass, fields
 from typing import Tuple
 
 import yaml
+from conde_common.rate_limit import approach, clip
 
 
 @dataclass(frozen=True)
@@ -111,14 +112,6 @@ class Reference:
     path_curvature_per_m: float = 0.0
 
 
-def _clip(value: float, limit: float) -> float:
-    return max(-limit, min(limit, value))
-
-
-def _approach(current: float, target: float, max_step: float) -> float:
-    return current + _clip(target - current, max_step)
-
-
 class LaneFollowingController:
     """Turns references into (v, omega) commands, one call per control period.
 
@@ -144,7 +137,7 @@ class LaneFollowingController:
         if not all(math.isfinite(x) for x in values):
             raise ValueError("reference has a non-finite field: %r" % (values,))
         c = self.config
-        v = self._next_v(_clip(ref.linear_velocity_mps, c.max_linear_mps), dt_s)
+        v = self._next_v(clip(ref.linear_velocity_mps, c.max_linear_mps), dt_s)
         offset_error_m = ref.lateral_offset_m - ref.lateral_offset_ref_m
         heading_error_rad = ref.heading_error_rad - ref.heading_ref_rad
         omega_target = (v * curvature_per_m - c.offset_gain_per_m2 * v * offset_error_m
@@ -162,11 +155,11 @@ class LaneFollowingController:
 
     def _next_v(self, target_mps: float, dt_s: float) -> float:
         self._check_dt(dt_s)
-        self.v_mps = _approach(self.v_mps, target_mps, self.config.max_linear_accel_mps2 * dt_s)
+        self.v_mps = approach(self.v_mps, target_mps, self.config.max_linear_accel_mps2 * dt_s)
         return self.v_mps
 
     def _next_omega(self, target_radps: float, dt_s: float) -> float:
         c = self.config
-        target = _clip(target_radps, c.max_angular_radps)
-        self.omega_radps = _approach(self.omega_radps, target, c.max_angular_accel_radps2 * dt_s)
+        target = clip(target_radps, c.max_angular_radps)
+        self.omega_radps = approach(self.omega_radps, target, c.max_angular_accel_radps2 * dt_s)
         return self.omega_radps

@@ -33,10 +33,10 @@ worlds/tracks/competition_track.geometry.yaml):
   merges never fire.
 
 Where the robot is along the road is measured by odometry (the path length on_odometry is given)
-or, without it, dead-reckoned from the speed it is commanded (this module ramps its own speed at
-speed_ramp_mps2, the acceleration limit of conde_control, so that the commanded speed is what the
-robot drives), and corrected by every crosswalk sighting of conde_tracking (crosswalk_distance_m).
-Sightings are ignored from the moment the robot is at the
+or, without it, dead-reckoned from the speed it is commanded (ramped at speed_ramp_mps2 with
+conde_common's rate limiter, which conde_control uses for its acceleration limit, so that the
+commanded speed is what the robot drives), and corrected by every crosswalk sighting of
+conde_tracking (crosswalk_distance_m).  Sightings are ignored from the moment the robot is at the
 crosswalk until it has driven crosswalk_rearm_m past it (the stripes under and behind the robot
 are not a new crosswalk).
 
@@ -69,6 +69,11 @@ from dataclasses import dataclass, field, fields
 from typing import List, Optional, Tuple
 
 from conde_common.panel_signals import NAMES_BY_CODE, SIGNAL_CODES
+from conde_decision.crosswalk import CrosswalkTracker
+from conde_decision.fork_navigator import ForkNavigator
+from conde_decision.lap_counter import LapCounter
+from conde_decision.road_distance import RoadDistance
+from conde_decision.speed_profile import SpeedProfile
 from conde_decision.state_machine import StateMachine, StateMachineSpec
 
 #: conde_msgs/PanelSignal constants and the event name of each (code -> name).
@@ -165,41 +170,30 @@ class DecisionOutput:
     lane_lost: bool = False  # the speed is held at 0 because no confident lane was seen for too long
 
 
-def _approach(current: float, target: float, max_step: float) -> float:
-    return current + max(-max_step, min(max_step, target - current))
-
-
 class DecisionLogic:
     """Call on_signal() for each panel signal and on_lane() for each lane measurement (which
-    returns the control reference).  Attributes worth reading: state, crossings, laps,
-    lap_times_s, notes (human-readable remarks of the last step, e.g. an order that could not
-    be obeyed)."""
+    returns the control reference).  Attributes worth reading: state, notes (human-readable
+    remarks of the last step, e.g. an order that could not be obeyed), lap_counter (crossings,
+    laps, lap_times_s) and road (travelled_m).
+
+    It composes the state machine with pure parts, one per concern: RoadDistance (how far along
+    the road, heading), CrosswalkTracker (the crosswalk ahead), LapCounter, ForkNavigator (forks
+    and the ends of the loops) and SpeedProfile (the commanded speed)."""
 
     def __init__(self, spec: StateMachineSpec, config: DecisionConfig = DecisionConfig()):
         self.config = config.check()
         self.machine = StateMachine(spec)
-        self.v_mps = 0.0  # commanded speed of the last step
+        self.road = RoadDistance()
+        self.crosswalk = CrosswalkTracker(config.crosswalk_length_m, config.crosswalk_zone_m,
+                                          config.crosswalk_rearm_m, config.start_to_near_edge_m)
+        self.lap_counter = LapCounter(config.crossings_per_lap)
+        self.forks = ForkNavigator(config)
+        self.speed = SpeedProfile(config.cruise_speed_mps, config.speed_ramp_mps2, config.brake_decel_mps2,
+                                  config.stop_margin_m)
         self.last_time_s: Optional[float] = None
-        self.travelled_m = 0.0  # dead-reckoned distance since the start
         self.state_entry_m = 0.0  # travelled_m when the current state was entered
         self.distance_fired = False  # distance_elapsed already fired in this state
-        # Crosswalk: the robot starts standing at one.
-        self.to_near_edge_m: Optional[float] = config.start_to_near_edge_m  # None: no crosswalk ahead known
-        self.at_crosswalk = True  # reached and not yet left
-        self.since_left_m: Optional[float] = None  # distance since the last crosswalk_left
-        self.fork_pending = False
-        self.forks_passed = 0
-        self.yaw_rad: Optional[float] = None  # unwrapped heading from odometry
-        self.odom_travelled_m: Optional[float] = None  # path length by odometry, latest
-        self.odom_used_m = 0.0  # ... as far as on_lane has advanced along the road
-        self.loop: Optional[dict] = None  # the loop being driven after a fork_straight (see _loop_events)
-        self.stop_latched = False  # stop_at_crosswalk has committed to stopping at this crosswalk
-        self.direction_order = "forward"
         self.last_signal = NONE
-        self.crossings = 0
-        self.laps = 0
-        self.lap_times_s: List[float] = []
-        self.lap_mark_s: Optional[float] = None  # start of the current lap (first motion)
         self.lane_bad_since_s: Optional[float] = None
         self.notes: List[str] = []
         self._transitions: List[Tuple[str, str, str]] = []
@@ -225,7 +219,7 @@ class DecisionLogic:
             return []
         self.last_signal = signal
         if signal in DIRECTIONS:
-            self.direction_order = DIRECTIONS[signal]
+            self.forks.on_direction(DIRECTIONS[signal])
         self._fire("signal_" + SIGNAL_NAMES[signal])
         return self._transitions
 
@@ -234,16 +228,7 @@ class DecisionLogic:
         length of the path it has driven so far by odometry [m]: distances along the road are
         then measured rather than dead-reckoned from the commanded speed (which a robot that
         lags behind its commands, e.g. on a busy machine, does not drive)."""
-        if not math.isfinite(yaw_rad):
-            return
-        if travelled_m is not None and math.isfinite(travelled_m):
-            if self.odom_travelled_m is None:
-                self.odom_used_m = travelled_m
-            self.odom_travelled_m = travelled_m
-        if self.yaw_rad is None:
-            self.yaw_rad = yaw_rad
-        else:
-            self.yaw_rad += math.remainder(yaw_rad - self.yaw_rad, 2.0 * math.pi)
+        self.road.on_odometry(yaw_rad, travelled_m)
 
     def on_lane(self, lane, time_s: float) -> DecisionOutput:
         """A lane measurement (any object with the fields of conde_msgs/LaneMeasurement) taken at
@@ -252,17 +237,15 @@ class DecisionLogic:
         self._transitions, self._events, self.notes = [], [], []
         dt_s = 0.0 if self.last_time_s is None else min(max(time_s - self.last_time_s, 0.0), c.max_step_s)
         self.last_time_s = time_s
-        if self.odom_travelled_m is not None:
-            self._advance(max(0.0, self.odom_travelled_m - self.odom_used_m))
-            self.odom_used_m = self.odom_travelled_m
-        else:
-            self._advance(self.v_mps * dt_s)
-        self._update_crosswalk(lane)
+        self.crosswalk.advance(self.road.advance(self.speed.v_mps * dt_s))
+        self.crosswalk.on_sighting(lane.crosswalk_seen, lane.crosswalk_distance_m)
         self._crosswalk_and_fork_events(time_s)
-        self._loop_events()
+        merge = self.forks.loop_exit(self.road.yaw_rad, self.road.travelled_m)
+        if merge is not None:
+            self._fire(merge)
         command = self.machine.command
         if (command.distance_m is not None and not self.distance_fired
-                and self.travelled_m - self.state_entry_m >= command.distance_m - 1e-9):
+                and self.road.travelled_m - self.state_entry_m >= command.distance_m - 1e-9):
             self.distance_fired = True
             self._fire("distance_elapsed")
         command = self.machine.command
@@ -276,10 +259,9 @@ class DecisionLogic:
             self.lane_bad_since_s = time_s
         lane_lost = self.lane_bad_since_s is not None and time_s - self.lane_bad_since_s >= c.lane_lost_timeout_s
 
-        target_mps = 0.0 if lane_lost else self._speed_target(command.speed)
-        self.v_mps = _approach(self.v_mps, target_mps, c.speed_ramp_mps2 * dt_s)
-        if self.v_mps > 0.0 and self.lap_mark_s is None:
-            self.lap_mark_s = time_s
+        v_mps = self.speed.step(command.speed, self.crosswalk.to_near_edge_m, dt_s, hold=lane_lost)
+        if v_mps > 0.0:
+            self.lap_counter.on_motion(time_s)
 
         side = {"none": 0.0, "left": 1.0, "right": -1.0}[command.branch]
         curvature_per_m = 0.0
@@ -293,7 +275,7 @@ class DecisionLogic:
         offset_m = lane.lateral_offset_m if lane_ok and not blind_arc else offset_ref_m
         heading_rad = lane.heading_error_rad if lane_ok and not blind_arc else heading_ref_rad
         return DecisionOutput(self.state, self.last_event, offset_m, offset_ref_m, heading_rad, heading_ref_rad,
-                              self.v_mps, curvature_per_m, list(self._transitions), list(self._events), lane_lost)
+                              v_mps, curvature_per_m, list(self._transitions), list(self._events), lane_lost)
 
     # --- internals ------------------------------------------------------------------------------
 
@@ -302,97 +284,30 @@ class DecisionLogic:
         before = self.state
         if self.machine.handle(event) is not None:
             self._transitions.append((before, event, self.state))
-            self.state_entry_m = self.travelled_m
+            self.state_entry_m = self.road.travelled_m
             self.distance_fired = False
             if self.state != before:
-                self.stop_latched = False
-
-    def _advance(self, step_m: float) -> None:
-        self.travelled_m += step_m
-        if self.to_near_edge_m is not None:
-            self.to_near_edge_m -= step_m
-        if self.since_left_m is not None:
-            self.since_left_m += step_m
-
-    def _update_crosswalk(self, lane) -> None:
-        rearmed = self.since_left_m is None or self.since_left_m >= self.config.crosswalk_rearm_m
-        armed = not self.at_crosswalk and rearmed
-        if armed and lane.crosswalk_seen and math.isfinite(lane.crosswalk_distance_m):
-            self.to_near_edge_m = lane.crosswalk_distance_m
+                self.speed.unlatch()
 
     def _crosswalk_and_fork_events(self, time_s: float) -> None:
-        c = self.config
-        if self.to_near_edge_m is not None and not self.at_crosswalk and self.to_near_edge_m <= c.crosswalk_zone_m:
-            self.at_crosswalk = True
-            self.crossings += 1
+        if self.crosswalk.reached():
+            lap_done = self.lap_counter.on_crossing(time_s)
             self._fire("crosswalk_reached")
-            if self.crossings % c.crossings_per_lap == 0:
-                self.laps += 1
-                self.lap_times_s.append(time_s - (self.lap_mark_s if self.lap_mark_s is not None else time_s))
-                self.lap_mark_s = time_s
+            if lap_done:
                 self._fire("lap_completed")
-        if self.at_crosswalk and self.to_near_edge_m is not None and self.to_near_edge_m <= -c.crosswalk_length_m:
-            self.at_crosswalk = False
-            self.since_left_m = -c.crosswalk_length_m - self.to_near_edge_m  # >= 0: how far past the far edge
-            self.to_near_edge_m = None
-            self.fork_pending = True
-            self.stop_latched = False
+        if self.crosswalk.left():
+            self.forks.on_crosswalk_left()
+            self.speed.unlatch()
             self._fire("crosswalk_left")
-        if self.fork_pending and self.since_left_m >= c.fork_distance_m:
-            self.fork_pending = False
-            fork = self.forks_passed % len(c.fork_sides)
-            side = c.fork_sides[fork]
-            self.forks_passed += 1
-            order, self.direction_order = self.direction_order, "forward"
-            if order == "forward" and c.fork_forward[fork] == "branch":
-                order = side
-            if order == side:
-                self._fire("fork_" + side)
-            else:
-                if order != "forward":
-                    self.notes.append("the panel ordered %s, but this fork opens to the %s: keeping straight"
-                                      % (order, side))
-                # Straight on: the loop turns toward the fork's side and comes back to the fork,
-                # where its road joins the central road with a turn to the other side.
-                self.loop = {"sign": 1.0 if side == "left" else -1.0, "yaw0_rad": self.yaw_rad,
-                             "radius_m": c.loop_lane_radii_m[fork], "merge": "right" if side == "left" else "left",
-                             "exit_mark_m": None}
-                self._fire("fork_straight")
-
-    def _loop_events(self) -> None:
-        """merge_left / merge_right where the loop driven after a fork_straight turns back onto the
-        central road (found by the heading turned since the fork, see the module docstring)."""
-        c, loop = self.config, self.loop
-        if loop is None or self.yaw_rad is None:
-            return
-        if loop["yaw0_rad"] is None:  # no odometry at the fork yet: count from the first heading
-            loop["yaw0_rad"] = self.yaw_rad
-        if loop["exit_mark_m"] is None:
-            if loop["sign"] * (self.yaw_rad - loop["yaw0_rad"]) >= c.loop_sweep_rad - c.loop_exit_tolerance_rad:
-                loop["exit_mark_m"] = self.travelled_m
-            return
-        if self.travelled_m - loop["exit_mark_m"] >= c.loop_exit_m + c.loop_exit_tolerance_rad * loop["radius_m"]:
-            self.loop = None
-            self._fire("merge_" + loop["merge"])
+        event, note = self.forks.at_fork(self.crosswalk.since_left_m, self.road.yaw_rad)
+        if note:
+            self.notes.append(note)
+        if event is not None:
+            self._fire(event)
 
     def _branch_shape(self, command) -> float:
         """0..1: trapezoid over the state's distance (rise 1/4, hold to 1/2, fall to the end)."""
         if command.distance_m is None:
             return 1.0
-        u = (self.travelled_m - self.state_entry_m) / command.distance_m
+        u = (self.road.travelled_m - self.state_entry_m) / command.distance_m
         return max(0.0, min(1.0, 4.0 * u, 2.0 * (1.0 - u)))
-
-    def _speed_target(self, speed: str) -> float:
-        c = self.config
-        if speed == "stop":
-            return 0.0
-        if speed == "cruise":
-            return c.cruise_speed_mps
-        # stop_at_crosswalk: a constant-deceleration profile ending stop_margin_m before the near
-        # edge.  Once committed it holds even if dead reckoning overshoots the edge; a state that
-        # begins with the robot already on the crosswalk drives on to the next one.
-        if self.to_near_edge_m is None or (self.to_near_edge_m < 0.0 and not self.stop_latched):
-            return c.cruise_speed_mps
-        self.stop_latched = True
-        room_m = max(0.0, self.to_near_edge_m - c.stop_margin_m)
-        return min(c.cruise_speed_mps, math.sqrt(2.0 * c.brake_decel_mps2 * room_m))

@@ -16,6 +16,7 @@ from dataclasses import dataclass
 from typing import List, Sequence, Tuple
 
 import numpy as np
+from conde_worlds.path_primitives import Path
 
 HALF_WIDTH_M = 0.7          # centre line to the face of each wall
 WALL_THICKNESS_M = 0.05
@@ -71,21 +72,17 @@ class Pose2D:
     yaw_rad: float
 
 
-def _advance(pose: Pose2D, segment, fraction: float) -> Pose2D:
-    """Pose after driving `fraction` (0..1) of `segment` from `pose`."""
-    if isinstance(segment, Straight):
-        d = segment.length_m * fraction
-        return Pose2D(pose.x_m + d * math.cos(pose.yaw_rad), pose.y_m + d * math.sin(pose.yaw_rad), pose.yaw_rad)
-    turn = segment.angle_rad * fraction
-    side = math.copysign(1.0, segment.angle_rad)  # centre of the circle: left (+1) or right (-1)
-    cx = pose.x_m - side * segment.radius_m * math.sin(pose.yaw_rad)
-    cy = pose.y_m + side * segment.radius_m * math.cos(pose.yaw_rad)
-    yaw = pose.yaw_rad + turn
-    return Pose2D(cx + side * segment.radius_m * math.sin(yaw), cy - side * segment.radius_m * math.cos(yaw), yaw)
+def _pieces(segments: Sequence) -> List[Tuple[float, ...]]:
+    """The segments as pieces of path_primitives' Path.chain."""
+    return [(seg.length_m,) if isinstance(seg, Straight) else (seg.radius_m, seg.angle_rad) for seg in segments]
 
 
-def segment_length(segment) -> float:
-    return segment.length_m if isinstance(segment, Straight) else segment.radius_m * abs(segment.angle_rad)
+def _pose(prim, s_m: float, yaw_near_rad: float) -> Pose2D:
+    """Pose at arc length s_m along one primitive, its yaw the branch nearest yaw_near_rad (the
+    yaw stays continuous along the closed line: 2 pi after the lap)."""
+    x, y = prim.point(s_m)
+    yaw_rad = yaw_near_rad + math.remainder(float(prim.heading(s_m)) - yaw_near_rad, 2 * math.pi)
+    return Pose2D(float(x), float(y), yaw_rad)
 
 
 class CentreLine:
@@ -93,34 +90,29 @@ class CentreLine:
 
     def __init__(self, segments: Sequence = SEGMENTS, start: Pose2D = Pose2D(0.0, 0.0, 0.0)):
         self.segments = tuple(segments)
-        self.starts: List[Pose2D] = []
-        self.start_s: List[float] = []
-        pose, s = start, 0.0
+        self.path = Path.chain(start.x_m, start.y_m, start.yaw_rad, _pieces(self.segments))
+        self.start_yaw_rad: List[float] = []  # unwrapped yaw at each segment's start
+        yaw = start.yaw_rad
         for seg in self.segments:
-            self.starts.append(pose)
-            self.start_s.append(s)
-            pose = _advance(pose, seg, 1.0)
-            s += segment_length(seg)
-        self.length_m = s
-        self.end = pose
+            self.start_yaw_rad.append(yaw)
+            yaw += 0.0 if isinstance(seg, Straight) else seg.angle_rad
+        ends = [(p.point(p.length), y) for p, y in zip(self.path.prims, self.start_yaw_rad[1:] + [yaw])]
+        self.starts: List[Pose2D] = [start] + [Pose2D(float(x), float(y), w) for (x, y), w in ends[:-1]]
+        self.start_s: List[float] = [float(s) for s in self.path.starts]
+        self.length_m = self.path.length
+        (x, y), _ = ends[-1]
+        self.end = Pose2D(float(x), float(y), yaw)
         self._dense = None
 
-    def _locate(self, s_m: float):
-        s = s_m % self.length_m
-        for i in range(len(self.segments) - 1, -1, -1):
-            if s >= self.start_s[i]:
-                seg = self.segments[i]
-                return i, min(1.0, (s - self.start_s[i]) / segment_length(seg))
-        return 0, 0.0
-
     def pose_at(self, s_m: float) -> Pose2D:
-        i, fraction = self._locate(s_m)
-        return _advance(self.starts[i], self.segments[i], fraction)
+        i, along_m = self.path.locate(s_m % self.length_m)
+        i = int(i)
+        prim = self.path.prims[i]
+        return _pose(prim, min(float(along_m), prim.length), self.start_yaw_rad[i])
 
     def curvature_at(self, s_m: float) -> float:
         """Signed curvature [1/m] (+ = turning left)."""
-        seg = self.segments[self._locate(s_m)[0]]
-        return 0.0 if isinstance(seg, Straight) else math.copysign(1.0 / seg.radius_m, seg.angle_rad)
+        return self.path.prims[int(self.path.locate(s_m % self.length_m)[0])].curvature
 
     def point_at(self, s_m: float, lateral_m: float = 0.0) -> Tuple[float, float]:
         """Point at arc length s, `lateral_m` to the left of the centre line (negative: right)."""
@@ -170,7 +162,7 @@ def wall_boxes(line: CentreLine = None) -> List[WallBox]:
     line = line or CentreLine()
     offset = HALF_WIDTH_M + WALL_THICKNESS_M / 2
     boxes = []
-    for index, (seg, start) in enumerate(zip(line.segments, line.starts)):
+    for index, (seg, prim, start) in enumerate(zip(line.segments, line.path.prims, line.starts)):
         for side_name, side in (("left", 1.0), ("right", -1.0)):
             if isinstance(seg, Straight):
                 pieces = 1
@@ -179,7 +171,8 @@ def wall_boxes(line: CentreLine = None) -> List[WallBox]:
                 max_step = 2.0 * math.acos(1.0 - WALL_MAX_SAGITTA_M / wall_radius)
                 pieces = int(math.ceil(abs(seg.angle_rad) / max_step))
             for k in range(pieces):
-                a, b = (_advance(start, seg, k / pieces), _advance(start, seg, (k + 1) / pieces))
+                a, b = (_pose(prim, prim.length * k / pieces, start.yaw_rad),
+                        _pose(prim, prim.length * (k + 1) / pieces, start.yaw_rad))
                 ax, ay = a.x_m - side * offset * math.sin(a.yaw_rad), a.y_m + side * offset * math.cos(a.yaw_rad)
                 bx, by = b.x_m - side * offset * math.sin(b.yaw_rad), b.y_m + side * offset * math.cos(b.yaw_rad)
                 boxes.append(WallBox(

@@ -16,6 +16,8 @@ is set back to 0. Units: m/s, rad (+ = left).
 from dataclasses import dataclass
 from typing import List, Optional
 
+from conde_common.rate_limit import clamp
+
 ACTIONS = {
     "\x1b[A": "faster", "w": "faster", "W": "faster",
     "\x1b[B": "slower", "s": "slower", "S": "slower",
@@ -31,11 +33,13 @@ HELP = ("arrows or w/s: speed, a/d: steering, c: straight, space: stop, q: quit"
 
 @dataclass(frozen=True)
 class TeleopLimits:
-    speed_step_mps: float = 0.25
-    steering_step_rad: float = 0.05
-    max_speed_mps: float = 2.0
-    max_reverse_speed_mps: float = 1.0
-    max_steering_rad: float = 0.4189
+    """Steps per key press and limits of the held command (all > 0)."""
+
+    speed_step_mps: float = 0.25  # per faster / slower key [m/s]
+    steering_step_rad: float = 0.05  # per left / right key [rad]
+    max_speed_mps: float = 2.0  # forward [m/s]
+    max_reverse_speed_mps: float = 1.0  # backward, as a positive number [m/s]
+    max_steering_rad: float = 0.4189  # either side [rad] (24 degrees)
 
     def __post_init__(self):
         for name in ("speed_step_mps", "steering_step_rad", "max_speed_mps", "max_reverse_speed_mps",
@@ -64,10 +68,6 @@ def split_keys(text: str) -> List[str]:
     return keys
 
 
-def _clip(value: float, low: float, high: float) -> float:
-    return max(low, min(high, value))
-
-
 def apply_key(key: str, command: DriveCommand, limits: TeleopLimits) -> Optional[DriveCommand]:
     """The command after a key (unknown keys leave it unchanged); None: quit."""
     action = ACTIONS.get(key)
@@ -87,8 +87,8 @@ def apply_key(key: str, command: DriveCommand, limits: TeleopLimits) -> Optional
     elif action == "stop":
         speed = 0.0
     # round away the float residue of repeated steps (0.1 + 0.2 ...), to a micrometre per second
-    speed = round(_clip(speed, -limits.max_reverse_speed_mps, limits.max_speed_mps), 6)
-    steering = round(_clip(steering, -limits.max_steering_rad, limits.max_steering_rad), 6)
+    speed = round(clamp(speed, -limits.max_reverse_speed_mps, limits.max_speed_mps), 6)
+    steering = round(clamp(steering, -limits.max_steering_rad, limits.max_steering_rad), 6)
     return DriveCommand(speed, steering)
 
 

@@ -1,0 +1,85 @@
+"""Forks and junctions of the track: which way to go at each fork, and where the loop driven
+straight on from a fork joins the central road again.  Pure Python, no ROS.
+
+`config` is any object with the fields fork_distance_m, fork_sides, fork_forward,
+loop_lane_radii_m, loop_sweep_rad, loop_exit_tolerance_rad and loop_exit_m (DecisionConfig; their
+meaning is in the docstring of decision_logic).
+
+The last direction signal before a fork chooses: the side the fork opens to gives fork_left /
+fork_right, the other side fork_straight (with a note: that order cannot be obeyed), "forward" what
+fork_forward says for that fork.  The order is used up at the fork.  Straight on, the loop beyond
+the fork turns toward the fork's side; once the heading has turned through the loop's sweep (less
+loop_exit_tolerance_rad) and the robot has driven loop_exit_m (plus the arc that the tolerance
+leaves at the loop's lane radius) further, merge_right / merge_left fires."""
+
+from dataclasses import dataclass
+from typing import Optional, Tuple
+
+
+@dataclass
+class LoopExit:
+    """The loop being driven after a fork_straight."""
+
+    sign: float  # +1: the loop turns left (counter-clockwise), -1: right
+    yaw0_rad: Optional[float]  # heading at the fork [rad] (None: no odometry yet)
+    radius_m: float  # the lane's radius around the loop [m]
+    merge: str  # "left" / "right": the turn onto the central road at its end
+    exit_mark_m: Optional[float] = None  # distance travelled when the sweep was complete [m]
+
+
+class ForkNavigator:
+    def __init__(self, config):
+        self.config = config
+        self.direction_order = "forward"  # the last direction signal, used up at the next fork
+        self.fork_pending = False  # the robot left a crosswalk and has not reached the fork after it
+        self.forks_passed = 0
+        self.loop: Optional[LoopExit] = None
+
+    def on_direction(self, order: str) -> None:
+        """A direction signal: "forward", "left" or "right"."""
+        self.direction_order = order
+
+    def on_crosswalk_left(self) -> None:
+        self.fork_pending = True
+
+    def at_fork(self, since_crosswalk_m: Optional[float], yaw_rad: Optional[float]) -> Tuple[Optional[str], str]:
+        """(event, note) once the robot is fork_distance_m past the crosswalk's far edge: the event
+        is fork_left, fork_right or fork_straight, the note says why an order was not obeyed ("" if
+        it was).  (None, "") before the fork."""
+        c = self.config
+        if not (self.fork_pending and since_crosswalk_m >= c.fork_distance_m):
+            return None, ""
+        self.fork_pending = False
+        fork = self.forks_passed % len(c.fork_sides)
+        side = c.fork_sides[fork]
+        self.forks_passed += 1
+        order, self.direction_order = self.direction_order, "forward"
+        if order == "forward" and c.fork_forward[fork] == "branch":
+            order = side
+        if order == side:
+            return "fork_" + side, ""
+        note = ""
+        if order != "forward":
+            note = "the panel ordered %s, but this fork opens to the %s: keeping straight" % (order, side)
+        # Straight on: the loop turns toward the fork's side and comes back to the fork, where its
+        # road joins the central road with a turn to the other side.
+        self.loop = LoopExit(sign=1.0 if side == "left" else -1.0, yaw0_rad=yaw_rad, radius_m=c.loop_lane_radii_m[fork],
+                             merge="right" if side == "left" else "left")
+        return "fork_straight", note
+
+    def loop_exit(self, yaw_rad: Optional[float], travelled_m: float) -> Optional[str]:
+        """merge_left / merge_right where the loop driven after a fork_straight turns back onto the
+        central road, else None; yaw_rad: unwrapped heading [rad], travelled_m: distance [m]."""
+        c, loop = self.config, self.loop
+        if loop is None or yaw_rad is None:
+            return None
+        if loop.yaw0_rad is None:  # no odometry at the fork yet: count from the first heading
+            loop.yaw0_rad = yaw_rad
+        if loop.exit_mark_m is None:
+            if loop.sign * (yaw_rad - loop.yaw0_rad) >= c.loop_sweep_rad - c.loop_exit_tolerance_rad:
+                loop.exit_mark_m = travelled_m
+            return None
+        if travelled_m - loop.exit_mark_m >= c.loop_exit_m + c.loop_exit_tolerance_rad * loop.radius_m:
+            self.loop = None
+            return "merge_" + loop.merge
+        return None

@@ -1,0 +1,50 @@
+"""The commanded speed [m/s] for a state's speed command, ramped as conde_control ramps it.
+Pure Python, no ROS.
+
+``cruise``: cruise_speed_mps; ``stop``: 0; ``stop_at_crosswalk``: cruise, braking at
+brake_decel_mps2 so as to stand stop_margin_m before the near edge of the crosswalk ahead.  The
+speed approaches its target at ramp_mps2, conde_control's acceleration limit, so that the speed
+commanded is the speed the robot drives (the decision dead-reckons with it)."""
+
+import math
+from typing import Optional
+
+from conde_common.rate_limit import RateLimiter
+
+
+class SpeedProfile:
+    def __init__(self, cruise_speed_mps: float, ramp_mps2: float, brake_decel_mps2: float, stop_margin_m: float):
+        self.cruise_speed_mps = cruise_speed_mps
+        self.brake_decel_mps2 = brake_decel_mps2
+        self.stop_margin_m = stop_margin_m
+        self._ramp = RateLimiter(ramp_mps2)
+        self.stop_latched = False  # stop_at_crosswalk has committed to stopping at this crosswalk
+
+    @property
+    def v_mps(self) -> float:
+        """The speed commanded in the last step [m/s]."""
+        return self._ramp.value
+
+    def unlatch(self) -> None:
+        """Forget the crosswalk committed to (a new state, or the robot left the crosswalk)."""
+        self.stop_latched = False
+
+    def step(self, speed: str, to_near_edge_m: Optional[float], dt_s: float, hold: bool = False) -> float:
+        """The speed [m/s] after dt_s [s] for the command `speed`, with the near edge of the
+        crosswalk ahead to_near_edge_m [m] away (None: unknown); hold: ramp to 0 instead."""
+        target_mps = 0.0 if hold else self.target_mps(speed, to_near_edge_m)
+        return self._ramp.step(target_mps, dt_s)
+
+    def target_mps(self, speed: str, to_near_edge_m: Optional[float]) -> float:
+        if speed == "stop":
+            return 0.0
+        if speed == "cruise":
+            return self.cruise_speed_mps
+        # stop_at_crosswalk: a constant-deceleration profile ending stop_margin_m before the near
+        # edge.  Once committed it holds even if dead reckoning overshoots the edge; a state that
+        # begins with the robot already on the crosswalk drives on to the next one.
+        if to_near_edge_m is None or (to_near_edge_m < 0.0 and not self.stop_latched):
+            return self.cruise_speed_mps
+        self.stop_latched = True
+        room_m = max(0.0, to_near_edge_m - self.stop_margin_m)
+        return min(self.cruise_speed_mps, math.sqrt(2.0 * self.brake_decel_mps2 * room_m))

@@ -1,0 +1,64 @@
+"""ForkNavigator: the order chosen at each fork, and the end of the loop driven straight on."""
+import math
+from dataclasses import replace
+
+import pytest
+
+from conde_decision.decision_logic import DecisionConfig
+from conde_decision.fork_navigator import ForkNavigator
+
+CONFIG = DecisionConfig()
+D = CONFIG.fork_distance_m
+
+
+def fork(nav, order=None, yaw_rad=0.0):
+    if order is not None:
+        nav.on_direction(order)
+    nav.on_crosswalk_left()
+    assert nav.at_fork(D - 0.01, yaw_rad) == (None, "")
+    return nav.at_fork(D, yaw_rad)
+
+
+def test_forward_does_what_fork_forward_says():
+    nav = ForkNavigator(CONFIG)
+    assert fork(nav) == ("fork_straight", "")  # north fork: straight on
+    nav.loop = None
+    assert fork(nav) == ("fork_right", "")  # south fork: the branch
+    assert nav.forks_passed == 2
+
+
+def test_orders_are_used_up_and_impossible_ones_noted():
+    nav = ForkNavigator(CONFIG)
+    assert fork(nav, "left") == ("fork_left", "")
+    assert nav.direction_order == "forward"
+    assert fork(nav, "left") == ("fork_straight", "the panel ordered left, but this fork opens to the right: "
+                                                  "keeping straight")
+    assert nav.loop.merge == "left" and nav.loop.sign == -1.0
+    assert nav.at_fork(10.0, 0.0) == (None, "")  # no fork pending
+
+
+def test_no_fork_before_a_crosswalk_is_left():
+    assert ForkNavigator(CONFIG).at_fork(None, 0.0) == (None, "")
+
+
+def test_loop_exit_after_the_sweep_and_the_exit_distance():
+    nav = ForkNavigator(replace(CONFIG, loop_exit_tolerance_rad=0.0))
+    assert fork(nav, yaw_rad=None) == ("fork_straight", "")
+    assert nav.loop_exit(None, 0.0) is None  # no heading yet
+    assert nav.loop_exit(0.5 * math.pi, 0.0) is None  # the first heading is the loop's start
+    assert nav.loop_exit(0.5 * math.pi + CONFIG.loop_sweep_rad - 0.01, 10.0) is None
+    assert nav.loop_exit(0.5 * math.pi + CONFIG.loop_sweep_rad, 12.0) is None  # sweep complete at 12 m
+    assert nav.loop_exit(0.5 * math.pi + CONFIG.loop_sweep_rad, 12.0 + CONFIG.loop_exit_m - 0.01) is None
+    assert nav.loop_exit(0.5 * math.pi + CONFIG.loop_sweep_rad, 12.0 + CONFIG.loop_exit_m) == "merge_right"
+    assert nav.loop is None and nav.loop_exit(0.0, 20.0) is None
+
+
+def test_the_tolerance_leaves_its_arc_to_drive():
+    nav = ForkNavigator(CONFIG)
+    fork(nav, yaw_rad=0.0)
+    tol = CONFIG.loop_exit_tolerance_rad
+    assert nav.loop_exit(CONFIG.loop_sweep_rad - tol, 5.0) is None
+    extra_m = tol * CONFIG.loop_lane_radii_m[0]
+    assert nav.loop_exit(CONFIG.loop_sweep_rad, 5.0 + CONFIG.loop_exit_m + extra_m - 1e-6) is None
+    assert nav.loop_exit(CONFIG.loop_sweep_rad, 5.0 + CONFIG.loop_exit_m + extra_m) == "merge_right"
+    assert extra_m == pytest.approx(0.2235, abs=1e-3)
