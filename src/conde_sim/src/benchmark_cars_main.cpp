@@ -22,6 +22,7 @@
 #include <string>
 #include <vector>
 
+#include "benchmark_support.h"
 #include "conde_sim/ackermann_drive.h"
 #include "conde_sim/laser_scanner.h"
 #include "conde_sim/simulation.h"
@@ -35,14 +36,6 @@ namespace {
 
 constexpr double kSpacing_m = 3.0;
 constexpr double kLidarRate_hz = 40.0;
-
-std::vector<std::string> split(const std::string& text) {
-  std::vector<std::string> out;
-  std::stringstream in(text);
-  std::string item;
-  while (std::getline(in, item, ',')) out.push_back(item);
-  return out;
-}
 
 int gridSide(int cars) { return static_cast<int>(std::ceil(std::sqrt(static_cast<double>(cars)))); }
 
@@ -150,16 +143,11 @@ int main(int argc, char** argv) {
                  argv[0]);
     return 2;
   }
-  std::ifstream file(argv[1]);
-  if (!file) {
-    std::fprintf(stderr, "cannot open URDF '%s'\n", argv[1]);
-    return 2;
-  }
-  std::stringstream urdf;
-  urdf << file.rdbuf();
-  const std::vector<std::string> car_counts = split(argc > 2 ? argv[2] : "1,4,16,50");
+  const std::optional<std::string> urdf = conde_sim::benchmark::readFile(argv[1], "URDF");
+  if (!urdf) return 2;
+  const std::vector<std::string> car_counts = conde_sim::benchmark::splitList(argc > 2 ? argv[2] : "1,4,16,50");
   const double sim_seconds = argc > 3 ? std::atof(argv[3]) : 10.0;
-  const std::vector<std::string> engines = split(argc > 4 ? argv[4] : "ode,bullet");
+  const std::vector<std::string> engines = conde_sim::benchmark::splitList(argc > 4 ? argv[4] : "ode,bullet");
   const int solver_iterations = argc > 5 ? std::atoi(argv[5]) : 10;
   try {
     std::printf("physics at %.0f Hz, %d solver iterations; LiDAR 1081 beams over 270 degrees at %.0f Hz per car\n\n",
@@ -169,7 +157,7 @@ int main(int argc, char** argv) {
         "physics + PIDs per step [us] | per scan of 1081 beams [us] |\n|---|---|---|---|---|---|---|---|\n");
     for (const std::string& cars : car_counts) {
       for (const std::string& engine : engines) {
-        const Result r = run(engine, urdf.str(), std::stoi(cars), sim_seconds, solver_iterations);
+        const Result r = run(engine, *urdf, std::stoi(cars), sim_seconds, solver_iterations);
         std::printf("| %s | %s | %.1f | %.2f | %.2f | %.2f | %.1f | %.0f |\n", engine.c_str(), cars.c_str(), r.sim_s,
                     r.cpu_s, r.sim_s / r.cpu_s, r.sim_s / r.wall_s, 1e6 * r.physics_s / r.steps,
                     r.scans > 0 ? 1e6 * r.lidar_s / r.scans : 0.0);

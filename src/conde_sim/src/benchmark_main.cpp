@@ -10,6 +10,7 @@
 #include <iostream>
 #include <sstream>
 
+#include "benchmark_support.h"
 #include "conde_physics/world_file.h"
 #include "conde_sim/diff_drive_controller.h"
 #include "conde_sim/simulation.h"
@@ -23,25 +24,18 @@ int main(int argc, char** argv) {
     return 2;
   }
   const double sim_seconds = argc > 3 ? std::atof(argv[3]) : 20.0;
-  std::string engines = argc > 4 ? argv[4] : "ode,bullet";
-  std::ifstream urdf_file(argv[2]);
-  if (!urdf_file) {
-    std::fprintf(stderr, "cannot open URDF '%s'\n", argv[2]);
-    return 2;
-  }
-  std::stringstream urdf;
-  urdf << urdf_file.rdbuf();
+  const std::vector<std::string> engines = conde_sim::benchmark::splitList(argc > 4 ? argv[4] : "ode,bullet");
+  const std::optional<std::string> urdf = conde_sim::benchmark::readFile(argv[2], "URDF");
+  if (!urdf) return 2;
   try {
     const cp::WorldDescription world = cp::loadWorldFile(argv[1], nullptr);
     std::printf("| engine | simulated [s] | wall [s] | real-time factor | step [us] |\n|---|---|---|---|---|\n");
-    std::stringstream list(engines);
-    std::string engine;
-    while (std::getline(list, engine, ',')) {
+    for (const std::string& engine : engines) {
       conde_sim::Simulation sim(world, engine, nullptr);
       conde_sim::RobotSpec spec;
       spec.name = "robot";
       spec.source = argv[2];
-      spec.urdf_xml = urdf.str();
+      spec.urdf_xml = *urdf;
       spec.spawn_pose = world.spawns.empty() ? cp::Pose() : world.spawns.front().pose;
       sim.addRobot(spec);
       conde_sim::DiffDrive::Config c;

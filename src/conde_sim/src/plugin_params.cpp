@@ -1,5 +1,6 @@
 #include "conde_sim/plugin_params.h"
 
+#include <algorithm>
 #include <optional>
 #include <sstream>
 #include <type_traits>
@@ -225,6 +226,22 @@ std::string PluginParams::sensorString(const std::string& key, const std::string
   sensor_used_.insert(key);
   const auto* e = sensorElement(key);
   return e ? text(e) : fallback;
+}
+
+std::string PluginParams::requireReferenceLink() const {
+  if (reference_link_.empty()) throw PluginError(where() + ": must sit in <gazebo reference=\"link\">");
+  return reference_link_;
+}
+
+std::string PluginParams::requireSensor(const std::vector<std::string>& types) const {
+  const bool known_type = std::find(types.begin(), types.end(), sensorType()) != types.end();
+  if (inSensor() && known_type && !reference_link_.empty()) return reference_link_;
+  std::string wanted;
+  for (const std::string& t : types)
+    wanted += (wanted.empty() ? "" : " or ") + std::string("<sensor type=\"") + t + "\">";
+  std::string got;
+  if (inSensor() && !known_type) got = " (got type '" + sensorType() + "')";
+  throw PluginError(where() + ": must sit in a " + wanted + " inside <gazebo reference=\"link\">" + got);
 }
 
 std::string PluginParams::sensorType() const {

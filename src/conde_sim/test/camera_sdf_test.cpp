@@ -95,18 +95,16 @@ TEST(CameraFromSdf, BadInputNamesTheElement) {
     }
     return std::string("no error");
   };
-  EXPECT_NE(message("<camera><image><width>0</width></image></camera>")
-                .find("<camera><image>: image size must be a positive whole number of pixels (got 0x240)"),
-            std::string::npos);
-  EXPECT_NE(message("<camera><horizontal_fov>3.1416</horizontal_fov></camera>")
-                .find("<camera><horizontal_fov>: must be in (0, pi) rad (got 3.1416)"),
-            std::string::npos);
-  EXPECT_NE(message("<camera><image><format>R16G16B16</format></image></camera>").find("unknown image format"),
-            std::string::npos);
-  EXPECT_NE(message("<camera><lens><type>stereographic</type></lens></camera>")
-                .find("needs <sensor type=\"wideanglecamera\">"),
-            std::string::npos);
-  EXPECT_NE(message("<camera><noise><type>gaussian</type><mean>0.1</mean></noise></camera>")
-                .find("only zero-mean noise is supported"),
-            std::string::npos);
+  auto expect_error = [&](const std::string& camera_xml, const std::string& part) {
+    const std::string m = message(camera_xml);
+    EXPECT_NE(m.find(part), std::string::npos) << m;
+  };
+  expect_error("<camera><image><width>0</width></image></camera>",
+               "<camera><image>: image size must be a positive whole number of pixels (got 0x240)");
+  expect_error("<camera><horizontal_fov>3.1416</horizontal_fov></camera>",
+               "<camera><horizontal_fov>: must be in (0, pi) rad (got 3.1416)");
+  expect_error("<camera><image><format>R16G16B16</format></image></camera>", "unknown image format");
+  expect_error("<camera><lens><type>stereographic</type></lens></camera>", "needs <sensor type=\"wideanglecamera\">");
+  expect_error("<camera><noise><type>gaussian</type><mean>0.1</mean></noise></camera>",
+               "only zero-mean noise is supported");
 }

@@ -7,6 +7,17 @@ using conde_sim::PluginParams;
 
 namespace {
 
+// The message of the PluginError that `f` throws, or "no error".
+template <class F>
+std::string errorOf(F f) {
+  try {
+    f();
+  } catch (const PluginError& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
 struct Parsed {
   tinyxml2::XMLDocument doc;
   const tinyxml2::XMLElement* plugin = nullptr;
@@ -38,31 +49,18 @@ TEST(PluginParams, UnknownKeyNamesFileLinePluginAndKey) {
       "<wheelSeperation>0.3</wheelSeperation></plugin>");
   PluginParams params(p.plugin, nullptr, "conde.urdf", "");
   params.getDouble("wheelSeparation", 0.34);
-  try {
-    params.checkAllUsed();
-    FAIL() << "expected PluginError";
-  } catch (const PluginError& e) {
-    EXPECT_STREQ(e.what(),
-                 "conde.urdf:3: plugin 'dd' (libgazebo_ros_diff_drive.so): unknown parameter <wheelSeperation>");
-  }
+  EXPECT_EQ(errorOf([&] { params.checkAllUsed(); }),
+            "conde.urdf:3: plugin 'dd' (libgazebo_ros_diff_drive.so): unknown parameter <wheelSeperation>");
 }
 
 TEST(PluginParams, BadValuesNameTheKey) {
   Parsed p("<plugin name=\"dd\" filename=\"libx.so\"><updateRate>fast</updateRate><publishTf>yes</publishTf></plugin>");
   PluginParams params(p.plugin, nullptr, "r.urdf", "");
-  try {
-    params.getDouble("updateRate", 10);
-    FAIL();
-  } catch (const PluginError& e) {
-    EXPECT_STREQ(e.what(), "r.urdf:1: plugin 'dd' (libx.so): <updateRate>: expected a number, got 'fast'");
-  }
+  EXPECT_EQ(errorOf([&] { params.getDouble("updateRate", 10); }),
+            "r.urdf:1: plugin 'dd' (libx.so): <updateRate>: expected a number, got 'fast'");
   EXPECT_THROW(params.getBool("publishTf", true), PluginError);
-  try {
-    params.requireString("leftJoint");
-    FAIL();
-  } catch (const PluginError& e) {
-    EXPECT_STREQ(e.what(), "r.urdf:1: plugin 'dd' (libx.so): <leftJoint>: required parameter is missing");
-  }
+  EXPECT_EQ(errorOf([&] { params.requireString("leftJoint"); }),
+            "r.urdf:1: plugin 'dd' (libx.so): <leftJoint>: required parameter is missing");
 }
 
 TEST(PluginParams, SensorKeysAreCheckedToo) {
@@ -72,12 +70,7 @@ TEST(PluginParams, SensorKeysAreCheckedToo) {
   PluginParams params(p.plugin, p.sensor, "r.urdf", "imu_link");
   EXPECT_DOUBLE_EQ(params.sensorDouble("update_rate", 0), 100.0);
   EXPECT_EQ(params.sensorType(), "imu");
-  try {
-    params.checkAllUsed();
-    FAIL();
-  } catch (const PluginError& e) {
-    EXPECT_STREQ(e.what(), "r.urdf:2: sensor 'imu' (imu): unknown element <updaterate>");
-  }
+  EXPECT_EQ(errorOf([&] { params.checkAllUsed(); }), "r.urdf:2: sensor 'imu' (imu): unknown element <updaterate>");
 }
 
 TEST(PluginParams, NestedSensorKeysAreReadAndChecked) {
@@ -91,19 +84,11 @@ TEST(PluginParams, NestedSensorKeysAreReadAndChecked) {
   EXPECT_TRUE(params.sensorHas("ray/scan/horizontal"));
   EXPECT_FALSE(params.sensorHas("ray/range/min"));
   EXPECT_DOUBLE_EQ(params.sensorDouble("ray/range/min", 0.5), 0.5);
-  try {
-    params.sensorDouble("ray/scan/horizontal/min_angle", 0.0);
-    FAIL();
-  } catch (const PluginError& e) {
-    EXPECT_STREQ(e.what(),
-                 "r.urdf:4: sensor 'laser' (ray): <ray><scan><horizontal><min_angle>: expected a number, got 'x'");
-  }
-  try {
-    params.checkAllUsed();
-    FAIL();
-  } catch (const PluginError& e) {  // <min_angle> was read (if badly); <mni> never was
-    EXPECT_STREQ(e.what(), "r.urdf:5: sensor 'laser' (ray): unknown element <ray><range><mni>");
-  }
+  EXPECT_EQ(errorOf([&] { params.sensorDouble("ray/scan/horizontal/min_angle", 0.0); }),
+            "r.urdf:4: sensor 'laser' (ray): <ray><scan><horizontal><min_angle>: expected a number, got 'x'");
+  // <min_angle> was read (if badly); <mni> never was
+  EXPECT_EQ(errorOf([&] { params.checkAllUsed(); }),
+            "r.urdf:5: sensor 'laser' (ray): unknown element <ray><range><mni>");
   params.ignore({"ray/range"});
   EXPECT_NO_THROW(params.checkAllUsed());
 }
@@ -128,19 +113,31 @@ TEST(PluginParams, SensorPoseAndNoiseAreReadAlikeForEverySensor) {
       "<sensor type=\"ray\" name=\"lidar\">\n<pose>0 0 0.2</pose>\n<ray><noise><type>uniform</type></noise></ray>\n"
       "<plugin name=\"l\" filename=\"libgazebo_ros_laser.so\"/></sensor>");
   PluginParams bad_params(bad.plugin, bad.sensor, "r.urdf", "base");
-  try {
-    bad_params.sensorPose();
-    FAIL() << "no error";
-  } catch (const PluginError& e) {
-    EXPECT_STREQ(e.what(),
-                 "r.urdf:2: sensor 'lidar' (ray): <pose>: expected six numbers 'x y z roll pitch yaw', got '0 0 0.2'");
-  }
-  try {
-    bad_params.sensorNoise("ray/noise");
-    FAIL() << "no error";
-  } catch (const PluginError& e) {
-    EXPECT_STREQ(e.what(),
-                 "r.urdf:3: sensor 'lidar' (ray): <ray><noise><type>: unsupported noise type 'uniform' (expected "
-                 "gaussian or none)");
-  }
+  EXPECT_EQ(errorOf([&] { bad_params.sensorPose(); }),
+            "r.urdf:2: sensor 'lidar' (ray): <pose>: expected six numbers 'x y z roll pitch yaw', got '0 0 0.2'");
+  EXPECT_EQ(errorOf([&] { bad_params.sensorNoise("ray/noise"); }),
+            "r.urdf:3: sensor 'lidar' (ray): <ray><noise><type>: unsupported noise type 'uniform' (expected "
+            "gaussian or none)");
+}
+
+// Sensor plugins check where they sit in one place: a <sensor> of their type in a link's block.
+TEST(PluginParams, SensorPluginsNameTheSensorTheyNeed) {
+  Parsed imu(
+      "<sensor name=\"imu\" type=\"imu\"><plugin name=\"i\" filename=\"libgazebo_ros_imu_sensor.so\"/></sensor>");
+  EXPECT_EQ(PluginParams(imu.plugin, imu.sensor, "r.urdf", "imu_link").requireSensor({"imu"}), "imu_link");
+  auto error = [](const Parsed& p, const std::string& link, const std::vector<std::string>& types) {
+    return errorOf([&] { PluginParams(p.plugin, p.sensor, "r.urdf", link).requireSensor(types); });
+  };
+  EXPECT_EQ(error(imu, "imu_link", {"ray", "gpu_ray"}),
+            "r.urdf:1: plugin 'i' (libgazebo_ros_imu_sensor.so): must sit in a <sensor type=\"ray\"> or "
+            "<sensor type=\"gpu_ray\"> inside <gazebo reference=\"link\"> (got type 'imu')");
+  EXPECT_EQ(error(imu, "", {"imu"}),
+            "r.urdf:1: plugin 'i' (libgazebo_ros_imu_sensor.so): must sit in a <sensor type=\"imu\"> inside "
+            "<gazebo reference=\"link\">");
+  Parsed model_level("<plugin name=\"l\" filename=\"libgazebo_ros_laser.so\"/>");
+  EXPECT_EQ(error(model_level, "", {"ray"}),
+            "r.urdf:1: plugin 'l' (libgazebo_ros_laser.so): must sit in a <sensor type=\"ray\"> inside "
+            "<gazebo reference=\"link\">");
+  EXPECT_EQ(errorOf([&] { PluginParams(model_level.plugin, nullptr, "r.urdf", "").requireReferenceLink(); }),
+            "r.urdf:1: plugin 'l' (libgazebo_ros_laser.so): must sit in <gazebo reference=\"link\">");
 }

@@ -34,6 +34,11 @@ class PluginParams {
   std::string filename() const { return filename_; }
   std::string referenceLink() const { return reference_link_; }
   bool inSensor() const { return sensor_ != nullptr; }
+  // The link of the enclosing <gazebo reference="link">; throws PluginError when there is none.
+  std::string requireReferenceLink() const;
+  // The same for a sensor plugin, whose <sensor> must have one of `types` (e.g. {"ray", "gpu_ray"}):
+  // "must sit in a <sensor type="ray"> or <sensor type="gpu_ray"> inside <gazebo reference="link">".
+  std::string requireSensor(const std::vector<std::string>& types) const;
   bool has(const std::string& key) const;
 
   std::string getString(const std::string& key, const std::string& fallback);

@@ -71,13 +71,8 @@ bool samePose(const cp::Pose& a, const cp::Pose& b) {
 class CameraPlugin : public SimPlugin {
  public:
   void configure(PluginParams& params, ros::NodeHandle& nh) override {
-    link_ = params.referenceLink();
-    const bool wide_angle = params.inSensor() && params.sensorType() == "wideanglecamera";
-    if (!params.inSensor() || (params.sensorType() != "camera" && !wide_angle) || link_.empty()) {
-      throw PluginError(params.where() +
-                        ": must sit in a <sensor type=\"camera\"> or <sensor type=\"wideanglecamera\"> "
-                        "inside <gazebo reference=\"link\">");
-    }
+    link_ = params.requireSensor({"camera", "wideanglecamera"});
+    const bool wide_angle = params.sensorType() == "wideanglecamera";
     const auto& robot = ctx_.sim->robot(ctx_.robot);
     if (robot.model.bodyIndex(link_) < 0) {
       throw PluginError(params.where() + ": robot '" + robot.spec.name + "' has no link '" + link_ + "'");

@@ -27,10 +27,7 @@ namespace {
 class ImuSensorPlugin : public SimPlugin {
  public:
   void configure(PluginParams& params, ros::NodeHandle& nh) override {
-    link_ = params.referenceLink();
-    if (!params.inSensor() || link_.empty()) {
-      throw PluginError(params.where() + ": must sit in a <sensor type=\"imu\"> inside <gazebo reference=\"link\">");
-    }
+    link_ = params.requireSensor({"imu"});
     const std::string topic = params.getString("topicName", "imu_data");
     frame_ = ctx_.frame(params.requireString("frameName"));
     double rate_hz = params.getDouble("updateRateHZ", 1.0);

@@ -37,14 +37,7 @@ namespace {
 class LaserPlugin : public SimPlugin {
  public:
   void configure(PluginParams& params, ros::NodeHandle& nh) override {
-    const std::string link = params.referenceLink();
-    if (!params.inSensor() || link.empty()) {
-      throw PluginError(params.where() + ": must sit in a <sensor type=\"ray\"> inside <gazebo reference=\"link\">");
-    }
-    if (params.sensorType() != "ray" && params.sensorType() != "gpu_ray") {
-      throw PluginError(params.where() + ": needs a <sensor type=\"ray\"> or \"gpu_ray\", got type '" +
-                        params.sensorType() + "'");
-    }
+    const std::string link = params.requireSensor({"ray", "gpu_ray"});
     int body = -1;
     cp::Pose unused;
     if (!ctx_.sim->robot(ctx_.robot).model.linkInBody(link, body, unused)) {

@@ -21,8 +21,7 @@ namespace {
 class VideoPlugin : public SimPlugin {
  public:
   void configure(PluginParams& params, ros::NodeHandle& nh) override {
-    const std::string link = params.referenceLink();
-    if (link.empty()) throw PluginError(params.where() + ": must sit in <gazebo reference=\"link\">");
+    const std::string link = params.requireReferenceLink();
     const auto& robot = ctx_.sim->robot(ctx_.robot);
     if (robot.model.bodyIndex(link) < 0) {
       throw PluginError(params.where() + ": robot '" + robot.spec.name + "' has no link '" + link + "'");
