@@ -72,3 +72,35 @@ def test_white_mask_needs_every_channel_bright():
     img = np.array([[[255, 255, 255], [170, 200, 230], [255, 255, 0]]], dtype=np.uint8)
     assert white_mask(img, 140).tolist() == [[True, True, False]]
     assert white_mask(np.array([[100, 200]], np.uint8), 140).tolist() == [[False, True]]
+
+
+def brute_force_search(lm, pts):
+    """The coarse search by its definition: every grid model against every point."""
+    c = lm.config
+    if len(pts) > c.search_points:
+        pts = pts[np.linspace(0, len(pts) - 1, c.search_points).astype(int)]
+    c0s, shapes = lm._grid_axes
+    grid = np.array([(c0, c1, c2) for c0 in c0s for c1, c2 in shapes])
+    x, y = pts[:, 0][None, :], pts[:, 1][None, :]
+    d = y - (grid[:, 0:1] + grid[:, 1:2] * x + grid[:, 2:3] * x * x)
+    k = np.sqrt(1.0 + (grid[:, 1:2] + 2 * grid[:, 2:3] * x) ** 2)
+    score = sum((np.abs(d - off * k) < c.line_window_m).sum(1) for off in (c.right_line_offset_m, c.left_line_offset_m))
+    return grid[int(np.argmax(score))]
+
+
+def test_the_coarse_search_finds_the_model_its_definition_finds():
+    _, lm, _ = load("centred")
+    rng = np.random.default_rng(7)
+    point_sets = []
+    for name in POSES:
+        d, lm_pose, images = load(name)
+        point_sets.append(lm_pose.ground_white(images)[0])
+    for _ in range(40):  # two noisy lines of a random lane, and clutter
+        c0, c1, c2 = rng.uniform(-0.3, 0.3), rng.uniform(-0.6, 0.6), rng.uniform(-0.6, 0.6)
+        x = rng.uniform(0.0, 1.3, 400)
+        off = np.where(rng.random(400) < 0.5, lm.config.right_line_offset_m, lm.config.left_line_offset_m)
+        y = c0 + c1 * x + c2 * x * x + off * np.sqrt(1 + (c1 + 2 * c2 * x) ** 2) + rng.normal(0, 0.01, 400)
+        clutter = rng.uniform([0.0, -1.3], [1.3, 1.3], (60, 2))
+        point_sets.append(np.vstack([np.column_stack([x, y]), clutter]))
+    for pts in point_sets:
+        np.testing.assert_array_equal(lm._coarse_search(pts), brute_force_search(lm, pts))

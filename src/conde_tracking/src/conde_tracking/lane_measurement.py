@@ -95,44 +95,65 @@ class LaneMeasurement:
     def __init__(self, ground_maps: Sequence[GroundMap], config: LaneConfig = LaneConfig()):
         self.ground_maps = list(ground_maps)
         self.config = config
-        self._grid = self._search_grid()
+        self._grid_axes = self._search_grid()
+        # The pixels that see the ground never change: their indices per map and their ground
+        # points (all maps, in order) are taken once; a frame only reads its white flags.
+        self._ground_pixels = []
+        for gm in self.ground_maps:
+            xy = gm.xy_m.reshape(-1, 2)
+            self._ground_pixels.append(np.flatnonzero(np.isfinite(xy[:, 0])))
+        self._ground_xy = np.concatenate([gm.xy_m.reshape(-1, 2)[i] for gm, i in
+                                          zip(self.ground_maps, self._ground_pixels)]) \
+            if self.ground_maps else np.zeros((0, 2))
 
     @staticmethod
     def _search_grid():
-        # lateral [m] x heading x curvature/2 [1/m]; steps well inside line_window_m
+        """The coarse search's models: every lateral offset c0 [m] x heading slope c1 x curvature/2
+        c2 [1/m] (steps well inside line_window_m), as (c0 values, (c1, c2) pairs)."""
         c0 = np.arange(-0.30, 0.301, 0.03)
         c1 = np.tan(np.radians(np.arange(-40.0, 40.1, 4.0)))
         c2 = np.array([-0.8, -0.4, -0.2, 0.0, 0.2, 0.4, 0.8])
-        g = np.stack(np.meshgrid(c0, c1, c2, indexing="ij"), axis=-1).reshape(-1, 3)
-        return g
+        shapes = np.stack(np.meshgrid(c1, c2, indexing="ij"), axis=-1).reshape(-1, 2)
+        return c0, shapes
 
     def ground_white(self, images):
         """White ground points (N, 2) [m] of all images together, and all ground points (M, 2) with a
         white flag (M,) for the crosswalk search."""
         c = self.config
-        everything, flags = [], []
-        for gm, img in zip(self.ground_maps, images):
-            mask = white_mask(img, c.white_threshold)
-            xy = gm.xy_m.reshape(-1, 2)
-            ok = np.isfinite(xy[:, 0])
-            everything.append(xy[ok])
-            flags.append(mask.reshape(-1)[ok])
-        everything = np.concatenate(everything)
-        flags = np.concatenate(flags)
-        return everything[flags], everything, flags
+        flags = np.concatenate([white_mask(img, c.white_threshold).reshape(-1)[pixels]
+                                for img, pixels in zip(images, self._ground_pixels)])
+        return self._ground_xy[flags], self._ground_xy, flags
 
     def _coarse_search(self, pts):
+        """The grid model (c0, c1, c2) that puts most points within line_window_m of its two lines.
+
+        A point lies on the line `off` of model (c0, c1, c2) when |y - c1 x - c2 x^2 - off k - c0| <
+        window (k = sqrt(1 + (c1 + 2 c2 x)^2)): for each (c1, c2) the residuals without c0 are
+        sorted once and the points of every c0 counted by binary search, instead of testing each
+        point against each of the grid's models."""
         c = self.config
         if len(pts) > c.search_points:
             pts = pts[np.linspace(0, len(pts) - 1, c.search_points).astype(int)]
-        g = self._grid
+        c0s, shapes = self._grid_axes
         x, y = pts[:, 0][None, :], pts[:, 1][None, :]
-        yc = g[:, 0:1] + g[:, 1:2] * x + g[:, 2:3] * x * x
-        k = np.sqrt(1.0 + (g[:, 1:2] + 2 * g[:, 2:3] * x) ** 2)
-        d = y - yc
-        score = (np.abs(d - c.right_line_offset_m * k) < c.line_window_m).sum(1) + \
-            (np.abs(d - c.left_line_offset_m * k) < c.line_window_m).sum(1)
-        return g[int(np.argmax(score))].copy()
+        c1, c2 = shapes[:, 0:1], shapes[:, 1:2]
+        k = np.sqrt(1.0 + (c1 + 2 * c2 * x) ** 2)
+        base = y - (c1 * x + c2 * x * x)
+        # Rows side by side in one sorted array: row i's values shifted by i * spacing, far beyond
+        # any residual, so that one binary search answers every row and c0 at once.
+        spacing = 1000.0
+        shift = (np.arange(len(shapes)) * spacing)[:, None]
+        high = (shift + (c0s + c.line_window_m)[None, :]).ravel()
+        low = (shift + (c0s - c.line_window_m)[None, :]).ravel()
+        score = np.zeros(len(shapes) * len(c0s), dtype=np.int64)
+        for offset in (c.right_line_offset_m, c.left_line_offset_m):
+            r = (np.sort(base - offset * k, axis=1) + shift).ravel()
+            score += np.searchsorted(r, high, "left") - np.searchsorted(r, low, "right")
+        score = score.reshape(len(shapes), len(c0s))
+        # The grid's order (c0 slowest, then c1, then c2) decides ties, as a search over it would.
+        best = int(np.argmax(score.T.reshape(-1)))
+        c0_index, shape_index = divmod(best, len(shapes))
+        return np.array([c0s[c0_index], shapes[shape_index, 0], shapes[shape_index, 1]])
 
     def _line_found(self, pts):
         c = self.config
