@@ -25,6 +25,11 @@ def challenges():
     return load_challenges(CHALLENGES_FILE)
 
 
+@pytest.fixture(scope="module")
+def track():
+    return tg.build_track()
+
+
 def objects(challenges, challenge, variant=None, seed=0, prefix=""):
     world, _, _ = challenge_world(challenges, challenge, variant, seed)
     return [o for o in world["objects"] if o["name"].startswith(prefix)]
@@ -42,7 +47,7 @@ def test_every_challenge_of_the_rules_is_described(challenges):
 
 
 @pytest.mark.parametrize("challenge,variant", ALL)
-def test_every_world_keeps_the_track_and_panels_and_starts_each_robot(challenges, challenge, variant):
+def test_every_world_keeps_the_track_and_panels_and_starts_each_robot(challenges, track, challenge, variant):
     world, _, _ = challenge_world(challenges, challenge, variant, 0)
     assert world["format"] == "conde_world/1"
     assert world["name"] == "challenge_%s_%s_seed0" % (challenge, variant)
@@ -51,7 +56,7 @@ def test_every_world_keeps_the_track_and_panels_and_starts_each_robot(challenges
     assert names[:2] == ["monitor_lcd1", "monitor_lcd2"] and len(set(names)) == len(names)
     assert set(world["spawn"]) == {"conde", "major_alvega"}
     for pose in world["spawn"].values():
-        assert tg.Track().on_road([pose["xyz"][:2]])[0]
+        assert track.on_road([pose["xyz"][:2]])[0]
 
 
 def test_d1_d2_p1_b1_have_no_objects_beyond_the_panels(challenges):
@@ -142,8 +147,12 @@ def test_tunnel_is_roofed_and_its_walls_stand_off_the_road(challenges):
     roofs = [p for p in parts if p["name"].startswith("tunnel_roof_")]
     assert roofs and len(walls) == 2 * len(roofs)
     for w in walls:
-        for x, y in co.box_corners(w):
-            assert not tg.Track().on_road([[x, y]])[0] or radius("south", x, y) > co.OUTER_LINE_R
+        r = [radius("south", x, y) for x, y in co.box_corners(w)]
+        if "_inner_" in w["name"]:  # inside the island, clear of its painted line
+            assert max(r) < co.ISLAND_LINE_R - tg.SOLID_WIDTH / 2
+        else:  # outside the outer line
+            assert min(r) > co.OUTER_LINE_R + tg.SOLID_WIDTH / 2
+        assert w["size_m"][2] == co.TUNNEL_HEIGHT_M
     for roof in roofs:
         bottom = roof["pose"]["xyz"][2] - roof["size_m"][2] / 2
         assert bottom == pytest.approx(co.TUNNEL_HEIGHT_M)
@@ -160,10 +169,9 @@ def test_parallel_boxes_are_in_the_bay_with_the_gap(challenges):
 
 
 @pytest.mark.parametrize("variant,bay", [("v1", "north"), ("v2", "south")])
-def test_bay_box_fills_one_bay(challenges, variant, bay):
+def test_bay_box_fills_one_bay(challenges, track, variant, bay):
     (box,) = objects(challenges, "B2", variant, prefix="parked_box_")
     assert box["name"] == "parked_box_" + bay
-    track = tg.Track()
     assert all(track.in_bay([c], bay)[0] for c in co.box_corners(box))
     other = "south" if bay == "north" else "north"
     assert not any(track.in_bay([c], other)[0] for c in co.box_corners(box))
@@ -178,14 +186,14 @@ def signs(challenges, seed):
     return objects(challenges, "V1", None, seed, prefix="sign_")
 
 
-def test_twelve_signs_of_the_rules_size_one_metre_high(challenges):
+def test_twelve_signs_of_the_rules_size_one_metre_high(challenges, track):
     s = signs(challenges, 0)
     assert len(s) == 12
     assert sorted(o["name"].split("_", 2)[2] for o in s) == sorted(traffic_signs.SIGNS)
     for o in s:
         assert o["size_m"][:2] == [0.305, 0.305] and o["pose"]["xyz"][2] == 1.0
         assert o["texture"] == "textures/sign_%s.png" % o["name"].split("_", 2)[2]
-        assert not tg.Track().on_road([o["pose"]["xyz"][:2]])[0]
+        assert not track.on_road([o["pose"]["xyz"][:2]])[0]
 
 
 def test_signs_are_shuffled_by_the_seed_and_all_twelve_stay(challenges):
@@ -318,3 +326,18 @@ def test_unreadable_file_names_the_path(tmp_path):
     with pytest.raises(ChallengeError) as e:
         load_challenges(missing)
     assert str(e.value) == "%s: cannot read: No such file or directory" % missing
+
+
+def test_top_view_shows_the_boxes_where_they_are(tmp_path):
+    from conde_worlds.challenge_render import TOP_VIEW_PX_PER_M, write_top_view
+    from conde_worlds.track_render import world_to_pixel
+    paths = write_challenge("D3", "v1", 0, str(tmp_path))
+    png = str(tmp_path / "top.png")
+    write_top_view(paths["world"], png)
+    img = cv2.cvtColor(cv2.imread(png), cv2.COLOR_BGR2RGB)
+    world = yaml.safe_load(open(paths["world"]))
+    assert img.shape[:2] == (int(round(16.7 * TOP_VIEW_PX_PER_M)), int(round(7.45 * TOP_VIEW_PX_PER_M)))
+    for box in (o for o in world["objects"] if o["name"].startswith("obstacle_")):
+        col, row = world_to_pixel(*box["pose"]["xyz"][:2], TOP_VIEW_PX_PER_M, world["ground"]["x_range_m"],
+                                  world["ground"]["y_range_m"])
+        assert list(img[int(row), int(col)]) == [0, 255, 0]

@@ -4,10 +4,13 @@ Pure numpy + OpenCV, no ROS.  For documentation and quick checks, not for camera
 """
 
 import math
+import os
 
 import cv2
 import numpy as np
+import yaml
 
+from .challenges import default_path
 from .track_render import world_to_pixel
 
 TOP_VIEW_PX_PER_M = 40.0
@@ -53,3 +56,24 @@ def render_top_view(world: dict, floor_rgb: np.ndarray, x_range, y_range,
         alpha = 0.35 if obj["pose"]["xyz"][2] > 0.5 and obj["shape"] == "box" and "tunnel_roof" in obj["name"] else 1.0
         img = alpha * layer + (1.0 - alpha) * img
     return np.clip(img, 0, 255).astype(np.uint8)
+
+
+def write_top_view(world_path: str, png_path: str, resolution: float = TOP_VIEW_PX_PER_M):
+    """Draws the world file `world_path` from above into `png_path` (its ground texture must be a
+    package://conde_worlds/ or relative path)."""
+    with open(world_path) as f:
+        world = yaml.safe_load(f)
+    ground = world["ground"]
+    texture = ground["texture"]
+    if texture.startswith("package://conde_worlds/"):
+        package_dir = os.path.dirname(os.path.dirname(default_path()))  # beside challenges/
+        texture = os.path.join(package_dir, texture[len("package://conde_worlds/"):])
+    elif not os.path.isabs(texture):
+        texture = os.path.join(os.path.dirname(world_path), texture)
+    floor = cv2.imread(texture)
+    if floor is None:
+        raise IOError("cannot read the ground texture %s" % texture)
+    img = render_top_view(world, cv2.cvtColor(floor, cv2.COLOR_BGR2RGB), ground["x_range_m"], ground["y_range_m"],
+                          resolution)
+    if not cv2.imwrite(png_path, cv2.cvtColor(img, cv2.COLOR_RGB2BGR), [cv2.IMWRITE_PNG_COMPRESSION, 9]):
+        raise IOError("cannot write %s" % png_path)
