@@ -123,6 +123,15 @@ def test_random_d4_boxes_stay_out_of_the_working_zone_and_the_tunnel(challenges)
                     assert not zone["from_deg"] - 15 <= ob["angle_deg"] <= zone["to_deg"] + 15
 
 
+@pytest.mark.parametrize("variant", ["v1", "v2"])
+def test_d4_variant_boxes_stay_out_of_the_working_zone_and_the_tunnel(challenges, variant):
+    f = challenges.challenges["D4"].variants[variant]
+    for ob in f["obstacles"]:
+        for zone in (f["working_zone"], f["tunnel"]):
+            if zone["loop"] == ob["loop"]:
+                assert not zone["from_deg"] - 15 <= ob["angle_deg"] <= zone["to_deg"] + 15
+
+
 def test_layout_is_a_function_of_the_seed(challenges):
     assert objects(challenges, "D3", "v1", 7) == objects(challenges, "D3", "v1", 7)
     assert objects(challenges, "D3", "v1", 7) != objects(challenges, "D3", "v1", 8)

@@ -14,6 +14,8 @@ from .challenges import default_path
 from .track_render import world_to_pixel
 
 TOP_VIEW_PX_PER_M = 40.0
+#: Objects drawn half transparent, so that what is under them shows.
+SEE_THROUGH = ("tunnel_roof_",)
 
 
 def _rotation(rpy):
@@ -43,7 +45,7 @@ def footprint(obj: dict) -> np.ndarray:
 def render_top_view(world: dict, floor_rgb: np.ndarray, x_range, y_range,
                     resolution: float = TOP_VIEW_PX_PER_M) -> np.ndarray:
     """RGB top view at `resolution` px/m of the floor image (covering x_range, y_range) and the
-    world's objects; tall objects (tunnel roof) are drawn see-through."""
+    world's objects; roofs (SEE_THROUGH) are drawn half transparent."""
     w = int(round((x_range[1] - x_range[0]) * resolution))
     h = int(round((y_range[1] - y_range[0]) * resolution))
     img = cv2.resize(floor_rgb, (w, h), interpolation=cv2.INTER_AREA).astype(np.float32)
@@ -53,7 +55,7 @@ def render_top_view(world: dict, floor_rgb: np.ndarray, x_range, y_range,
         poly = np.round(np.stack([col, row], axis=1) * 4).astype(np.int32)
         layer = img.copy()
         cv2.fillPoly(layer, [poly], colour.tolist(), cv2.LINE_AA, shift=2)
-        alpha = 0.35 if obj["pose"]["xyz"][2] > 0.5 and obj["shape"] == "box" and "tunnel_roof" in obj["name"] else 1.0
+        alpha = 0.35 if obj["name"].startswith(SEE_THROUGH) else 1.0
         img = alpha * layer + (1.0 - alpha) * img
     return np.clip(img, 0, 255).astype(np.uint8)
 
