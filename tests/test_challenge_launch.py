@@ -26,6 +26,7 @@ def test_challenge_launch_runs_the_world_with_the_robot_and_the_panel(master, tm
     name = "challenge_%s_%s_seed%s" % (challenge, variant, seed)
     assert "conde_sim: world '%s'" % name in log and "engine %s" % engine in log, log[-4000:]
     assert "process[signalling_panel_controller" in log, log[-4000:]
+    assert "process has died" not in log, log[-4000:]  # the panel controller took the schedule
     if robot == "major_alvega":
         assert "process[ackermann_controller" in log, log[-4000:]
     out_dir = tmp_path / "conde_challenges" / ("%s_%s_seed%s" % (challenge, variant, seed))
