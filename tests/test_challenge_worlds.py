@@ -1,0 +1,57 @@
+"""Every challenge world (conde_worlds' generator: each variant and a few random seeds) loads into
+the simulator and runs a few simulated seconds on ODE and on Bullet with Conde standing still at
+the start pose, then drives a short way; in V1 the signalling-panel camera sees the sign in front
+of it. One process per
+engine loads the worlds in turn (challenge_world_checks.py), stepping a paused node."""
+import json
+import os
+import subprocess
+
+import pytest
+import rosgraph
+from conde_worlds.challenge_objects import sign_order
+from conde_worlds.traffic_signs import FAMILY, SIGNS
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+CHECKS = os.path.join(HERE, "challenge_world_checks.py")
+
+
+@pytest.fixture(scope="module")
+def conde_master(master):
+    urdf = subprocess.run(["xacro", subprocess.run(["rospack", "find", "conde_description"], env=master,
+                                                   capture_output=True, text=True, check=True).stdout.strip()
+                           + "/robots/conde.urdf.xacro"], env=master, capture_output=True, text=True, check=True).stdout
+    rosgraph.Master("/challenge_worlds_test", master_uri=master["ROS_MASTER_URI"]).setParam("/robot_description", urdf)
+    return master
+
+
+@pytest.mark.parametrize("engine", ["ode", "bullet"])
+def test_every_challenge_world_loads_and_runs(conde_master, engine, tmp_path):
+    out = subprocess.run(["/usr/bin/python3", CHECKS, engine, str(tmp_path)], env=conde_master, capture_output=True,
+                         text=True, timeout=300)
+    assert out.returncode == 0, out.stdout[-3000:] + out.stderr[-3000:]
+    results = [json.loads(line) for line in out.stdout.splitlines() if line.startswith("{")]
+    names = {(r["challenge"], r["variant"], r["seed"]) for r in results}
+    assert {c for c, _, _ in names} == {"D1", "D2", "D3", "D4", "P1", "P2", "B1", "B2", "V1"}
+    assert {("D3", "v1", 0), ("D3", "v2", 0), ("D4", "v1", 0), ("D4", "v2", 0), ("B2", "v1", 0),
+            ("B2", "v2", 0), ("D3", "v1", 7), ("V1", "v1", 5)} <= names
+    for r in results:
+        what = "%s %s seed %d on %s: %s" % (r["challenge"], r["variant"], r["seed"], engine, r["node_output_tail"])
+        assert r["node_alive"], what
+        assert r["sim_time_s"] >= 2.0, what
+        (x0, y0, z0), (x1, y1, z1) = r["start"], r["end"]
+        # No command: the robot stays at its start pose, on the floor (objects do not push it).
+        assert abs(x1 - x0) < 0.02 and abs(y1 - y0) < 0.02 and abs(z1 - z0) < 0.02, what
+        # Then it drives 0.3 m/s for 1.5 s: about 0.45 m (spin-up and the engines' differences).
+        assert 0.25 < r["driven_m"] < 0.5, what
+        if r["challenge"] == "V1":
+            # The sign the seed put at position 0 fills about 40 x 40 px of the 320 x 240 image:
+            # red for a danger triangle, blue for the others.
+            sign = sign_order(SIGNS, r["seed"])[0]
+            red, blue = r["sign_red_px"], r["sign_blue_px"]
+            if FAMILY[sign] == "danger":
+                assert red > 150 and blue < 50, (sign, what)
+            else:
+                assert blue > 150 and red < 50, (sign, what)
+    v1_signs = {sign_order(SIGNS, r["seed"])[0] for r in results if r["challenge"] == "V1"}
+    assert {FAMILY[s] for s in v1_signs} == {"danger", "mandatory"}  # seeds 0 and 5 show both colours

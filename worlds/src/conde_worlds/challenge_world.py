@@ -1,0 +1,136 @@
+"""A challenge's world, schedule and description, generated from the track and challenges.yaml.
+
+Pure Python, no ROS.  :func:`layout` resolves a (challenge, variant, seed) into the parameters
+of its features (seed 0: the variant's fixed layout; seed N > 0: drawn with random.Random(N)
+from the challenge's `random` section); :func:`challenge_world` turns that into a world-file
+mapping (the base world's ground, panels and physics plus the features' objects and one spawn
+pose per robot); :func:`write_challenge` writes the world, the sign textures, the panel schedule
+and a summary into one directory.
+"""
+
+import copy
+import os
+from typing import Dict, Optional, Tuple
+
+import yaml
+
+from . import challenge_objects as co
+from . import traffic_signs
+from .challenges import Challenges, load_challenges
+
+WORLD_FILE = "world.yaml"
+SCHEDULE_FILE = "schedule.yaml"
+SUMMARY_FILE = "challenge.yaml"
+TEXTURE_DIR = "textures"
+
+
+def layout(challenges: Challenges, challenge: str, variant: Optional[str] = None, seed=0) -> Tuple[str, str, int, dict]:
+    """(challenge, variant, seed, {feature: parameters}) with the seed applied."""
+    ch, variant, seed = challenges.select(challenge, variant, seed)
+    features = copy.deepcopy(ch.variants[variant])
+    if seed:
+        rnd = ch.random
+        if "obstacles" in rnd:
+            keep_clear = [features[k] for k in ("working_zone", "tunnel") if k in features]
+            features["obstacles"] = co.random_obstacles(seed, rnd["obstacles"]["angle_deg"], keep_clear)
+        if "occupied_bay" in rnd:
+            import random
+            features["occupied_bay"] = random.Random(seed).choice(rnd["occupied_bay"])
+        if "signs" in rnd:
+            features["signs"] = "shuffle"
+    return challenge, variant, seed, features
+
+
+def objects_of(features: dict, seed: int) -> Tuple[list, Dict[str, str]]:
+    """(world objects, {texture file name: sign}) of the features."""
+    objects, textures = [], {}
+    if "obstacles" in features:
+        objects += co.obstacles(features["obstacles"])
+    if "working_zone" in features:
+        objects += co.working_zone(features["working_zone"])
+    if "tunnel" in features:
+        objects += co.tunnel(features["tunnel"])
+    if "parallel_boxes" in features:
+        objects += co.parallel_boxes(features["parallel_boxes"])
+    if "occupied_bay" in features:
+        objects += co.bay_box(features["occupied_bay"])
+    if "signs" in features:
+        order = co.sign_order(traffic_signs.SIGNS, seed if features["signs"] == "shuffle" else 0)
+        for i, sign in enumerate(order):
+            name = "%s/sign_%s.png" % (TEXTURE_DIR, sign)
+            textures[name] = sign
+            objects.append(co.sign_object(i, sign, name))
+    return objects, textures
+
+
+def base_world_path(challenges: Challenges) -> str:
+    return os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(challenges.path))), "worlds",
+                        challenges.base_world + ".world.yaml")
+
+
+def challenge_world(challenges: Challenges, challenge: str, variant: Optional[str] = None, seed=0):
+    """(world mapping, {texture file: sign}, resolved (challenge, variant, seed, features))."""
+    resolved = layout(challenges, challenge, variant, seed)
+    name, variant, seed, features = resolved
+    with open(base_world_path(challenges)) as f:
+        world = yaml.safe_load(f)
+    ch = challenges.challenges[name]
+    world["name"] = "challenge_%s_%s_seed%d" % (name, variant, seed)
+    texture = world["ground"].get("texture")
+    if texture and not texture.startswith(("package://", "/")):
+        # The base world's texture, relative to worlds/, as a package path (the generated
+        # world lives elsewhere).
+        world["ground"]["texture"] = "package://conde_worlds/" + os.path.normpath(os.path.join("worlds", texture))
+    objects, textures = objects_of(features, seed)
+    world["objects"] = list(world.get("objects") or []) + objects
+    world["spawn"] = {robot: {"xyz": pose["xyz"], "yaw": pose["yaw"]} for robot, pose in ch.start.items()}
+    return world, textures, resolved
+
+
+def default_output_dir(challenge: str, variant: str, seed: int) -> str:
+    """$ROS_HOME/conde_challenges/<challenge>_<variant>_seed<seed> (ROS_HOME defaults to ~/.ros)."""
+    ros_home = os.environ.get("ROS_HOME") or os.path.join(os.path.expanduser("~"), ".ros")
+    return os.path.join(ros_home, "conde_challenges", "%s_%s_seed%d" % (challenge, variant, seed))
+
+
+def write_challenge(challenge: str, variant: Optional[str] = None, seed=0, output_dir: Optional[str] = None,
+                    challenges_path: Optional[str] = None) -> Dict[str, str]:
+    """Writes world.yaml, textures/, schedule.yaml and challenge.yaml; returns their paths
+    ({"world", "schedule", "summary", "dir"})."""
+    challenges = load_challenges(challenges_path)
+    world, textures, (name, variant, seed, features) = challenge_world(challenges, challenge, variant, seed)
+    ch = challenges.challenges[name]
+    out = output_dir or default_output_dir(name, variant, seed)
+    os.makedirs(os.path.join(out, TEXTURE_DIR), exist_ok=True)
+    for file_name, sign in textures.items():
+        traffic_signs.write_sign(sign, os.path.join(out, file_name))
+    paths = {"dir": out, "world": os.path.join(out, WORLD_FILE), "schedule": os.path.join(out, SCHEDULE_FILE),
+             "summary": os.path.join(out, SUMMARY_FILE)}
+    header = ("# Generated by conde_worlds (scripts/generate_challenge %s --variant %s --seed %d) from "
+              "challenges/challenges.yaml and the track geometry; do not edit.\n" % (name, variant, seed))
+    _write(paths["world"], header + _dump(world, width=110))
+    _write(paths["schedule"], header + _dump({"steps": ch.schedule}))
+    summary = {"challenge": name, "what": ch.what, "variant": variant, "seed": seed,
+               "time_limit_s": ch.time_limit_s, "start": ch.start, "schedule": ch.schedule_name,
+               "features": features, "world_file": paths["world"], "schedule_file": paths["schedule"]}
+    _write(paths["summary"], header + _dump(summary))
+    return paths
+
+
+class _Dumper(yaml.SafeDumper):
+    """Writes repeated values (the shared colours) in full instead of as YAML aliases."""
+
+    def ignore_aliases(self, data):
+        return True
+
+
+def _dump(data, **kwargs):
+    return yaml.dump(data, Dumper=_Dumper, sort_keys=False, default_flow_style=None, **kwargs)
+
+
+def _write(path, text):
+    # Write then rename, so a simulator starting at the same time never reads half a file.
+    tmp = path + ".tmp%d" % os.getpid()
+    with open(tmp, "w") as f:
+        f.write(text)
+    os.replace(tmp, path)
