@@ -113,3 +113,24 @@ def test_unknown_models_links_and_frames(answers):
     assert answers["wrench_unknown"] == [
         False, "ApplyBodyWrench: body [box_bot::nolink] does not exist (name it model::link)"]
     assert answers["properties_unknown"] == [False, "GetModelProperties: model [nope] does not exist"]
+
+
+def spawn_model(env, *args):
+    out = subprocess.run(["rosrun", "gazebo_ros", "spawn_model", *args], env=env, capture_output=True, text=True,
+                         timeout=60)
+    return out.returncode, out.stdout + out.stderr
+
+
+def test_spawn_model_script_names_what_is_wrong(master):
+    code, output = spawn_model(master, "-urdf", "-param", "no_such_param", "-model", "x")
+    assert code == 1 and "spawn_model: parameter /no_such_param is not set" in output, output
+    code, output = spawn_model(master, "-urdf", "-file", "/no/such.urdf", "-model", "x")
+    assert code == 1 and "spawn_model: cannot read /no/such.urdf: No such file or directory" in output, output
+    code, output = spawn_model(master, "-database", "table", "-model", "x")
+    assert code == 2 and "-database: models from Gazebo's database are not supported" in output, output
+    code, output = spawn_model(master, "-urdf", "-model", "x")
+    assert code == 2 and "one of -param or -file is required" in output, output
+    rosgraph.Master("/gazebo_bad_input_test", master_uri=master["ROS_MASTER_URI"]).setParam("/some_urdf", GOOD_URDF)
+    code, output = spawn_model(master, "-urdf", "-param", "some_urdf", "-model", "x", "-gazebo_namespace", "/nowhere",
+                               "-timeout", "0.5")
+    assert code == 1 and "spawn_model: /nowhere/spawn_urdf_model did not appear within 0.5 s" in output, output
