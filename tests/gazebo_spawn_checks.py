@@ -12,6 +12,7 @@ from gazebo_msgs.msg import ModelState, ModelStates
 from gazebo_msgs.srv import (ApplyBodyWrench, DeleteModel, GetLinkState, GetModelState, GetWorldProperties,
                              SetModelState)
 from geometry_msgs.msg import Point, Wrench
+from nav_msgs.msg import Odometry
 
 from stepped_sim import WALL_TIMEOUT_S, Latest, SteppedSim, connected, wait_for
 
@@ -56,6 +57,12 @@ class GazeboSpawnTest(unittest.TestCase):
         connected(states.sub, "/gazebo/model_states")
         self.sim.step(100)
         self.assert_pose(self.latest_conde(states), 0.5, -0.2, 0.3)
+
+    def test_1_spawned_robot_runs_its_plugins(self):
+        odom = Latest("/odom", Odometry)  # the diff drive plugin, loaded when spawned
+        connected(odom.sub, "/odom")
+        self.sim.step_until(lambda: odom.messages, "/odom from the spawned robot's diff drive")
+        self.assertEqual(odom.messages[-1].child_frame_id, "base_footprint")
 
     def test_2_set_model_state_moves_it(self):
         answer = self.set_state(model_state("conde", 1.5, 1.0, 1.0))
