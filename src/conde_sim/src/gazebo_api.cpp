@@ -133,9 +133,10 @@ void GazeboApi::beforeStep() {
 }
 
 void GazeboApi::afterStep() {
+  if (!states_timer_.due(sim_.stepCount())) return;  // first: the cheaper test, every step
   const bool models = model_states_pub_.getNumSubscribers() > 0;
   const bool links = link_states_pub_.getNumSubscribers() > 0;
-  if ((!models && !links) || !states_timer_.due(sim_.stepCount())) return;
+  if (!models && !links) return;
   gazebo_msgs::ModelStates model_states;
   gazebo_msgs::LinkStates link_states;
   for (const ModelRef& model : sim_.models()) {
