@@ -402,7 +402,7 @@ void CameraRenderer::render(const RenderScene& scene, const Pose& world_T_optica
   in_view.clear();
   const Vec3 to_sun_world = toSunWorld();
   for (const RenderObject& object : scene.objects_) {
-    if (exclude_group != -1 && object.group == exclude_group) continue;
+    if (object.hidden || (exclude_group != -1 && object.group == exclude_group)) continue;
     const Vec3 offset_world = object.pose.position - camera_world;
     // Optical coordinates of the bounding sphere centre: optical_R_world = world_R_optical^T.
     Vec3 centre;

@@ -224,6 +224,13 @@ void RayScene::addModel(int model_id, const ArticulatedModel& model) {
   }
 }
 
+void RayScene::removeModel(int model_id) {
+  // The shapes stay owned by shapes_ (a few per model, freed with the scene).
+  primitives_.erase(std::remove_if(primitives_.begin(), primitives_.end(),
+                                   [model_id](const Primitive& p) { return p.model == model_id; }),
+                    primitives_.end());
+}
+
 void RayScene::testPlaced(const Placed& p, const Vec3& origin, const Vec3& direction, RayHit& hit) const {
   // Bounding sphere first, then the exact test in the shape's frame.
   const Vec3 v = p.centre - origin;

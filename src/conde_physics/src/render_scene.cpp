@@ -132,6 +132,11 @@ void RenderScene::setObjectPose(int index, const Pose& pose) {
   objects_[index].pose = Pose(pose.position, pose.orientation.normalized());
 }
 
+void RenderScene::setObjectHidden(int index, bool hidden) {
+  checkIndex(index, objectCount());
+  objects_[index].hidden = hidden;
+}
+
 void RenderScene::setObjectImage(int index, const RgbImage& image) {
   checkIndex(index, objectCount());
   if (objects_[index].shape != RenderShape::kBox)

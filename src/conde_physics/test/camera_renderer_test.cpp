@@ -461,6 +461,24 @@ TEST(CameraRendererTest, GroundHidesWhatIsBelowIt) {
   }
 }
 
+TEST(CameraRendererTest, HiddenObjectIsNotDrawn) {
+  const cp::CameraModel model = cp::CameraModel::fromHorizontalFov(160, 120, 1.0);
+  const cp::CameraRenderer camera(model);
+  cp::RenderScene scene;
+  scene.setGroundColor({0.5, 0.5, 0.5});
+  const int index = scene.addObject(box({0.4, 0.4, 0.4}, cp::Pose::fromXyzRpy(2, 0, 1, 0, 0, 0), {1, 0, 0}));
+  const cp::Pose pose = lookAt({0, 0, 1}, {1, 0, 1});
+  cp::RgbImage image;
+  camera.render(scene, pose, -1, nullptr, image);
+  EXPECT_TRUE(isRed(image.pixel(80, 60)));
+  scene.setObjectHidden(index, true);  // a robot deleted while the simulation runs
+  camera.render(scene, pose, -1, nullptr, image);
+  EXPECT_FALSE(isRed(image.pixel(80, 60)));
+  scene.setObjectHidden(index, false);
+  camera.render(scene, pose, -1, nullptr, image);
+  EXPECT_TRUE(isRed(image.pixel(80, 60)));
+}
+
 TEST(CameraRendererTest, ExcludedGroupIsNotDrawn) {
   const cp::CameraModel model = cp::CameraModel::fromHorizontalFov(160, 120, 1.0);
   const cp::CameraRenderer camera(model);

@@ -314,6 +314,68 @@ TEST_P(EngineConformance, MeshShapesCollide) {
   EXPECT_NEAR(engine->bodyPose(id, 0).position.z, 0.1, 0.01);
 }
 
+TEST_P(EngineConformance, RemovedModelLeavesTheWorld) {
+  auto engine = makeEngine();
+  const cp::ModelId lower = engine->addModel(makeCube(), cp::Pose::fromXyzRpy(0, 0, 0.1, 0, 0, 0));
+  const cp::ModelId upper = engine->addModel(makeCube(), cp::Pose::fromXyzRpy(0, 0, 0.3, 0, 0, 0));
+  const cp::ModelId cart = engine->addModel(makeCart(), cp::Pose::fromXyzRpy(2, 0, 0, 0, 0, 0));
+  stepFor(*engine, 0.5);
+  EXPECT_NEAR(engine->bodyPose(upper, 0).position.z, 0.3, 0.003);  // resting on the lower cube
+  engine->removeModel(lower);
+  engine->removeModel(cart);  // a model with joints
+  EXPECT_THROW(engine->bodyPose(lower, 0), std::out_of_range);
+  EXPECT_THROW(engine->jointPosition(cart, 0), std::out_of_range);
+  EXPECT_THROW(engine->removeModel(lower), std::out_of_range);
+  stepFor(*engine, 1.0);
+  EXPECT_NEAR(engine->bodyPose(upper, 0).position.z, 0.1, 0.003);  // fell onto the ground
+  std::vector<cp::RayHit> hits;
+  engine->castRays({cp::Vec3(2, 0, 1)}, {cp::Vec3(0, 0, -1)}, 10.0, -1, hits);  // where the cart was
+  EXPECT_NEAR(hits[0].distance_m, 1.0, 1e-3);                                   // the ground, not the cart
+  const cp::ModelId again = engine->addModel(makeCube(), cp::Pose::fromXyzRpy(1, 0, 0.1, 0, 0, 0));
+  EXPECT_NE(again, lower);  // ids are not reused
+  stepFor(*engine, 0.1);
+  EXPECT_NEAR(engine->bodyPose(again, 0).position.x, 1.0, 1e-3);
+}
+
+TEST_P(EngineConformance, SetBodyStateTeleportsAndSetsVelocity) {
+  auto engine = makeEngine();
+  const cp::ModelId cube = engine->addModel(makeCube(), cp::Pose::fromXyzRpy(0, 0, 0.1, 0, 0, 0));
+  stepFor(*engine, 0.1);
+  cp::Twist twist;
+  twist.linear_mps = cp::Vec3(0.5, 0, 0);
+  twist.angular_radps = cp::Vec3(0, 0, 1.0);
+  const cp::Pose target = cp::Pose::fromXyzRpy(3, -1, 1.0, 0, 0, 0.7);
+  engine->setBodyState(cube, 0, target, twist);
+  EXPECT_NEAR(engine->bodyPose(cube, 0).position.x, 3.0, 1e-9);
+  EXPECT_NEAR(engine->bodyPose(cube, 0).orientation.yaw(), 0.7, 1e-9);
+  EXPECT_NEAR(engine->bodyTwist(cube, 0).linear_mps.x, 0.5, 1e-9);
+  EXPECT_NEAR(engine->bodyTwist(cube, 0).angular_radps.z, 1.0, 1e-9);
+  engine->step();
+  const cp::Pose after = engine->bodyPose(cube, 0);
+  EXPECT_NEAR(after.position.x, 3.0 + 0.5 * engine->settings().step_s, 1e-6);
+  EXPECT_LT(after.position.z, 1.0);  // falling
+}
+
+TEST_P(EngineConformance, BodyWrenchActsForOneStep) {
+  cp::PhysicsSettings zero_g;
+  zero_g.gravity_mps2 = cp::Vec3();
+  auto engine = makeEngine(zero_g);
+  const cp::ModelId cube = engine->addModel(makeCube(), cp::Pose::fromXyzRpy(0, 0, 1.0, 0, 0, 0));
+  const double dt = engine->settings().step_s;
+  for (int i = 0; i < 100; ++i) {  // 2 N on 1 kg for 0.1 s at the centre: 0.2 m/s, no spin
+    engine->addBodyWrench(cube, 0, cp::Vec3(2, 0, 0), cp::Vec3(), engine->bodyPose(cube, 0).position);
+    engine->step();
+  }
+  EXPECT_NEAR(engine->bodyTwist(cube, 0).linear_mps.x, 2.0 * 100 * dt, 1e-6);
+  EXPECT_NEAR(engine->bodyTwist(cube, 0).angular_radps.norm(), 0.0, 1e-9);
+  engine->step();  // no wrench: velocity kept
+  EXPECT_NEAR(engine->bodyTwist(cube, 0).linear_mps.x, 2.0 * 100 * dt, 1e-6);
+  const double izz = cp::boxInertia(1.0, {0.2, 0.2, 0.2}).ixx;
+  engine->addBodyWrench(cube, 0, cp::Vec3(), cp::Vec3(0, 0, 0.5), engine->bodyPose(cube, 0).position);
+  engine->step();
+  EXPECT_NEAR(engine->bodyTwist(cube, 0).angular_radps.z, 0.5 / izz * dt, 1e-6);
+}
+
 INSTANTIATE_TEST_SUITE_P(BothEngines, EngineConformance, ::testing::Values("ode", "bullet"),
                          [](const ::testing::TestParamInfo<std::string>& info) { return info.param; });
 

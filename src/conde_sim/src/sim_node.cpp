@@ -11,8 +11,14 @@
 //   ~robots            list of {name, namespace, description_param, spawn, frame_prefix}; without
 //                      it one robot is read from /robot_description and spawned at ~spawn
 //   ~spawn             name of a world spawn pose, or "x y yaw"       [first spawn in the world]
+//                      (~robots: [] starts with no robot, as gazebo_ros/empty_world.launch)
+//   ~gazebo_namespace  namespace of Gazebo's services and topics (gazebo_api.h)  [/gazebo]
+//   ~gazebo_states_rate_hz  <ns>/model_states and link_states per simulated second  [100]
 // Services: ~pause_physics, ~unpause_physics, ~reset_world (std_srvs/Empty),
-//           ~step (conde_msgs/StepSimulation).
+//           ~step (conde_msgs/StepSimulation), ~set_start_pose (conde_msgs/SetStartPose);
+//           Gazebo's under ~gazebo_namespace (gazebo_api.h). When the node is named like that
+//           namespace (gazebo_ros/empty_world.launch names it "gazebo"), its pause, unpause
+//           and reset_world are Gazebo's.
 #include <conde_msgs/SetStartPose.h>
 #include <conde_msgs/StepSimulation.h>
 #include <ros/callback_queue.h>
@@ -22,9 +28,12 @@
 #include <std_srvs/Empty.h>
 #include <sys/resource.h>
 
+#include <algorithm>
 #include <chrono>
 #include <condition_variable>
 #include <cstdlib>
+#include <functional>
+#include <memory>
 #include <mutex>
 #include <sstream>
 #include <thread>
@@ -35,6 +44,7 @@
 #include "conde_sim/update_timer.h"
 #include "conde_sim/world_displays.h"
 #include "conde_sim/world_markers.h"
+#include "gazebo_api.h"
 
 namespace conde_sim {
 namespace {
@@ -61,7 +71,7 @@ cp::Pose parseSpawn(const std::string& spawn, const cp::WorldDescription& world,
                      ") nor 'x y yaw'");
 }
 
-class SimNode {
+class SimNode : public SimHost {
  public:
   SimNode() : pnh_("~") {}
 
@@ -75,6 +85,10 @@ class SimNode {
     pnh_.param("paused", paused_, false);
     pnh_.param("clock_rate_hz", clock_rate_hz_, 1000.0);
     pnh_.param("max_sim_time_s", max_sim_time_s_, 0.0);
+    pnh_.param("gazebo_namespace", gazebo_ns_, std::string("/gazebo"));
+    pnh_.param("gazebo_states_rate_hz", gazebo_states_rate_hz_, 100.0);
+    if (gazebo_states_rate_hz_ <= 0) throw StartupError("parameter ~gazebo_states_rate_hz must be > 0");
+    gazebo_ns_ = ros::names::resolve(gazebo_ns_);
     if (real_time_factor_ < 0) throw StartupError("parameter ~real_time_factor must be >= 0 (0 = as fast as possible)");
     if (clock_rate_hz_ <= 0) throw StartupError("parameter ~clock_rate_hz must be > 0");
     const auto engines = cp::availablePhysicsEngines();
@@ -87,22 +101,12 @@ class SimNode {
     sim_ = std::make_unique<Simulation>(world, engine_name_, packagePath);
     loadRobots();
     for (int r = 0; r < sim_->robotCount(); ++r) {
-      PluginContext ctx;
-      ctx.sim = sim_.get();
-      ctx.robot = r;
-      ctx.robot_nh =
-          ros::NodeHandle(sim_->robot(r).spec.ros_namespace.empty() ? "/" : sim_->robot(r).spec.ros_namespace);
-      ctx.tf = &tf_;
-      ctx.static_tf = &static_tf_;
-      for (auto& plugin : loadRobotPlugins(ctx)) plugins_.push_back(std::move(plugin));
+      for (auto& plugin : loadPlugins(r)) plugins_.push_back(std::move(plugin));
     }
     world_displays_ = std::make_unique<WorldDisplays>(nh_, *sim_);
-    // The step loop: every plugin in load order, then /clock.
     loop_ = std::make_unique<StepLoop>(*sim_);
-    for (auto& plugin : plugins_) loop_->add(*plugin);
     clock_hook_.timer = UpdateTimer(clock_rate_hz_, sim_->stepS());
     clock_hook_.node = this;
-    loop_->add(clock_hook_);
 
     clock_pub_ = nh_.advertise<rosgraph_msgs::Clock>("/clock", 10);
     markers_pub_ = pnh_.advertise<visualization_msgs::MarkerArray>("world_markers", 1, true);
@@ -115,11 +119,15 @@ class SimNode {
     // Services run on their own thread and hand the work to the step loop, which is the only
     // thread that touches the simulation.
     service_nh_.setCallbackQueue(&service_queue_);
-    services_.push_back(service_nh_.advertiseService("pause_physics", &SimNode::onPause, this));
-    services_.push_back(service_nh_.advertiseService("unpause_physics", &SimNode::onUnpause, this));
-    services_.push_back(service_nh_.advertiseService("reset_world", &SimNode::onReset, this));
+    if (pnh_.getNamespace() != gazebo_ns_) {
+      services_.push_back(service_nh_.advertiseService("pause_physics", &SimNode::onPause, this));
+      services_.push_back(service_nh_.advertiseService("unpause_physics", &SimNode::onUnpause, this));
+      services_.push_back(service_nh_.advertiseService("reset_world", &SimNode::onReset, this));
+    }
     services_.push_back(service_nh_.advertiseService("set_start_pose", &SimNode::onSetStartPose, this));
     services_.push_back(service_nh_.advertiseService("step", &SimNode::onStep, this));
+    gazebo_ = std::make_unique<GazeboApi>(*this, *sim_, gazebo_ns_, service_nh_, gazebo_states_rate_hz_);
+    rebuildLoop();
     service_spinner_ = std::make_unique<ros::AsyncSpinner>(1, &service_queue_);
     service_spinner_->start();
 
@@ -128,6 +136,63 @@ class SimNode {
              sim_->world().name.c_str(), world_file.c_str(), engine_name_.c_str(), sim_->stepS(),
              real_time_factor_ > 0 ? std::to_string(real_time_factor_).c_str() : "unlimited", sim_->robotCount(),
              plugins_.size(), paused_ ? ", paused" : "");
+  }
+
+  // --- SimHost: what the Gazebo interface asks of the node ---
+  bool runOnLoop(const std::function<void()>& task) override {
+    std::unique_lock<std::mutex> lock(mutex_);
+    auto done = std::make_shared<bool>(false);
+    tasks_.push_back([task, done] {
+      task();
+      *done = true;
+    });
+    done_.wait(lock, [&] { return *done || !ros::ok(); });
+    return *done;
+  }
+
+  void requestPause(bool paused) override {
+    std::lock_guard<std::mutex> lock(mutex_);
+    requested_paused_ = paused;
+  }
+
+  bool paused() const override {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return requested_paused_;
+  }
+
+  double realTimeFactor() const override { return real_time_factor_; }
+
+  void resetWorldNow() override {
+    sim_->resetWorld();
+    for (auto& p : plugins_) p.plugin->reset();
+    ROS_INFO("conde_sim: world reset at t = %.3f s", sim_->timeS());
+  }
+
+  int spawnRobot(const RobotSpec& spec) override {
+    std::vector<std::string> warnings;
+    const int robot = sim_->addRobot(spec, &warnings);
+    for (const auto& w : warnings) ROS_WARN("%s", w.c_str());
+    try {
+      for (auto& plugin : loadPlugins(robot)) plugins_.push_back(std::move(plugin));
+    } catch (...) {
+      deleteRobot(robot);
+      throw;
+    }
+    rebuildLoop();
+    const cp::Pose& p = spec.spawn_pose;
+    ROS_INFO("conde_sim: robot '%s' spawned at (%.3f, %.3f, %.3f) yaw %.3f rad%s%s", spec.name.c_str(), p.position.x,
+             p.position.y, p.position.z, p.orientation.yaw(), spec.ros_namespace.empty() ? "" : ", namespace ",
+             spec.ros_namespace.c_str());
+    return robot;
+  }
+
+  void deleteRobot(int robot) override {
+    plugins_.erase(
+        std::remove_if(plugins_.begin(), plugins_.end(), [robot](const LoadedPlugin& p) { return p.robot == robot; }),
+        plugins_.end());
+    rebuildLoop();
+    sim_->removeRobot(robot);
+    ROS_INFO("conde_sim: robot '%s' deleted", sim_->robot(robot).spec.name.c_str());
   }
 
   // The step loop. Returns when ROS shuts down or ~max_sim_time_s is reached.
@@ -247,6 +312,32 @@ class SimNode {
              ns.empty() ? "" : ", namespace ", ns.c_str());
   }
 
+  struct LoadedPlugin {
+    int robot = -1;
+    std::unique_ptr<SimPlugin> plugin;
+  };
+
+  std::vector<LoadedPlugin> loadPlugins(int robot) {
+    PluginContext ctx;
+    ctx.sim = sim_.get();
+    ctx.robot = robot;
+    const std::string& ns = sim_->robot(robot).spec.ros_namespace;
+    ctx.robot_nh = ros::NodeHandle(ns.empty() ? "/" : ns);
+    ctx.tf = &tf_;
+    ctx.static_tf = &static_tf_;
+    std::vector<LoadedPlugin> loaded;
+    for (auto& plugin : loadRobotPlugins(ctx)) loaded.push_back(LoadedPlugin{robot, std::move(plugin)});
+    return loaded;
+  }
+
+  // The step loop: every plugin in load order, the Gazebo interface, then /clock.
+  void rebuildLoop() {
+    loop_->clear();
+    for (auto& p : plugins_) loop_->add(*p.plugin);
+    loop_->add(*gazebo_);
+    loop_->add(clock_hook_);
+  }
+
   // /clock after every plugin, at ~clock_rate_hz of simulated time.
   struct ClockHook : StepHooks {
     SimNode* node = nullptr;
@@ -265,6 +356,11 @@ class SimNode {
   // --- requests from the service thread ---
   void handleRequests() {
     std::lock_guard<std::mutex> lock(mutex_);
+    if (!tasks_.empty()) {
+      for (auto& task : tasks_) task();
+      tasks_.clear();
+      done_.notify_all();
+    }
     if (start_pose_requested_) {  // the robot is looked up here: only this thread reads the simulation
       start_pose_requested_ = false;
       const int robot = sim_->findRobot(start_pose_robot_name_);
@@ -281,10 +377,8 @@ class SimNode {
       done_.notify_all();
     }
     if (reset_requested_) {
-      sim_->resetWorld();
-      for (auto& p : plugins_) p->reset();
+      resetWorldNow();
       reset_requested_ = false;
-      ROS_INFO("conde_sim: world reset at t = %.3f s", sim_->timeS());
       done_.notify_all();
     }
     if (requested_steps_ > 0 && pending_steps_ == 0) {
@@ -371,8 +465,10 @@ class SimNode {
   tf2_ros::StaticTransformBroadcaster static_tf_;
   std::unique_ptr<Simulation> sim_;
   std::unique_ptr<WorldDisplays> world_displays_;
-  std::vector<std::unique_ptr<SimPlugin>> plugins_;
-  std::string engine_name_;
+  std::vector<LoadedPlugin> plugins_;
+  std::unique_ptr<GazeboApi> gazebo_;
+  std::string engine_name_, gazebo_ns_;
+  double gazebo_states_rate_hz_ = 100.0;
   double real_time_factor_ = 1.0, clock_rate_hz_ = 1000.0, max_sim_time_s_ = 0.0;
   std::unique_ptr<StepLoop> loop_;
   ClockHook clock_hook_;
@@ -380,7 +476,8 @@ class SimNode {
   std::uint64_t pending_steps_ = 0;
 
   // Shared with the service thread (guarded by mutex_).
-  std::mutex mutex_;
+  mutable std::mutex mutex_;
+  std::vector<std::function<void()>> tasks_;  // from runOnLoop()
   std::condition_variable done_;
   bool requested_paused_ = false, reset_requested_ = false, step_request_done_ = false;
   // A set_start_pose request: the robot's name and pose in, the step loop's answer out.

@@ -19,16 +19,20 @@ void Simulation::buildWorld() {
   engine_ = cp::createPhysicsEngine(engine_name_, world_.physics);
   engine_->addGroundPlane(world_.ground.friction);
   object_model_ids_.assign(world_.objects.size(), -1);
+  object_models_.assign(world_.objects.size(), cp::ArticulatedModel());
   for (size_t i = 0; i < world_.objects.size(); ++i) {
     const cp::WorldObject& object = world_.objects[i];
     if (!object.collision) continue;  // visual only
     if (object.is_static) {
       engine_->addStaticShape(cp::collisionShapeOf(object), object.pose, object.friction);
     } else {
-      object_model_ids_[i] = engine_->addModel(cp::modelOfDynamicObject(object), object.pose);
+      object_models_[i] = cp::modelOfDynamicObject(object);
+      object_model_ids_[i] = engine_->addModel(object_models_[i], object.pose);
     }
   }
-  for (Robot& robot : robots_) robot.id = engine_->addModel(robot.model, robot.spec.spawn_pose);
+  for (Robot& robot : robots_) {
+    if (!robot.removed) robot.id = engine_->addModel(robot.model, robot.spec.spawn_pose);
+  }
   render_scene_synced_ = false;
 }
 
@@ -38,7 +42,7 @@ int Simulation::addRobot(const RobotSpec& spec, std::vector<std::string>* warnin
   robot.model = cp::buildModelFromUrdf(spec.urdf_xml, spec.source, packages_, warnings, &robot.gazebo);
   if (robot.spec.name.empty()) robot.spec.name = robot.model.name;
   for (const Robot& r : robots_) {
-    if (r.spec.name == robot.spec.name) {
+    if (!r.removed && r.spec.name == robot.spec.name) {
       throw cp::ModelError(spec.source + ": a robot named '" + robot.spec.name + "' already exists");
     }
   }
@@ -50,12 +54,134 @@ int Simulation::addRobot(const RobotSpec& spec, std::vector<std::string>* warnin
 
 void Simulation::resetWorld() { buildWorld(); }
 
+void Simulation::removeRobot(int robot) {
+  Robot& r = robots_.at(robot);
+  if (r.removed) return;
+  engine_->removeModel(r.id);
+  r.removed = true;
+  r.id = -1;
+  if (!render_scene_) return;
+  for (const RenderedShape& shape : rendered_shapes_) {
+    if (shape.robot == robot) render_scene_->setObjectHidden(shape.scene_index, true);
+  }
+}
+
 int Simulation::findRobot(const std::string& name) const {
-  if (name.empty()) return robotCount() == 1 ? 0 : -1;
+  int found = -1, present = 0;
   for (int r = 0; r < robotCount(); ++r) {
+    if (robots_[r].removed) continue;
+    ++present;
+    if (name.empty()) found = r;
     if (robots_[r].spec.name == name) return r;
   }
-  return -1;
+  return name.empty() && present == 1 ? found : -1;
+}
+
+ModelRef Simulation::findModel(const std::string& name) const {
+  ModelRef ref;
+  if (name.empty()) return ref;
+  ref.robot = findRobot(name);
+  if (ref.robot >= 0) return ref;
+  for (size_t i = 0; i < world_.objects.size(); ++i) {
+    if (object_model_ids_[i] >= 0 && world_.objects[i].name == name) ref.object = static_cast<int>(i);
+  }
+  return ref;
+}
+
+std::vector<ModelRef> Simulation::models() const {
+  std::vector<ModelRef> refs;
+  for (int r = 0; r < robotCount(); ++r) {
+    if (!robots_[r].removed) refs.push_back(ModelRef{r, -1});
+  }
+  for (size_t i = 0; i < world_.objects.size(); ++i) {
+    if (object_model_ids_[i] >= 0) refs.push_back(ModelRef{-1, static_cast<int>(i)});
+  }
+  return refs;
+}
+
+std::string Simulation::modelName(const ModelRef& model) const {
+  return model.robot >= 0 ? robots_.at(model.robot).spec.name : world_.objects.at(model.object).name;
+}
+
+const cp::ArticulatedModel& Simulation::articulatedModel(const ModelRef& model) const {
+  return model.robot >= 0 ? robots_.at(model.robot).model : object_models_.at(model.object);
+}
+
+cp::ModelId Simulation::engineId(const ModelRef& model) const {
+  return model.robot >= 0 ? robots_.at(model.robot).id : object_model_ids_.at(model.object);
+}
+
+std::vector<std::string> Simulation::bodyLinkNames(const ModelRef& model) const {
+  std::vector<std::string> names;
+  for (const cp::BodySpec& body : articulatedModel(model).bodies) names.push_back(body.name);
+  return names;
+}
+
+int Simulation::bodyOf(const ModelRef& model, const std::string& link, cp::Pose& link_in_body) const {
+  const cp::ArticulatedModel& m = articulatedModel(model);
+  if (link.empty()) {
+    link_in_body = cp::Pose();
+    return 0;
+  }
+  int body = -1;
+  if (!m.linkInBody(link, body, link_in_body)) {
+    throw std::out_of_range("model '" + modelName(model) + "' has no link '" + link + "'");
+  }
+  return body;
+}
+
+bool Simulation::hasLink(const ModelRef& model, const std::string& link) const {
+  int body = -1;
+  cp::Pose link_in_body;
+  return link.empty() || articulatedModel(model).linkInBody(link, body, link_in_body);
+}
+
+cp::Pose Simulation::linkPose(const ModelRef& model, const std::string& link) const {
+  cp::Pose link_in_body;
+  const int body = bodyOf(model, link, link_in_body);
+  return engine_->bodyPose(engineId(model), body) * link_in_body;
+}
+
+cp::Twist Simulation::linkTwist(const ModelRef& model, const std::string& link) const {
+  cp::Pose link_in_body;
+  const int body = bodyOf(model, link, link_in_body);
+  const cp::ModelId id = engineId(model);
+  const cp::Pose body_pose = engine_->bodyPose(id, body);
+  cp::Twist t = engine_->bodyTwist(id, body);
+  t.linear_mps += t.angular_radps.cross(body_pose.orientation.rotate(link_in_body.position));
+  return t;
+}
+
+void Simulation::setModelState(const ModelRef& model, const cp::Pose& root_pose, const cp::Twist& twist) {
+  const cp::ModelId id = engineId(model);
+  const size_t bodies = articulatedModel(model).bodies.size();
+  const cp::Pose moved = root_pose * engine_->bodyPose(id, 0).inverse();  // world -> world
+  std::vector<cp::Pose> poses(bodies);
+  for (size_t b = 0; b < bodies; ++b) poses[b] = moved * engine_->bodyPose(id, static_cast<int>(b));
+  for (size_t b = 0; b < bodies; ++b) {
+    cp::Twist body_twist = twist;
+    body_twist.linear_mps += twist.angular_radps.cross(poses[b].position - root_pose.position);
+    engine_->setBodyState(id, static_cast<int>(b), poses[b], body_twist);
+  }
+  render_scene_synced_ = false;
+}
+
+void Simulation::setLinkState(const ModelRef& model, const std::string& link, const cp::Pose& link_pose,
+                              const cp::Twist& twist) {
+  cp::Pose link_in_body;
+  const int body = bodyOf(model, link, link_in_body);
+  const cp::Pose body_pose = link_pose * link_in_body.inverse();
+  cp::Twist body_twist = twist;  // velocity of the body's link-frame origin
+  body_twist.linear_mps += twist.angular_radps.cross(body_pose.position - link_pose.position);
+  engine_->setBodyState(engineId(model), body, body_pose, body_twist);
+  render_scene_synced_ = false;
+}
+
+void Simulation::addLinkWrench(const ModelRef& model, const std::string& link, const cp::Vec3& force_N,
+                               const cp::Vec3& torque_Nm, const cp::Vec3& point_world) {
+  cp::Pose link_in_body;
+  const int body = bodyOf(model, link, link_in_body);
+  engine_->addBodyWrench(engineId(model), body, force_N, torque_Nm, point_world);
 }
 
 void Simulation::step() {
@@ -131,7 +257,9 @@ cp::RenderScene& Simulation::renderScene() {
       moving.scene_index = static_cast<int>(i);
       rendered_shapes_.push_back(moving);
     }
-    for (int r = 0; r < robotCount(); ++r) addRobotToScene(r);
+    for (int r = 0; r < robotCount(); ++r) {
+      if (!robots_[r].removed) addRobotToScene(r);
+    }
   }
   if (!render_scene_synced_ || render_scene_step_ != step_count_) syncRenderScene();
   return *render_scene_;
@@ -161,6 +289,7 @@ void Simulation::syncRenderScene() {
   for (const RenderedShape& moving : rendered_shapes_) {
     if (moving.robot >= 0) {
       const Robot& r = robots_[moving.robot];
+      if (r.removed) continue;
       render_scene_->setObjectPose(moving.scene_index, engine_->bodyPose(r.id, moving.body) * moving.pose_in_body);
     } else if (object_model_ids_[moving.world_object] >= 0) {
       render_scene_->setObjectPose(moving.scene_index, engine_->bodyPose(object_model_ids_[moving.world_object], 0));

@@ -44,6 +44,9 @@ class PhysicsEngine {
   // Adds a model with its root body's link frame at `root_pose` and all joints at zero.
   // Bodies with zero mass in a non-fixed model get a tiny mass (the builder warns earlier).
   virtual ModelId addModel(const ArticulatedModel& model, const Pose& root_pose) = 0;
+  // Takes a model out of the world (bodies, joints, contacts, ray casts). Its id is not reused;
+  // any later call with it throws std::out_of_range, as for an id never given out.
+  virtual void removeModel(ModelId model) = 0;
 
   // Advances the world by settings().step_s.
   virtual void step() = 0;
@@ -52,6 +55,15 @@ class PhysicsEngine {
   virtual Pose bodyPose(ModelId model, int body) const = 0;
   // Velocity of the body's link-frame origin and its angular velocity, world coordinates.
   virtual Twist bodyTwist(ModelId model, int body) const = 0;
+  // Teleports one body: its link frame to `link_pose` and the velocity of the link-frame origin
+  // and the angular velocity to `twist` (world coordinates). Joints are not checked: move every
+  // body of a model by the same transform to keep them together. A model welded to the world
+  // keeps its root where it is.
+  virtual void setBodyState(ModelId model, int body, const Pose& link_pose, const Twist& twist) = 0;
+  // Force [N] at the world point `point_world` [m] and torque [N m], world coordinates, on one
+  // body during the next step only (apply_body_wrench calls it every step it lasts).
+  virtual void addBodyWrench(ModelId model, int body, const Vec3& force_N, const Vec3& torque_Nm,
+                             const Vec3& point_world) = 0;
 
   virtual double jointPosition(ModelId model, int joint) const = 0;  // [rad] or [m]
   virtual double jointVelocity(ModelId model, int joint) const = 0;  // [rad/s] or [m/s]

@@ -31,6 +31,8 @@ class RayScene {
   void addStatic(const Shape& shape, const Pose& world_pose);
   // Every collision of every body of `model`, which the engine knows as `model_id`.
   void addModel(int model_id, const ArticulatedModel& model);
+  // Forgets every shape of that model.
+  void removeModel(int model_id);
 
   // hits[i]: the nearest surface along origins[i] + t directions[i] (unit) for t in
   // [0, max_range_m]; a ray that starts inside a shape does not see that shape. Shapes of

@@ -45,7 +45,8 @@ struct RenderObject {
   // upright and not mirrored for a viewer in front of the face (as libgazebo_ros_video). Drawn
   // unlit (like a screen). Empty = plain colour.
   RgbImage face_image;
-  int group = -1;  // e.g. the model id of a robot; cameras may exclude one group
+  int group = -1;       // e.g. the model id of a robot; cameras may exclude one group
+  bool hidden = false;  // not drawn (a robot deleted while the simulation runs)
 };
 
 // The ground plane z = 0 and everything on it.
@@ -64,6 +65,7 @@ class RenderScene {
 
   int addObject(const RenderObject& object);  // returns its index
   void setObjectPose(int index, const Pose& pose);
+  void setObjectHidden(int index, bool hidden);
   void setObjectImage(int index, const RgbImage& image);  // kBox only; replaces the face image
   const RenderObject& object(int index) const { return objects_[index]; }
   int objectCount() const { return static_cast<int>(objects_.size()); }

@@ -330,13 +330,48 @@ class BulletEngine : public PhysicsEngine {
     return id;
   }
 
+  // The model's constraints and bodies leave the world; the objects themselves stay owned by
+  // the engine (a few per model) until it is destroyed.
+  void removeModel(ModelId model) override {
+    const Model& m = modelAt(model);
+    for (const Joint& joint : m.joints) {
+      if (joint.hinge) world_->removeConstraint(joint.hinge);
+      if (joint.slider) world_->removeConstraint(joint.slider);
+    }
+    for (const Body& body : m.bodies) world_->removeRigidBody(body.rb);
+    models_[model].reset();
+    ray_scene_.removeModel(model);
+  }
+
   void step() override {
     const double dt_s = settings_.step_s;
     for (auto& m : models_)
-      for (Joint& joint : m->joints) applyJointEfforts(joint, dt_s);
+      if (m)
+        for (Joint& joint : m->joints) applyJointEfforts(joint, dt_s);
     world_->stepSimulation(dt_s, 0, dt_s);  // exactly one internal step; clears applied forces
     for (auto& m : models_)
-      for (Joint& joint : m->joints) updatePosition(joint);
+      if (m)
+        for (Joint& joint : m->joints) updatePosition(joint);
+  }
+
+  void setBodyState(ModelId model, int body, const Pose& link_pose, const Twist& twist) override {
+    const Body& b = bodyAt(model, body);
+    if (b.rb->isStaticObject()) return;  // the root of a model welded to the world
+    const btTransform com = toBt(link_pose) * b.link_in_com.inverse();
+    b.rb->setCenterOfMassTransform(com);
+    const btVector3 w = toBt(twist.angular_radps);
+    const btVector3 v_com = toBt(twist.linear_mps) + w.cross(com.getOrigin() - toBt(link_pose.position));
+    b.rb->setLinearVelocity(v_com);
+    b.rb->setAngularVelocity(w);
+    b.rb->setInterpolationLinearVelocity(v_com);
+    b.rb->setInterpolationAngularVelocity(w);
+  }
+
+  void addBodyWrench(ModelId model, int body, const Vec3& force_N, const Vec3& torque_Nm,
+                     const Vec3& point_world) override {
+    const Body& b = bodyAt(model, body);  // stepSimulation clears the applied forces
+    b.rb->applyForce(toBt(force_N), toBt(point_world) - b.rb->getCenterOfMassPosition());
+    b.rb->applyTorque(toBt(torque_Nm));
   }
 
   Pose bodyPose(ModelId model, int body) const override {
@@ -595,7 +630,7 @@ class BulletEngine : public PhysicsEngine {
   // ---- lookup ----
 
   const Model& modelAt(ModelId model) const {
-    if (model < 0 || model >= static_cast<ModelId>(models_.size()))
+    if (model < 0 || model >= static_cast<ModelId>(models_.size()) || !models_[model])
       throw std::out_of_range("bullet: no model " + std::to_string(model));
     return *models_[model];
   }

@@ -99,6 +99,9 @@ struct ModelState {
   std::vector<Pose> link_in_body;  // inverse(inertial_frame): link frame in the ODE body frame
   size_t first_joint = 0;          // index into OdeEngine::joints_
   size_t joint_count = 0;
+  dSpaceID space = nullptr;           // the moving geoms
+  std::vector<dGeomID> static_geoms;  // geoms of a kinematic root (in the static space)
+  bool removed = false;
 };
 
 class OdeEngine final : public PhysicsEngine {
@@ -112,9 +115,13 @@ class OdeEngine final : public PhysicsEngine {
   void addGroundPlane(const SurfaceParams& surface) override;
   void addStaticShape(const Shape& shape, const Pose& world_pose, const SurfaceParams& surface) override;
   ModelId addModel(const ArticulatedModel& model, const Pose& root_pose) override;
+  void removeModel(ModelId model) override;
   void step() override;
   Pose bodyPose(ModelId model, int body) const override;
   Twist bodyTwist(ModelId model, int body) const override;
+  void setBodyState(ModelId model, int body, const Pose& link_pose, const Twist& twist) override;
+  void addBodyWrench(ModelId model, int body, const Vec3& force_N, const Vec3& torque_Nm,
+                     const Vec3& point_world) override;
   double jointPosition(ModelId model, int joint) const override;
   double jointVelocity(ModelId model, int joint) const override;
   void setJointVelocityMotor(ModelId model, int joint, double velocity, double max_effort) override;
@@ -127,6 +134,7 @@ class OdeEngine final : public PhysicsEngine {
   dGeomID createGeom(const Shape& shape);
   GeomInfo& registerGeom(dGeomID geom, ModelId model, const SurfaceParams& surface, dSpaceID space);
   const ModelState& modelAt(ModelId model) const;
+  dBodyID bodyAt(ModelId model, int body) const;
   const JointState& jointAt(ModelId model, int joint) const;
   JointState& jointAt(ModelId model, int joint) {
     return const_cast<JointState&>(static_cast<const OdeEngine*>(this)->jointAt(model, joint));
@@ -284,6 +292,7 @@ ModelId OdeEngine::addModel(const ArticulatedModel& model, const Pose& root_pose
   state.first_joint = joints_.size();
   state.joint_count = model.joints.size();
   const dSpaceID model_space = dSimpleSpaceCreate(dynamic_space_);  // destroyed with dynamic_space_
+  state.space = model_space;
 
   for (int b = 0; b < body_count; ++b) {
     const BodySpec& spec = model.bodies[b];
@@ -318,6 +327,7 @@ ModelId OdeEngine::addModel(const ArticulatedModel& model, const Pose& root_pose
       toOde(offset.orientation, oq);
       dGeomSetOffsetQuaternion(geom, oq);
       GeomInfo& info = registerGeom(geom, id, collision.surface, kinematic ? static_space_ : model_space);
+      if (kinematic) state.static_geoms.push_back(geom);
       if (!kinematic && isWheelCollision(model, b, collision) &&
           canBeTyre(collision.shape.radius_m, collision.shape.length_m)) {
         info.tyre = true;
@@ -370,10 +380,34 @@ ModelId OdeEngine::addModel(const ArticulatedModel& model, const Pose& root_pose
   return id;
 }
 
+void OdeEngine::removeModel(ModelId model) {
+  modelAt(model);  // validates
+  std::lock_guard<std::mutex> lock(odeGlobalStateMutex());
+  ModelState& m = models_[static_cast<size_t>(model)];
+  for (size_t j = 0; j < m.joint_count; ++j) {
+    JointState& joint = joints_[m.first_joint + j];
+    dJointDestroy(joint.id);
+    joint.id = nullptr;  // step() skips it
+  }
+  for (dGeomID geom : m.static_geoms) dGeomDestroy(geom);
+  dSpaceDestroy(m.space);  // and its geoms
+  for (dBodyID body : m.bodies) dBodyDestroy(body);
+  m = ModelState();
+  m.removed = true;
+  ray_scene_.removeModel(model);
+}
+
 const ModelState& OdeEngine::modelAt(ModelId model) const {
-  if (model < 0 || static_cast<size_t>(model) >= models_.size())
+  if (model < 0 || static_cast<size_t>(model) >= models_.size() || models_[static_cast<size_t>(model)].removed)
     throw std::out_of_range("ode: unknown model id " + std::to_string(model));
   return models_[static_cast<size_t>(model)];
+}
+
+dBodyID OdeEngine::bodyAt(ModelId model, int body) const {
+  const ModelState& m = modelAt(model);
+  if (body < 0 || static_cast<size_t>(body) >= m.bodies.size())
+    throw std::out_of_range("ode: unknown body index " + std::to_string(body));
+  return m.bodies[static_cast<size_t>(body)];
 }
 
 const JointState& OdeEngine::jointAt(ModelId model, int joint) const {
@@ -495,6 +529,7 @@ void OdeEngine::step() {
   // Viscous damping as an explicit torque from the last velocity: stable while
   // damping * step_s < 2 * (moment of inertia seen by the joint).
   for (JointState& j : joints_) {
+    if (j.id == nullptr) continue;  // removed with its model
     double effort = j.pending_effort;
     j.pending_effort = 0.0;
     if (j.hinge) {
@@ -515,7 +550,7 @@ void OdeEngine::step() {
 
   // Count hinge revolutions: ODE's angle wraps at ±pi; assumes < pi rad per step.
   for (JointState& j : joints_) {
-    if (!j.hinge) continue;
+    if (!j.hinge || j.id == nullptr) continue;
     const double raw_rad = dJointGetHingeAngle(j.id);
     const double delta_rad = raw_rad - j.last_raw_rad;
     if (delta_rad > M_PI)
@@ -527,11 +562,29 @@ void OdeEngine::step() {
 }
 
 Pose OdeEngine::bodyPose(ModelId model, int body) const {
-  const ModelState& m = modelAt(model);
-  if (body < 0 || static_cast<size_t>(body) >= m.bodies.size())
-    throw std::out_of_range("ode: unknown body index " + std::to_string(body));
-  dBodyID b = m.bodies[static_cast<size_t>(body)];
-  return Pose(toVec3(dBodyGetPosition(b)), toQuat(dBodyGetQuaternion(b))) * m.link_in_body[static_cast<size_t>(body)];
+  dBodyID b = bodyAt(model, body);
+  return Pose(toVec3(dBodyGetPosition(b)), toQuat(dBodyGetQuaternion(b))) *
+         models_[static_cast<size_t>(model)].link_in_body[static_cast<size_t>(body)];
+}
+
+void OdeEngine::setBodyState(ModelId model, int body, const Pose& link_pose, const Twist& twist) {
+  dBodyID b = bodyAt(model, body);
+  if (dBodyIsKinematic(b)) return;  // the root of a model welded to the world
+  const Pose com = link_pose * models_[static_cast<size_t>(model)].link_in_body[static_cast<size_t>(body)].inverse();
+  dBodySetPosition(b, com.position.x, com.position.y, com.position.z);
+  dQuaternion q;
+  toOde(com.orientation.normalized(), q);
+  dBodySetQuaternion(b, q);
+  const Vec3 v_com = twist.linear_mps + twist.angular_radps.cross(com.position - link_pose.position);
+  dBodySetLinearVel(b, v_com.x, v_com.y, v_com.z);
+  dBodySetAngularVel(b, twist.angular_radps.x, twist.angular_radps.y, twist.angular_radps.z);
+}
+
+void OdeEngine::addBodyWrench(ModelId model, int body, const Vec3& force_N, const Vec3& torque_Nm,
+                              const Vec3& point_world) {
+  dBodyID b = bodyAt(model, body);  // ODE clears the accumulators after each step
+  dBodyAddForceAtPos(b, force_N.x, force_N.y, force_N.z, point_world.x, point_world.y, point_world.z);
+  dBodyAddTorque(b, torque_Nm.x, torque_Nm.y, torque_Nm.z);
 }
 
 Twist OdeEngine::bodyTwist(ModelId model, int body) const {

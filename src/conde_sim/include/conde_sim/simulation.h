@@ -30,6 +30,14 @@ struct Robot {
   conde_physics::ArticulatedModel model;
   conde_physics::GazeboBlocks gazebo;  // the URDF's <gazebo> blocks: plugins to load
   conde_physics::ModelId id = -1;
+  bool removed = false;  // deleted while running: kept so that robot indices stay valid
+};
+
+// A model as Gazebo's interface sees it: a robot or a dynamic (non-static) world object.
+struct ModelRef {
+  int robot = -1;   // index of a robot, or
+  int object = -1;  // index of a world object
+  bool valid() const { return robot >= 0 || object >= 0; }
 };
 
 class Simulation {
@@ -41,6 +49,9 @@ class Simulation {
   int addRobot(const RobotSpec& spec, std::vector<std::string>* warnings = nullptr);
   // Puts every robot and object back to its start; simulated time goes on.
   void resetWorld();
+  // Takes a robot out of the world (physics, ray casts, cameras); its index stays valid but
+  // findRobot() and findModel() no longer find it, and resetWorld() does not bring it back.
+  void removeRobot(int robot);
   // Index of the robot with this name; "" names the only robot. -1 when there is none.
   int findRobot(const std::string& name) const;
   // New start pose of a robot (root link pose); takes effect at the next resetWorld().
@@ -63,6 +74,31 @@ class Simulation {
   conde_physics::Pose linkPose(int robot, const std::string& link) const;
   // Velocity of that link's origin and the angular velocity, world coordinates.
   conde_physics::Twist linkTwist(int robot, const std::string& link) const;
+
+  // --- Models (robots and dynamic world objects) by name, as the /gazebo/ services see them ---
+  // Robots first, then dynamic world objects; an invalid ref when there is no such model.
+  ModelRef findModel(const std::string& name) const;
+  std::vector<ModelRef> models() const;  // in the order of modelNames()
+  std::string modelName(const ModelRef& model) const;
+  const conde_physics::ArticulatedModel& articulatedModel(const ModelRef& model) const;
+  // Links of a model that are bodies (fixed-joint children are merged into their parent body,
+  // as Gazebo lumps them), root first.
+  std::vector<std::string> bodyLinkNames(const ModelRef& model) const;
+  // Any link of the model, merged or not; "" is the root link. False when unknown.
+  bool hasLink(const ModelRef& model, const std::string& link) const;
+  // Link frame pose and the velocity of its origin + angular velocity, world coordinates.
+  // Throws std::out_of_range for an unknown link.
+  conde_physics::Pose linkPose(const ModelRef& model, const std::string& link) const;
+  conde_physics::Twist linkTwist(const ModelRef& model, const std::string& link) const;
+  // Moves the whole model rigidly so that its root link is at `root_pose`, every body moving
+  // with the rigid-body velocity `twist` of the root link's origin (world coordinates).
+  void setModelState(const ModelRef& model, const conde_physics::Pose& root_pose, const conde_physics::Twist& twist);
+  // Moves only the body that holds `link` (its joints pull it back).
+  void setLinkState(const ModelRef& model, const std::string& link, const conde_physics::Pose& link_pose,
+                    const conde_physics::Twist& twist);
+  // Force [N] at `point_world` and torque [N m] on the body holding `link`, next step only.
+  void addLinkWrench(const ModelRef& model, const std::string& link, const conde_physics::Vec3& force_N,
+                     const conde_physics::Vec3& torque_Nm, const conde_physics::Vec3& point_world);
 
   // What cameras see: the world's ground and objects (object i of the world file is scene
   // object i) and every robot's collision shapes (group = robot index; meshes as their bounding
@@ -88,7 +124,11 @@ class Simulation {
   conde_physics::PackageResolver packages_;
   std::unique_ptr<conde_physics::PhysicsEngine> engine_;
   std::vector<Robot> robots_;
-  std::vector<conde_physics::ModelId> object_model_ids_;  // per world object; -1 = static
+  conde_physics::ModelId engineId(const ModelRef& model) const;
+  int bodyOf(const ModelRef& model, const std::string& link, conde_physics::Pose& link_in_body) const;
+
+  std::vector<conde_physics::ModelId> object_model_ids_;        // per world object; -1 = static
+  std::vector<conde_physics::ArticulatedModel> object_models_;  // per world object; empty for static ones
   std::uint64_t step_count_ = 0;
 
   std::unique_ptr<conde_physics::RenderScene> render_scene_;

@@ -1,0 +1,480 @@
+#include "gazebo_api.h"
+
+#include <gazebo_msgs/LinkStates.h>
+#include <gazebo_msgs/ModelStates.h>
+
+#include <cmath>
+#include <exception>
+
+#include "conde_sim/ros_conversions.h"
+
+namespace conde_sim {
+
+namespace cp = conde_physics;
+
+namespace {
+
+bool isWorldFrame(const std::string& frame) {
+  return frame.empty() || frame == "world" || frame == "map" || frame == "/map";
+}
+
+bool finite(const geometry_msgs::Pose& p) {
+  return std::isfinite(p.position.x) && std::isfinite(p.position.y) && std::isfinite(p.position.z) &&
+         std::isfinite(p.orientation.x) && std::isfinite(p.orientation.y) && std::isfinite(p.orientation.z) &&
+         std::isfinite(p.orientation.w);
+}
+
+bool finite(const geometry_msgs::Vector3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+cp::Vec3 fromMsg(const geometry_msgs::Vector3& v) { return cp::Vec3(v.x, v.y, v.z); }
+cp::Vec3 fromMsg(const geometry_msgs::Point& v) { return cp::Vec3(v.x, v.y, v.z); }
+
+// A quaternion of zeros (an unset field) is the identity, as Gazebo normalises it.
+cp::Pose fromMsg(const geometry_msgs::Pose& p) {
+  const geometry_msgs::Quaternion& q = p.orientation;
+  const double norm = std::sqrt(q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z);
+  const cp::Quat rotation = norm > 1e-12 ? cp::Quat(q.w / norm, q.x / norm, q.y / norm, q.z / norm) : cp::Quat();
+  return cp::Pose(fromMsg(p.position), rotation);
+}
+
+geometry_msgs::Twist toTwistMsg(const cp::Twist& t) {
+  geometry_msgs::Twist msg;
+  msg.linear = toVector3Msg(t.linear_mps);
+  msg.angular = toVector3Msg(t.angular_radps);
+  return msg;
+}
+
+// World state seen from `frame`: pose relative to it, velocities in its axes, relative to its.
+void toFrame(const cp::Pose& frame_pose, const cp::Twist& frame_twist, cp::Pose& pose, cp::Twist& twist) {
+  const cp::Quat to_frame = frame_pose.orientation.conjugate();
+  pose = frame_pose.inverse() * pose;
+  twist.linear_mps = to_frame.rotate(twist.linear_mps - frame_twist.linear_mps);
+  twist.angular_radps = to_frame.rotate(twist.angular_radps - frame_twist.angular_radps);
+}
+
+// A state given in `frame` into the world, as Gazebo's set_*_state: the pose composed with the
+// frame's, the velocities rotated (not offset by the frame's own).
+void fromFrame(const cp::Pose& frame_pose, cp::Pose& pose, cp::Twist& twist) {
+  pose = frame_pose * pose;
+  twist.linear_mps = frame_pose.orientation.rotate(twist.linear_mps);
+  twist.angular_radps = frame_pose.orientation.rotate(twist.angular_radps);
+}
+
+}  // namespace
+
+GazeboApi::GazeboApi(SimHost& host, Simulation& sim, const std::string& ns, ros::NodeHandle& service_nh,
+                     double states_rate_hz)
+    : host_(host), sim_(sim), states_timer_(states_rate_hz, sim.stepS()) {
+  const std::string p = ns + "/";
+  services_.push_back(service_nh.advertiseService(p + "get_model_state", &GazeboApi::onGetModelState, this));
+  services_.push_back(service_nh.advertiseService(p + "set_model_state", &GazeboApi::onSetModelState, this));
+  services_.push_back(service_nh.advertiseService(p + "get_link_state", &GazeboApi::onGetLinkState, this));
+  services_.push_back(service_nh.advertiseService(p + "set_link_state", &GazeboApi::onSetLinkState, this));
+  services_.push_back(service_nh.advertiseService(p + "get_world_properties", &GazeboApi::onGetWorldProperties, this));
+  services_.push_back(service_nh.advertiseService(p + "get_model_properties", &GazeboApi::onGetModelProperties, this));
+  services_.push_back(
+      service_nh.advertiseService(p + "get_physics_properties", &GazeboApi::onGetPhysicsProperties, this));
+  services_.push_back(service_nh.advertiseService(p + "reset_simulation", &GazeboApi::onResetWorld, this));
+  services_.push_back(service_nh.advertiseService(p + "reset_world", &GazeboApi::onResetWorld, this));
+  services_.push_back(service_nh.advertiseService(p + "pause_physics", &GazeboApi::onPause, this));
+  services_.push_back(service_nh.advertiseService(p + "unpause_physics", &GazeboApi::onUnpause, this));
+  services_.push_back(service_nh.advertiseService(p + "apply_body_wrench", &GazeboApi::onApplyBodyWrench, this));
+  services_.push_back(service_nh.advertiseService(p + "clear_body_wrenches", &GazeboApi::onClearBodyWrenches, this));
+  services_.push_back(service_nh.advertiseService(p + "spawn_urdf_model", &GazeboApi::onSpawnUrdf, this));
+  services_.push_back(service_nh.advertiseService(p + "spawn_sdf_model", &GazeboApi::onSpawnSdf, this));
+  services_.push_back(service_nh.advertiseService(p + "delete_model", &GazeboApi::onDeleteModel, this));
+  // Topics on the global queue: the loop's thread.
+  ros::NodeHandle nh;
+  model_states_pub_ = nh.advertise<gazebo_msgs::ModelStates>(p + "model_states", 1);
+  link_states_pub_ = nh.advertise<gazebo_msgs::LinkStates>(p + "link_states", 1);
+  model_state_sub_ = nh.subscribe(p + "set_model_state", 10, &GazeboApi::onModelStateTopic, this);
+  link_state_sub_ = nh.subscribe(p + "set_link_state", 10, &GazeboApi::onLinkStateTopic, this);
+}
+
+// --- frames and names (loop thread) ---
+
+bool GazeboApi::findLink(const std::string& scoped, ModelRef& model, std::string& link) const {
+  const size_t sep = scoped.find("::");
+  if (sep == std::string::npos) return false;
+  model = sim_.findModel(scoped.substr(0, sep));
+  link = scoped.substr(sep + 2);
+  return model.valid() && !link.empty() && sim_.hasLink(model, link);
+}
+
+bool GazeboApi::frameState(const std::string& frame, Frame& state) const {
+  if (isWorldFrame(frame)) {
+    state = Frame();
+    return true;
+  }
+  ModelRef model = sim_.findModel(frame);
+  std::string link;
+  if (!model.valid() && !findLink(frame, model, link)) return false;
+  state.pose = sim_.linkPose(model, link);
+  state.twist = sim_.linkTwist(model, link);
+  return true;
+}
+
+// --- per step (loop thread) ---
+
+void GazeboApi::beforeStep() {
+  const double t = sim_.timeS();
+  for (auto it = wrenches_.begin(); it != wrenches_.end();) {
+    ModelRef model = sim_.findModel(it->model);
+    if (!model.valid() || (it->end_s >= 0.0 && t >= it->end_s - 1e-9)) {
+      it = wrenches_.erase(it);
+      continue;
+    }
+    if (t >= it->start_s - 1e-9) {
+      const cp::Vec3 point = sim_.linkPose(model, it->link) * it->point_in_link;
+      sim_.addLinkWrench(model, it->link, it->force_N, it->torque_Nm, point);
+    }
+    ++it;
+  }
+}
+
+void GazeboApi::afterStep() {
+  if (!states_timer_.due(sim_.stepCount())) return;  // first: the cheaper test, every step
+  const bool models = model_states_pub_.getNumSubscribers() > 0;
+  const bool links = link_states_pub_.getNumSubscribers() > 0;
+  if (!models && !links) return;
+  gazebo_msgs::ModelStates model_states;
+  gazebo_msgs::LinkStates link_states;
+  for (const ModelRef& model : sim_.models()) {
+    const std::string name = sim_.modelName(model);
+    if (models) {
+      model_states.name.push_back(name);
+      model_states.pose.push_back(toMsg(sim_.linkPose(model, "")));
+      model_states.twist.push_back(toTwistMsg(sim_.linkTwist(model, "")));
+    }
+    if (!links) continue;
+    for (const std::string& link : sim_.bodyLinkNames(model)) {
+      link_states.name.push_back(name + "::" + link);
+      link_states.pose.push_back(toMsg(sim_.linkPose(model, link)));
+      link_states.twist.push_back(toTwistMsg(sim_.linkTwist(model, link)));
+    }
+  }
+  if (models) model_states_pub_.publish(model_states);
+  if (links) link_states_pub_.publish(link_states);
+}
+
+void GazeboApi::forgetModel(const std::string& model_name) {
+  for (auto it = wrenches_.begin(); it != wrenches_.end();) it = it->model == model_name ? wrenches_.erase(it) : it + 1;
+}
+
+// --- state services ---
+
+bool GazeboApi::onGetModelState(gazebo_msgs::GetModelState::Request& req, gazebo_msgs::GetModelState::Response& res) {
+  host_.runOnLoop([&] {
+    res.header.stamp = ros::Time(sim_.timeS());
+    const ModelRef model = sim_.findModel(req.model_name);
+    Frame frame;
+    if (!model.valid()) {
+      res.success = false;
+      res.status_message = "GetModelState: model [" + req.model_name + "] does not exist";
+      return;
+    }
+    if (!frameState(req.relative_entity_name, frame)) {
+      res.success = false;
+      res.status_message = "GetModelState: reference relative_entity_name [" + req.relative_entity_name +
+                           "] not found, did you forget to scope the link by model name?";
+      return;
+    }
+    cp::Pose pose = sim_.linkPose(model, "");
+    cp::Twist twist = sim_.linkTwist(model, "");
+    toFrame(frame.pose, frame.twist, pose, twist);
+    res.header.frame_id = isWorldFrame(req.relative_entity_name) ? "world" : req.relative_entity_name;
+    res.pose = toMsg(pose);
+    res.twist = toTwistMsg(twist);
+    res.success = true;
+    res.status_message = "GetModelState: got properties";
+  });
+  return true;
+}
+
+bool GazeboApi::setModelState(const gazebo_msgs::ModelState& state, std::string& message) {
+  const ModelRef model = sim_.findModel(state.model_name);
+  Frame frame;
+  if (!model.valid()) {
+    message = "SetModelState: model [" + state.model_name + "] does not exist";
+  } else if (!finite(state.pose) || !finite(state.twist.linear) || !finite(state.twist.angular)) {
+    message = "SetModelState: pose and twist must be finite";
+  } else if (!frameState(state.reference_frame, frame)) {
+    message = "SetModelState: specified reference frame entity [" + state.reference_frame + "] does not exist";
+  } else if (sim_.articulatedModel(model).fixed_to_world) {
+    message = "SetModelState: model [" + state.model_name + "] is fixed to the world";
+  } else {
+    cp::Pose pose = fromMsg(state.pose);
+    cp::Twist twist;
+    twist.linear_mps = fromMsg(state.twist.linear);
+    twist.angular_radps = fromMsg(state.twist.angular);
+    fromFrame(frame.pose, pose, twist);
+    sim_.setModelState(model, pose, twist);
+    message = "SetModelState: set model state done";
+    return true;
+  }
+  return false;
+}
+
+bool GazeboApi::onSetModelState(gazebo_msgs::SetModelState::Request& req, gazebo_msgs::SetModelState::Response& res) {
+  host_.runOnLoop([&] { res.success = setModelState(req.model_state, res.status_message); });
+  return true;
+}
+
+void GazeboApi::onModelStateTopic(const gazebo_msgs::ModelState::ConstPtr& msg) {
+  std::string message;
+  if (!setModelState(*msg, message)) ROS_WARN_THROTTLE(1.0, "%s", message.c_str());
+}
+
+bool GazeboApi::onGetLinkState(gazebo_msgs::GetLinkState::Request& req, gazebo_msgs::GetLinkState::Response& res) {
+  host_.runOnLoop([&] {
+    ModelRef model;
+    std::string link;
+    Frame frame;
+    res.link_state.link_name = req.link_name;
+    res.link_state.reference_frame = req.reference_frame;
+    if (!findLink(req.link_name, model, link)) {
+      res.success = false;
+      res.status_message = "GetLinkState: link [" + req.link_name + "] does not exist (name it model::link)";
+      return;
+    }
+    if (!frameState(req.reference_frame, frame)) {
+      res.success = false;
+      res.status_message = "GetLinkState: reference_frame [" + req.reference_frame + "] does not exist";
+      return;
+    }
+    cp::Pose pose = sim_.linkPose(model, link);
+    cp::Twist twist = sim_.linkTwist(model, link);
+    toFrame(frame.pose, frame.twist, pose, twist);
+    res.link_state.pose = toMsg(pose);
+    res.link_state.twist = toTwistMsg(twist);
+    res.success = true;
+    res.status_message = "GetLinkState: got state";
+  });
+  return true;
+}
+
+bool GazeboApi::setLinkState(const gazebo_msgs::LinkState& state, std::string& message) {
+  ModelRef model;
+  std::string link;
+  Frame frame;
+  if (!findLink(state.link_name, model, link)) {
+    message = "SetLinkState: link [" + state.link_name + "] does not exist (name it model::link)";
+  } else if (!finite(state.pose) || !finite(state.twist.linear) || !finite(state.twist.angular)) {
+    message = "SetLinkState: pose and twist must be finite";
+  } else if (!frameState(state.reference_frame, frame)) {
+    message = "SetLinkState: reference_frame [" + state.reference_frame + "] does not exist";
+  } else {
+    cp::Pose pose = fromMsg(state.pose);
+    cp::Twist twist;
+    twist.linear_mps = fromMsg(state.twist.linear);
+    twist.angular_radps = fromMsg(state.twist.angular);
+    fromFrame(frame.pose, pose, twist);
+    sim_.setLinkState(model, link, pose, twist);
+    message = "SetLinkState: success";
+    return true;
+  }
+  return false;
+}
+
+bool GazeboApi::onSetLinkState(gazebo_msgs::SetLinkState::Request& req, gazebo_msgs::SetLinkState::Response& res) {
+  host_.runOnLoop([&] { res.success = setLinkState(req.link_state, res.status_message); });
+  return true;
+}
+
+void GazeboApi::onLinkStateTopic(const gazebo_msgs::LinkState::ConstPtr& msg) {
+  std::string message;
+  if (!setLinkState(*msg, message)) ROS_WARN_THROTTLE(1.0, "%s", message.c_str());
+}
+
+// --- properties ---
+
+bool GazeboApi::onGetWorldProperties(gazebo_msgs::GetWorldProperties::Request&,
+                                     gazebo_msgs::GetWorldProperties::Response& res) {
+  host_.runOnLoop([&] {
+    res.sim_time = sim_.timeS();
+    for (const ModelRef& model : sim_.models()) res.model_names.push_back(sim_.modelName(model));
+    res.rendering_enabled = true;  // cameras render on the CPU
+    res.success = true;
+    res.status_message = "GetWorldProperties: got properties";
+  });
+  return true;
+}
+
+bool GazeboApi::onGetModelProperties(gazebo_msgs::GetModelProperties::Request& req,
+                                     gazebo_msgs::GetModelProperties::Response& res) {
+  host_.runOnLoop([&] {
+    const ModelRef model = sim_.findModel(req.model_name);
+    if (!model.valid()) {
+      res.success = false;
+      res.status_message = "GetModelProperties: model [" + req.model_name + "] does not exist";
+      return;
+    }
+    const cp::ArticulatedModel& m = sim_.articulatedModel(model);
+    res.body_names = sim_.bodyLinkNames(model);
+    res.canonical_body_name = res.body_names.front();
+    for (const cp::BodySpec& body : m.bodies) {
+      for (size_t c = 0; c < body.collisions.size(); ++c) {
+        res.geom_names.push_back(body.name + "_collision_" + std::to_string(c));
+      }
+    }
+    for (const cp::JointSpec& joint : m.joints) res.joint_names.push_back(joint.name);
+    res.is_static = m.fixed_to_world;
+    res.success = true;
+    res.status_message = "GetModelProperties: got properties";
+  });
+  return true;
+}
+
+bool GazeboApi::onGetPhysicsProperties(gazebo_msgs::GetPhysicsProperties::Request&,
+                                       gazebo_msgs::GetPhysicsProperties::Response& res) {
+  const cp::PhysicsSettings& s = sim_.world().physics;  // fixed after start-up: no hand-over
+  res.time_step = s.step_s;
+  res.pause = host_.paused();
+  res.max_update_rate = host_.realTimeFactor() > 0 ? host_.realTimeFactor() / s.step_s : 0.0;
+  res.gravity = toVector3Msg(s.gravity_mps2);
+  res.ode_config.auto_disable_bodies = false;
+  res.ode_config.sor_pgs_iters = static_cast<std::uint32_t>(s.solver_iterations);
+  res.ode_config.sor_pgs_w = 1.3;  // ODE's QuickStep default; not a parameter here
+  res.ode_config.contact_surface_layer = s.contact_surface_layer_m;
+  res.ode_config.contact_max_correcting_vel = s.max_contact_correcting_vel_mps;
+  res.ode_config.cfm = s.contact_cfm;
+  res.ode_config.erp = s.contact_erp;
+  res.ode_config.max_contacts = static_cast<std::uint32_t>(s.max_contacts);
+  res.success = true;
+  res.status_message = "GetPhysicsProperties: got properties";
+  return true;
+}
+
+// --- control ---
+
+bool GazeboApi::onResetWorld(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
+  host_.runOnLoop([&] { host_.resetWorldNow(); });
+  return true;
+}
+
+bool GazeboApi::onPause(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
+  host_.requestPause(true);
+  return true;
+}
+
+bool GazeboApi::onUnpause(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
+  host_.requestPause(false);
+  return true;
+}
+
+bool GazeboApi::onApplyBodyWrench(gazebo_msgs::ApplyBodyWrench::Request& req,
+                                  gazebo_msgs::ApplyBodyWrench::Response& res) {
+  host_.runOnLoop([&] {
+    res.success = false;
+    ModelRef model;
+    std::string link;
+    Frame frame;
+    if (!findLink(req.body_name, model, link)) {
+      res.status_message = "ApplyBodyWrench: body [" + req.body_name + "] does not exist (name it model::link)";
+      return;
+    }
+    if (!frameState(req.reference_frame, frame)) {
+      res.status_message = "ApplyBodyWrench: reference_frame [" + req.reference_frame + "] does not exist";
+      return;
+    }
+    if (!finite(req.wrench.force) || !finite(req.wrench.torque) || !std::isfinite(req.reference_point.x) ||
+        !std::isfinite(req.reference_point.y) || !std::isfinite(req.reference_point.z)) {
+      res.status_message = "ApplyBodyWrench: wrench and reference_point must be finite";
+      return;
+    }
+    Wrench w;
+    w.model = sim_.modelName(model);
+    w.link = link;
+    w.force_N = frame.pose.orientation.rotate(fromMsg(req.wrench.force));
+    w.torque_Nm = frame.pose.orientation.rotate(fromMsg(req.wrench.torque));
+    w.point_in_link = sim_.linkPose(model, link).inverse() * (frame.pose * fromMsg(req.reference_point));
+    const double now_s = sim_.timeS();
+    w.start_s = req.start_time.isZero() ? now_s : std::max(now_s, req.start_time.toSec());
+    w.end_s = req.duration.toSec() < 0 ? -1.0 : w.start_s + req.duration.toSec();
+    wrenches_.push_back(w);
+    res.success = true;
+    res.status_message = "";
+  });
+  return true;
+}
+
+bool GazeboApi::onClearBodyWrenches(gazebo_msgs::BodyRequest::Request& req, gazebo_msgs::BodyRequest::Response&) {
+  host_.runOnLoop([&] {
+    ModelRef model;
+    std::string link;
+    if (!findLink(req.body_name, model, link)) return;
+    const std::string name = sim_.modelName(model);
+    for (auto it = wrenches_.begin(); it != wrenches_.end();)
+      it = it->model == name && it->link == link ? wrenches_.erase(it) : it + 1;
+  });
+  return true;
+}
+
+// --- models added and removed ---
+
+bool GazeboApi::onSpawnUrdf(gazebo_msgs::SpawnModel::Request& req, gazebo_msgs::SpawnModel::Response& res) {
+  host_.runOnLoop([&] {
+    res.success = false;
+    Frame frame;
+    if (req.model_name.empty()) {
+      res.status_message = "SpawnModel: Failure - model_name is empty";
+      return;
+    }
+    if (sim_.findModel(req.model_name).valid()) {
+      res.status_message = "SpawnModel: Failure - model name " + req.model_name + " already exists.";
+      return;
+    }
+    if (!finite(req.initial_pose)) {
+      res.status_message = "SpawnModel: Failure - initial_pose must be finite";
+      return;
+    }
+    if (!frameState(req.reference_frame, frame)) {
+      res.status_message = "SpawnModel: Failure - reference_frame [" + req.reference_frame + "] does not exist";
+      return;
+    }
+    RobotSpec spec;
+    spec.name = req.model_name;
+    spec.ros_namespace = req.robot_namespace == "/" ? "" : req.robot_namespace;
+    spec.source = "spawn_urdf_model '" + req.model_name + "'";
+    spec.urdf_xml = req.model_xml;
+    spec.spawn_pose = frame.pose * fromMsg(req.initial_pose);
+    try {
+      host_.spawnRobot(spec);
+    } catch (const std::exception& e) {
+      res.status_message = std::string("SpawnModel: Failure - ") + e.what();
+      return;
+    }
+    res.success = true;
+    res.status_message = "SpawnModel: Successfully spawned entity";
+  });
+  return true;
+}
+
+bool GazeboApi::onSpawnSdf(gazebo_msgs::SpawnModel::Request&, gazebo_msgs::SpawnModel::Response& res) {
+  res.success = false;
+  res.status_message = "SpawnModel: Failure - SDF models are not supported yet; spawn a URDF with spawn_urdf_model";
+  return true;
+}
+
+bool GazeboApi::onDeleteModel(gazebo_msgs::DeleteModel::Request& req, gazebo_msgs::DeleteModel::Response& res) {
+  host_.runOnLoop([&] {
+    res.success = false;
+    const ModelRef model = sim_.findModel(req.model_name);
+    if (!model.valid()) {
+      res.status_message = "DeleteModel: model [" + req.model_name + "] does not exist";
+      return;
+    }
+    if (model.robot < 0) {
+      res.status_message =
+          "DeleteModel: model [" + req.model_name + "] is an object of the world file and cannot be deleted yet";
+      return;
+    }
+    forgetModel(req.model_name);
+    host_.deleteRobot(model.robot);
+    res.success = true;
+    res.status_message = "DeleteModel: successfully deleted model";
+  });
+  return true;
+}
+
+}  // namespace conde_sim
