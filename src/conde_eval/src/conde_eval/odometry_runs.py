@@ -3,9 +3,14 @@ its own ROS master on a free loopback port: shared by odometry_test, evaluation_
 calibration tests. No rospy here; it only starts roslaunch and reads the JSON it writes."""
 import json
 import os
+import re
+import signal
 import socket
 import subprocess
+import threading
 import time
+
+PROGRESS = re.compile(r"(run \d+/\d+ [^:{]*)")
 
 
 def free_port():
@@ -29,13 +34,23 @@ def run_odometry(engine, output_dir, tag="", launch_args=(), timeout_s=900, prog
     started = time.monotonic()
     progress(f"[{engine}] launching conde_sim and the odometry scenarios (log: {log})")
     with open(log, "w") as out:
+        proc = subprocess.Popen(["roslaunch", "-p", str(port), "conde_eval", "odometry_test.launch",
+                                 f"physics_engine:={engine}", f"output:={result}", *launch_args],
+                                stdout=subprocess.PIPE, stderr=subprocess.STDOUT, env=env, text=True,
+                                start_new_session=True)
+        timer = threading.Timer(timeout_s, lambda: os.killpg(proc.pid, signal.SIGINT))
+        timer.start()
         try:
-            proc = subprocess.run(["roslaunch", "-p", str(port), "conde_eval", "odometry_test.launch",
-                                   f"physics_engine:={engine}", f"output:={result}", *launch_args],
-                                  stdout=out, stderr=subprocess.STDOUT, env=env, timeout=timeout_s)
-            status = f"roslaunch exit {proc.returncode}"
-        except subprocess.TimeoutExpired:
-            status = f"timed out after {timeout_s} s"
+            for line in proc.stdout:
+                out.write(line)
+                found = PROGRESS.search(line)
+                if found:  # odometry_test_node: "run 3/23 straight 1 m at 0.3 m/s: {...}"
+                    progress(f"[{engine}] {found.group(1)}")
+            proc.wait()
+        finally:
+            timer.cancel()
+        status = f"roslaunch exit {proc.returncode}" if time.monotonic() - started < timeout_s else \
+            f"stopped after the time limit of {timeout_s} s"
     wall_s = time.monotonic() - started
     if not os.path.exists(result):
         with open(log) as f:
