@@ -83,9 +83,25 @@ def test_straight_runs_cannot_identify_the_separation_nor_the_radius_difference(
     with pytest.raises(dc.NotIdentifiableError, match="radius_difference_m cannot be identified.*lateral_m"):
         dc.fit(runs, ["radius_mean_m", "radius_difference_m"])
     one_distance = [r for r in runs if r.commanded_m == 1.0]
-    with pytest.raises(dc.NotIdentifiableError, match="stop_latency_s cannot be identified.*two or more"):
+    with pytest.raises(dc.NotIdentifiableError, match="stop_latency_s cannot be identified.*two or more.*encoder"):
         dc.fit(one_distance, ["radius_mean_m", "stop_latency_s"])
     assert dc.fit(one_distance).fitted == ["radius_mean_m"]
+
+
+def test_wheel_encoder_totals_identify_the_latency_from_one_distance():
+    truth = dict(dc.NOMINAL, radius_mean_m=0.0312, stop_latency_s=0.35)
+    rng = np.random.default_rng(3)
+    runs = []
+    for _ in range(4):
+        dist, _, phi = dc.predict_straight(truth, 1.0, 0.3)
+        runs.append(dc.Run("straight", 1.0, 0.3, dist + rng.normal(0, 0.002),
+                           left_wheel_rad=phi + rng.normal(0, 0.05), right_wheel_rad=phi + rng.normal(0, 0.05)))
+    result = dc.fit(runs)
+    assert result.fitted == ["radius_mean_m", "stop_latency_s"]
+    for p in result.fitted:
+        assert abs(result.values[p] - truth[p]) < 3 * result.stderr[p], p
+    without_encoders = [dc.Run(r.test, r.commanded_m, r.speed_mps, r.measured_m) for r in runs]
+    assert dc.fit(without_encoders).fitted == ["radius_mean_m"]
 
 
 def test_too_few_runs():

@@ -21,8 +21,11 @@ What the data identify (the fit refuses a parameter the data cannot move):
 - straight distances alone: the mean wheel radius (a distance scale); with two or more
   commanded distances also the stop overshoot speed * stop_latency_s (the latency itself only
   because the speed is known; separating a delay from braking needs runs at several speeds);
-- the radius *difference* left/right: only the sideways offset of straight runs (lateral_m), or
-  wheel angles with headings; closing errors alone mix it with the separation;
+- wheel encoder totals (left_wheel_rad, right_wheel_rad) of straight runs: the overshoot in wheel
+  angle, i.e. the stop latency, even from one commanded distance (with the distances, then, the
+  mean radius too); in this model both wheels turn alike, so they say nothing about the sides;
+- the radius *difference* left/right: only the sideways offset of straight runs (lateral_m);
+  closing errors alone mix it with the separation;
 - the wheel separation: only turning runs (squares), given the mean radius.
 
 Parameters are fitted with scipy.optimize.least_squares; their standard errors come from the
@@ -269,6 +272,8 @@ def identifiable_parameters(runs: Sequence[Run]) -> Dict[str, str]:
         # overshoot = speed * latency: a separate offset needs two commanded distances.
         if len({round(r.commanded_m, 6) for r in straight}) >= 2:
             out["stop_latency_s"] = "straight runs at two or more commanded distances"
+        elif any(r.left_wheel_rad is not None or r.right_wheel_rad is not None for r in straight):
+            out["stop_latency_s"] = "wheel encoder totals of straight runs"
         if any(r.lateral_m is not None for r in straight):
             out["radius_difference_m"] = "sideways offsets of straight runs"
     if any(r.test == "square" for r in runs):
@@ -278,8 +283,8 @@ def identifiable_parameters(runs: Sequence[Run]) -> Dict[str, str]:
 
 def why_not(name: str) -> str:
     return {"radius_mean_m": "it needs straight runs",
-            "stop_latency_s": "it needs straight runs at two or more commanded distances (the overshoot "
-                              "is otherwise indistinguishable from the distance scale)",
+            "stop_latency_s": "it needs straight runs at two or more commanded distances, or wheel encoder "
+                              "totals (the overshoot is otherwise indistinguishable from the distance scale)",
             "radius_difference_m": "it needs the sideways offset (lateral_m) of straight runs; distances "
                                    "and closing errors do not separate it from the wheel separation",
             "wheel_separation_m": "it needs turning runs (squares); straight runs do not depend on it"}[name]

@@ -242,8 +242,9 @@ IDENTIFIABILITY = textwrap.dedent("""\
       (speed × latency); the latency in seconds rests on the speed of the runs, which the paper's tables
       do not give (0.3 m/s assumed), and one speed cannot separate a delay from braking.
     - They do **not** identify the wheel separation (a straight run does not turn) nor the left/right
-      radius difference (it needs the sideways offset at the end of the straight runs, or wheel logs
-      with headings; the paper reports neither).
+      radius difference (it needs the sideways offset at the end of the straight runs, which the paper
+      does not report). Wheel encoder totals, had they been logged, would give the stop latency
+      directly (the overshoot in wheel angle).
     - Square closing errors identify the separation given the mean radius, but one magnitude per run
       cannot tell a separation error from a radius difference, nor left from right (a closing error of
       0.04 m has two solutions, one on each side of the nominal separation; the fit finds the one nearer
