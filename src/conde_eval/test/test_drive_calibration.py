@@ -183,3 +183,16 @@ def test_prediction_stderr_of_a_linear_prediction_matches_the_covariance():
     result = dc.fit(runs)
     se = dc.prediction_stderr(result, lambda v: dc.predict_straight(v, 3.0, 0.3)[0])
     assert 0 < se < 0.01 and math.isfinite(se)
+
+
+def test_closing_errors_have_a_mirror_separation_about_the_90_degree_turn():
+    runs = dc.read_runs_csv(PAPER_CSV)
+    val = er.paper_validation(runs)
+    fitted = val["fit_all"].values["wheel_separation_m"]
+    neutral = er.turn_neutral_separation_m(val["fit_all"].values)
+    text = er.mirror_separation_text(val["fit_all"], runs)
+    mirror = float(text.split("; a separation of ")[1].split(" m")[0])
+    assert (fitted - neutral) * (mirror - neutral) < 0  # the other side
+    # both separations give square closing errors inside the real range
+    for b in (fitted, mirror):
+        assert 0.02 < dc.predict_square(dict(val["fit_all"].values, wheel_separation_m=b), 1.0, 0.3) < 0.06

@@ -189,10 +189,31 @@ def paper_validation(runs):
     pred_sq05 = dc.predict_square(fit_sq.values, 1.0, 0.5)
     pred_sq05_se = dc.prediction_stderr(fit_sq, lambda v: dc.predict_square(v, 1.0, 0.5))
     fit_all = dc.fit(runs)
-    return {"fit12": fit12, "pred3_m": pred3, "pred3_se_m": pred3_se,
+    return {"runs": list(runs), "fit12": fit12, "pred3_m": pred3, "pred3_se_m": pred3_se,
             "pred3_error_pct": 100.0 * (pred3 - PAPER_REAL_3M_MEAN_M) / PAPER_REAL_3M_MEAN_M,
             "square_pred_from_straight_m": squares, "fit_sq": fit_sq, "pred_sq05_m": pred_sq05,
             "pred_sq05_se_m": pred_sq05_se, "fit_all": fit_all}
+
+
+def turn_neutral_separation_m(values):
+    """The separation at which the timed turns are exactly 90 deg [m]: closing errors are (nearly)
+    symmetric about it."""
+    return dc.NOMINAL_WHEEL_SEPARATION_M * values["radius_mean_m"] / dc.NOMINAL_WHEEL_RADIUS_M
+
+
+def mirror_separation_text(result, runs):
+    """The other separation that explains the closing errors about as well, with its residual."""
+    if "wheel_separation_m" not in result.fitted:
+        return ""
+    neutral = turn_neutral_separation_m(result.values)
+    mirror = dc.fit(runs, [p for p in result.fitted if p != "wheel_separation_m"],
+                    fixed={"wheel_separation_m": 2 * neutral - result.values["wheel_separation_m"]})
+    rms = math.sqrt(float(np.mean(np.square(result.residuals_m))))
+    rms_mirror = math.sqrt(float(np.mean(np.square(mirror.residuals_m))))
+    fitted = result.values["wheel_separation_m"]
+    return (f"Mirror solution: the turns are exactly 90° at a separation of {neutral:.4f} m; a separation of "
+            f"{mirror.values['wheel_separation_m']:.4f} m (the other side) explains the runs with an RMS residual of "
+            f"{rms_mirror * 1000:.1f} mm against {rms * 1000:.1f} mm for the fitted {fitted:.4f} m.")
 
 
 def fit_table(result):
@@ -246,9 +267,10 @@ IDENTIFIABILITY = textwrap.dedent("""\
       does not report). Wheel encoder totals, had they been logged, would give the stop latency
       directly (the overshoot in wheel angle).
     - Square closing errors identify the separation given the mean radius, but one magnitude per run
-      cannot tell a separation error from a radius difference, nor left from right (a closing error of
-      0.04 m has two solutions, one on each side of the nominal separation; the fit finds the one nearer
-      the nominal).
+      cannot tell a separation error from a radius difference, nor left from right, and a closing
+      error has two solutions, one on each side of the separation at which the turns are exactly 90°
+      (nominal separation × mean radius / nominal radius): the fit reports one of them, and its
+      standard error does not cover the other (see the mirror solution above).
     - The paper gives ranges, not the individual runs: the CSV records the ends of each range, so the
       standard errors describe the spread of those ends, not five independent runs.
     """)

@@ -29,7 +29,8 @@ def run_odometry(engine, output_dir, tag="", launch_args=(), timeout_s=900, prog
     if os.path.exists(result):
         os.remove(result)
     port = free_port()
-    env = dict(os.environ, ROS_MASTER_URI=f"http://127.0.0.1:{port}", ROS_IP="127.0.0.1")
+    # unbuffered: the node's "run i/N" lines reach the progress output as they happen
+    env = dict(os.environ, ROS_MASTER_URI=f"http://127.0.0.1:{port}", ROS_IP="127.0.0.1", PYTHONUNBUFFERED="1")
     env.pop("ROS_HOSTNAME", None)
     started = time.monotonic()
     progress(f"[{engine}] launching conde_sim and the odometry scenarios (log: {log})")
