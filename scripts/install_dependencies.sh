@@ -15,7 +15,7 @@ profile="${1:-build}"
 run_packages=(
   ros-base python3-rospy python3-rostest python3-roslaunch rosbash python3-rosbag
   python3-tf2-ros ros-robot-state-publisher python3-cv-bridge python3-opencv python3-numpy
-  python3-yaml python3-rospkg python3-matplotlib python3-pip
+  python3-yaml python3-rospkg python3-matplotlib python3-scipy python3-pip
   python3-nav-msgs python3-trajectory-msgs python3-geometry-msgs python3-sensor-msgs python3-std-srvs python3-visualization-msgs python3-rosgraph-msgs
   liburdfdom-tools libbullet3.24 libode8 libyaml-cpp0.7
   rviz xvfb

@@ -145,6 +145,23 @@ def test_invalid_arguments_are_rejected(args, name):
         process(**args)
 
 
+def test_calibrated_wheels_are_built_while_the_diff_drive_keeps_the_nominal_geometry():
+    root = robot(calibrated_left_wheel_radius='0.031', calibrated_right_wheel_radius='0.0325',
+                 calibrated_wheel_separation='0.34')
+    for side, radius, sign in (('left', 0.031, 1), ('right', 0.0325, -1)):
+        assert wheel_geometry(root, side)[0] == pytest.approx(radius)
+        (_, pts), = collision_points(root, side + '_wheel')
+        assert pts[:, 2].min() == pytest.approx(0.0, abs=1e-6)  # each wheel still touches the ground
+        np.testing.assert_allclose(link_tf(root, side + '_wheel')[:3, 3][:2], [0, sign * 0.17], atol=1e-9)
+    params = {c.tag: (c.text or '').strip() for c in plugin(root, 'libgazebo_ros_diff_drive.so')}
+    assert (params['wheelDiameter'], params['wheelSeparation']) == ('0.064', '0.33')
+    # no calibration: the same URDF as without the arguments
+    assert process(calibrated_left_wheel_radius='', calibrated_right_wheel_radius='',
+                   calibrated_wheel_separation='') == process()
+    with pytest.raises(Exception, match='calibrated_wheel_geometry_must_be_positive'):
+        process(calibrated_wheel_separation='-0.3')
+
+
 def test_frame_tree():
     root = robot()
     assert root.get('name') == 'conde'

@@ -10,8 +10,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <limits>
 #include <set>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -666,10 +668,24 @@ void boardSpans(const std::vector<cv::Point2f>& c, const Board& board, double& h
 
 }  // namespace
 
+// Board distances [m] of the field-of-view test: CONDE_FOV_DISTANCES_M (comma-separated, e.g.
+// "0.7,1.0"; evaluation_report of conde_eval sets it), 0.7 m when unset.
+std::vector<double> fovDistances() {
+  std::vector<double> distances;
+  const char* text = std::getenv("CONDE_FOV_DISTANCES_M");
+  std::stringstream list(text != nullptr ? text : "0.7");
+  std::string item;
+  while (std::getline(list, item, ',')) {
+    if (!item.empty()) distances.push_back(std::stod(item));
+  }
+  return distances;
+}
+
 // The same chessboard at a known distance straight in front of each of Conde's cameras
 // (distortion off): its size in pixels, measured with OpenCV's corner finder, is the pinhole
 // prediction f * size / distance within half a pixel (the two tracking cameras' predictions
-// differ by 0.7 px). Prints the table.
+// differ by 0.7 px). Prints the table (Markdown) and one "FOV_RESULT camera distance_m
+// predicted_h measured_h predicted_v measured_v" line per board (read by evaluation_report).
 TEST(CameraRendererTest, FieldOfViewMatchesThePinholePrediction) {
   struct Camera {
     const char* name;
@@ -679,29 +695,38 @@ TEST(CameraRendererTest, FieldOfViewMatchesThePinholePrediction) {
   const Camera cameras[] = {{"tracking_left", 160, 120, 1.0865},
                             {"tracking_right", 160, 120, 1.0965},
                             {"signalling_panel", 320, 240, 1.5707963}};
-  // One board (5 cm squares) at 0.7 m for all three, as a printed board in front of each camera.
-  const double distance_m = 0.7;
+  // One board (5 cm squares), as a printed board in front of each camera.
+  const std::vector<double> distances = fovDistances();
+  ASSERT_FALSE(distances.empty()) << "CONDE_FOV_DISTANCES_M names no distance";
   std::printf(
-      "\n| camera | image | hfov [rad] | fx [px] | board span H predicted / measured [px] | "
-      "V predicted / measured [px] |\n|---|---|---|---|---|---|\n");
-  for (const Camera& c : cameras) {
-    SCOPED_TRACE(c.name);
-    const cp::CameraModel model = cp::CameraModel::fromHorizontalFov(c.width, c.height, c.hfov_rad);
-    Board board;
-    board.square_m = 0.05;
-    cp::Pose camera_pose, face_pose;
-    const cp::RgbImage image = renderBoard(model, board, distance_m, camera_pose, face_pose);
-    const std::vector<cv::Point2f> corners = findCorners(image, board);
-    ASSERT_EQ(corners.size(), static_cast<size_t>(board.inner_x * board.inner_y)) << "chessboard not found";
-    double horizontal = 0.0, vertical = 0.0;
-    boardSpans(corners, board, horizontal, vertical);
-    const double predicted_h = model.fx_px * (board.inner_x - 1) * board.square_m / distance_m;
-    const double predicted_v = model.fy_px * (board.inner_y - 1) * board.square_m / distance_m;
-    std::printf("| %s | %dx%d | %.7g | %.3f | %.3f / %.3f | %.3f / %.3f |\n", c.name, c.width, c.height, c.hfov_rad,
-                model.fx_px, predicted_h, horizontal, predicted_v, vertical);
-    EXPECT_NEAR(horizontal, predicted_h, 0.5);
-    EXPECT_NEAR(vertical, predicted_v, 0.5);
+      "\n| camera | image | hfov [rad] | fx [px] | distance [m] | board span H predicted / measured [px] | "
+      "V predicted / measured [px] |\n|---|---|---|---|---|---|---|\n");
+  std::vector<std::string> results;
+  for (const double distance_m : distances) {
+    for (const Camera& c : cameras) {
+      SCOPED_TRACE(std::string(c.name) + " at " + std::to_string(distance_m) + " m");
+      const cp::CameraModel model = cp::CameraModel::fromHorizontalFov(c.width, c.height, c.hfov_rad);
+      Board board;
+      board.square_m = 0.05;
+      cp::Pose camera_pose, face_pose;
+      const cp::RgbImage image = renderBoard(model, board, distance_m, camera_pose, face_pose);
+      const std::vector<cv::Point2f> corners = findCorners(image, board);
+      ASSERT_EQ(corners.size(), static_cast<size_t>(board.inner_x * board.inner_y)) << "chessboard not found";
+      double horizontal = 0.0, vertical = 0.0;
+      boardSpans(corners, board, horizontal, vertical);
+      const double predicted_h = model.fx_px * (board.inner_x - 1) * board.square_m / distance_m;
+      const double predicted_v = model.fy_px * (board.inner_y - 1) * board.square_m / distance_m;
+      std::printf("| %s | %dx%d | %.7g | %.3f | %.2f | %.3f / %.3f | %.3f / %.3f |\n", c.name, c.width, c.height,
+                  c.hfov_rad, model.fx_px, distance_m, predicted_h, horizontal, predicted_v, vertical);
+      char line[200];
+      std::snprintf(line, sizeof line, "FOV_RESULT %s %.4f %.4f %.4f %.4f %.4f", c.name, distance_m, predicted_h,
+                    horizontal, predicted_v, vertical);
+      results.emplace_back(line);
+      EXPECT_NEAR(horizontal, predicted_h, 0.5);
+      EXPECT_NEAR(vertical, predicted_v, 0.5);
+    }
   }
+  for (const std::string& line : results) std::printf("%s\n", line.c_str());
 }
 
 // With Conde's lens distortion on, the chessboard's corners land where CameraModel::project puts

@@ -3,6 +3,10 @@
 Straight runs of 1, 2 and 3 m and 1 m squares at 0.3 and 0.5 m/s with 1 rad/s turns. A scenario
 is a list of segments (duration [s], linear speed [m/s], angular speed [rad/s]); the result of a
 run is the ground-truth and odometry poses (x [m], y [m], yaw [rad]) at its start and end.
+
+Two ways to drive a straight segment: timed (duration at the speed, the default), or *by distance
+reference* (`by_distance`), the paper's protocol: at the speed until the robot's own odometry
+(/odom) says the segment's length (duration x speed) is done, then stop. Turns are always timed.
 """
 import math
 from dataclasses import dataclass
@@ -21,21 +25,40 @@ class Scenario:
     kind: str             # "straight" or "square"
     commanded_m: float    # commanded path length (straight) or perimeter (square)
     segments: List[Segment]
+    by_distance: bool = False  # straight segments end when /odom reports their length
+    speed_mps: float = STRAIGHT_SPEED_MPS
 
 
-def straight(distance_m: float, speed_mps: float = STRAIGHT_SPEED_MPS) -> Scenario:
+def straight(distance_m: float, speed_mps: float = STRAIGHT_SPEED_MPS, by_distance: bool = False) -> Scenario:
     return Scenario(f"straight {distance_m:g} m at {speed_mps:g} m/s", "straight", distance_m,
-                    [(distance_m / speed_mps, speed_mps, 0.0)])
+                    [(distance_m / speed_mps, speed_mps, 0.0)], by_distance, speed_mps)
 
 
-def square(speed_mps: float, side_m: float = SQUARE_SIDE_M, turn_radps: float = TURN_RATE_RADPS) -> Scenario:
+def square(speed_mps: float, side_m: float = SQUARE_SIDE_M, turn_radps: float = TURN_RATE_RADPS,
+           by_distance: bool = False) -> Scenario:
     side = (side_m / speed_mps, speed_mps, 0.0)
     turn = (math.pi / 2 / turn_radps, 0.0, turn_radps)
-    return Scenario(f"square {side_m:g} m at {speed_mps:g} m/s", "square", 4 * side_m, [side, turn] * 4)
+    return Scenario(f"square {side_m:g} m at {speed_mps:g} m/s", "square", 4 * side_m, [side, turn] * 4,
+                    by_distance, speed_mps)
 
 
 def default_scenarios() -> List[Scenario]:
     return [straight(1.0), straight(2.0), straight(3.0), square(0.3), square(0.5)]
+
+
+PAPER_DISTANCES_M = (1.0, 2.0, 3.0)
+PAPER_REPEATS = 5
+PAPER_SQUARE_SPEEDS_MPS = (0.3, 0.5)
+PAPER_SQUARES = 4  # per speed
+
+
+def paper_scenarios(distances_m=PAPER_DISTANCES_M, repeats: int = PAPER_REPEATS, squares: int = PAPER_SQUARES,
+                    square_speeds_mps=PAPER_SQUARE_SPEEDS_MPS) -> List[Scenario]:
+    """The paper's protocol, driven by distance reference: `repeats` straight runs per distance
+    (at STRAIGHT_SPEED_MPS), then `squares` 1 m squares per speed (1 rad/s timed turns)."""
+    out = [straight(d, by_distance=True) for d in distances_m for _ in range(repeats)]
+    out += [square(v, by_distance=True) for v in square_speeds_mps for _ in range(squares)]
+    return out
 
 
 def relative_pose(start, end):
@@ -50,10 +73,12 @@ def evaluate(scenario: Scenario, truth_start, truth_end, odom_start, odom_end) -
     """Travelled distance and closing error by ground truth, and what odometry believed."""
     truth = relative_pose(truth_start, truth_end)
     odom = relative_pose(odom_start, odom_end)
-    row = {"scenario": scenario.name, "kind": scenario.kind, "commanded_m": scenario.commanded_m}
+    row = {"scenario": scenario.name, "kind": scenario.kind, "commanded_m": scenario.commanded_m,
+           "speed_mps": scenario.speed_mps, "by_distance": scenario.by_distance}
     if scenario.kind == "straight":
         row["travelled_m"] = math.hypot(truth[0], truth[1])
         row["error_pct"] = 100.0 * (row["travelled_m"] - scenario.commanded_m) / scenario.commanded_m
+        row["lateral_m"] = truth[1]  # sideways offset at the end, + left
         row["odometry_m"] = math.hypot(odom[0], odom[1])
         row["heading_error_deg"] = math.degrees(truth[2])
     else:
