@@ -10,6 +10,8 @@ import numpy as np
 TRACK_EXTENT_M = (-3.475, 3.975, -8.35, 8.35)
 #: The path in the JSON file: one pose every this many seconds at most.
 PATH_PERIOD_S = 0.1
+#: Spacing of the numbered event markers in the PNG [m].
+MARKER_M = 0.3
 
 
 def thin_path(path, period_s=PATH_PERIOD_S):
@@ -59,10 +61,16 @@ def plot(report, path, course, out_png, texture_path=None):
     if len(xy):
         ax.plot(xy[:, 0], xy[:, 1], color="tab:orange", linewidth=1.2, label="path (ground truth)")
         ax.plot(xy[0, 0], xy[0, 1], "o", color="tab:green", label="start")
+    placed = []  # markers of events at (nearly) the same place go side by side, joined to the place
     for e in report["events"]:
         colour = "tab:red" if e["penalty"] > 0 else "tab:blue"
-        ax.plot(e["x_m"], e["y_m"], "o", markersize=11, markerfacecolor="white", markeredgecolor=colour)
-        ax.annotate(str(e["n"]), (e["x_m"], e["y_m"]), ha="center", va="center", fontsize=7, color=colour)
+        k = sum(1 for x, y in placed if abs(x - e["x_m"]) < MARKER_M and abs(y - e["y_m"]) < MARKER_M)
+        placed.append((e["x_m"], e["y_m"]))
+        mx = e["x_m"] + k * MARKER_M
+        if k:
+            ax.plot([e["x_m"], mx], [e["y_m"], e["y_m"]], color=colour, linewidth=0.6)
+        ax.plot(mx, e["y_m"], "o", markersize=11, markerfacecolor="white", markeredgecolor=colour)
+        ax.annotate(str(e["n"]), (mx, e["y_m"]), ha="center", va="center", fontsize=7, color=colour)
     ax.set_xlim(TRACK_EXTENT_M[0], TRACK_EXTENT_M[1])
     ax.set_ylim(TRACK_EXTENT_M[2], TRACK_EXTENT_M[3])
     ax.set_aspect("equal")
