@@ -51,3 +51,12 @@ def test_robot_without_collision_geometry_stops_the_node(master, tmp_path):
     assert out.returncode == 1
     assert ("conde_referee: error: robot_description: robot 'ghost' has no collision geometry (a <collision> with a "
             "box, cylinder or sphere): the referee needs it for the robot's footprint") in out.stderr
+
+
+def test_malformed_rules_file_stops_the_node(master, tmp_path):
+    rules = tmp_path / "rules.yaml"
+    rules.write_text("format: conde_referee_rules/1\nname: x\npenalties: {}\nscoring: {}\njudging: {}\n")
+    out = subprocess.run(["rosrun", "conde_referee", "conde_referee", "_rules_file:=" + str(rules)], env=master,
+                         capture_output=True, text=True, timeout=60)
+    assert out.returncode == 1
+    assert "conde_referee: error: rules.yaml: scoring: missing key 'laps'\n" in out.stderr
