@@ -2,12 +2,11 @@
 track's lane centres or straight lines, and a helper that feeds them to a Referee."""
 import math
 
-import numpy as np
 from conde_worlds import track_geometry as tg
 
 from conde_referee.course import Course
 from conde_referee.footprint import Footprint
-from conde_referee.referee import Referee
+from conde_referee.referee import Referee, judge_recorded
 from conde_referee.rules import load_rules
 
 #: A robot 0.4 m long and 0.3 m wide, its reference point in the middle, 0.3 m high.
@@ -45,14 +44,8 @@ def judge(challenge, poses, panel=((0.0, "forward"),), reports=(), variant=None,
     """Feeds the poses (one per DT_S from t0), the panel changes and the sign reports [(t, value)]
     in time order; returns (referee, report)."""
     referee = Referee(load_rules(), Course.from_layout(challenge, variant, seed), FOOTPRINT)
-    inputs = [(t, 0, referee.on_panel, s) for t, s in panel] + [(t, 1, referee.on_sign_report, s) for t, s in reports]
-    inputs += [(t0 + i * DT_S, 2, referee.on_pose, p) for i, p in enumerate(poses)]
-    for t, _, call, value in sorted(inputs, key=lambda item: (item[0], item[1])):
-        if isinstance(value, tuple):
-            call(t, *value)
-        else:
-            call(t, value)
-    return referee, referee.finish()
+    poses = [(t0 + i * DT_S,) + tuple(p) for i, p in enumerate(poses)]
+    return referee, judge_recorded(referee, poses, panel, reports)
 
 
 def kinds(report):
@@ -61,6 +54,3 @@ def kinds(report):
 
 def straight(x, y0, y1):
     return line([(x, y0), (x, y1)])
-
-
-__all__ = ["np"]

@@ -1,6 +1,5 @@
 """The scoring library with scripted paths: each check fires once with its rules-file penalty."""
 import json
-import os
 import math
 
 from conde_worlds import challenge_objects as co
@@ -161,4 +160,6 @@ def test_report_files(tmp_path):
     assert [e["kind"] for e in data["events"]] == ["collision", "collision"] and len(data["path_t_x_y"]) > 100
     md = open(paths["md"]).read()
     assert "| 1 |" in md and "obstacle_1" in md and "| penalties | 20.0 |" in md
-    assert os.path.getsize(paths["png"]) > 10000
+    import matplotlib.image as mpimg
+    png = mpimg.imread(paths["png"])
+    assert png.shape[0] > 1000 and (png[..., :3].mean(axis=2) < 0.1).mean() > 0.3  # the dark track texture

@@ -342,3 +342,15 @@ class Referee:
                             self.footprint.y_max_m],
             "events": [e.to_dict() for e in self.events],
         }
+
+
+def judge_recorded(referee: Referee, poses, panel=(), reports=()) -> dict:
+    """Feeds a recorded run to `referee` in time order (at equal times: panel, then reports, then
+    poses) and returns its report. poses [(t, x, y, yaw)], panel [(t, signal name)], reports
+    [(t, sign name)]."""
+    inputs = [(t, 0, referee.on_panel, (s,)) for t, s in panel]
+    inputs += [(t, 1, referee.on_sign_report, (s,)) for t, s in reports]
+    inputs += [(p[0], 2, referee.on_pose, tuple(p[1:])) for p in poses]
+    for t, _, call, args in sorted(inputs, key=lambda item: (item[0], item[1])):
+        call(t, *args)
+    return referee.finish()

@@ -14,6 +14,17 @@ PATH_PERIOD_S = 0.1
 MARKER_M = 0.3
 
 
+def default_texture() -> str:
+    """conde_worlds' textures/competition_track.png (source tree or devel space, else via rospkg)."""
+    import conde_worlds
+    here = os.path.dirname(os.path.abspath(conde_worlds.__file__))
+    beside = os.path.normpath(os.path.join(here, "..", "..", "textures", "competition_track.png"))
+    if os.path.isfile(beside):
+        return beside
+    import rospkg
+    return os.path.join(rospkg.RosPack().get_path("conde_worlds"), "textures", "competition_track.png")
+
+
 def thin_path(path, period_s=PATH_PERIOD_S):
     """[(t, x, y)] of the path [(t, x, y, yaw)], at most one every period_s, with the last one."""
     out, last = [], None
@@ -46,12 +57,15 @@ def markdown(report) -> str:
 
 
 def plot(report, path, course, out_png, texture_path=None):
+    """The PNG: path, objects and numbered event markers over the track texture (default: the
+    competition track's)."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
     fig, ax = plt.subplots(figsize=(5, 10), dpi=120)
-    if texture_path and os.path.isfile(texture_path):
+    texture_path = texture_path or default_texture()
+    if os.path.isfile(texture_path):
         import matplotlib.image as mpimg
         ax.imshow(mpimg.imread(texture_path), extent=TRACK_EXTENT_M, origin="upper")
     for ob in course.obstacles:
