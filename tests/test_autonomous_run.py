@@ -1,7 +1,8 @@
 """The main job end to end, on each engine: the simulator, the panels playing the two-lap
 schedule, semaphore, tracking, decision and control, with their own ROS master.  The run must
 finish two laps without leaving its lane (judged by conde_eval/autonomous_run from ground truth
-and the track geometry) and leave its plot, bag and summary behind.  About 3.5 minutes per engine."""
+and the track geometry) and leave its plot, bag and summary behind, with the referee's D1 score.
+About 3.5 minutes per engine."""
 import re
 import subprocess
 
@@ -26,6 +27,9 @@ def test_two_autonomous_laps(engine, tmp_path):
         assert 75.0 < float(lap_s) < 110.0
     assert re.search(r"\| stayed in its lane \| yes \|", out)
     assert re.search(r"\| points off the road \| 0 of \d+ \|", out)
+    # conde_referee's D1 judgement of the run (placeholder rules) is in the summary.
+    assert re.search(r"^\| referee, D1 score \(placeholder rules\) \| -?[\d.]+ \(penalties [\d.]+, laps 2, ", out,
+                     re.M), out[-4000:]
     for name in (f"autonomous_run_{engine}.png", f"autonomous_run_{engine}.bag"):
         path = tmp_path / name
         assert path.is_file() and path.stat().st_size > 10_000, name

@@ -1,6 +1,6 @@
 """launch/challenge.launch (conde_bringup) as a user runs it: the generated world, the robot at the
-challenge's start pose and the panel controller with the challenge's schedule, for Conde and
-Major Alvega; a bad challenge stops roslaunch with the generator's message."""
+challenge's start pose, the panel controller with the challenge's schedule and the referee, for
+Conde and Major Alvega; a bad challenge stops roslaunch with the generator's message."""
 import subprocess
 
 import pytest
@@ -26,6 +26,7 @@ def test_challenge_launch_runs_the_world_with_the_robot_and_the_panel(master, tm
     name = "challenge_%s_%s_seed%s" % (challenge, variant, seed)
     assert "conde_sim: world '%s'" % name in log and "engine %s" % engine in log, log[-4000:]
     assert "process[signalling_panel_controller" in log, log[-4000:]
+    assert "process[conde_referee" in log, log[-4000:]
     assert "process has died" not in log, log[-4000:]  # the panel controller took the schedule
     if robot == "major_alvega":
         assert "process[ackermann_controller" in log, log[-4000:]

@@ -1,0 +1,83 @@
+#!/usr/bin/env python3
+"""The referee node against the simulator, stepped (no sleeping on simulated time): a D1 world
+with Conde at the start pose, the panel played by this probe. Conde drives over the crosswalk
+while "stop" is shown, is then put with /conde_sim/set_start_pose on the straight's west line,
+and stands there when "end of trial" is shown. Prints one JSON line: the events the referee
+published, its report and the report files.
+
+usage: referee_probe.py ENGINE OUTPUT_DIR   (against the ROS master of the environment)
+"""
+import json
+import os
+import subprocess
+import sys
+
+import rospy
+from conde_msgs.msg import PanelSignal
+from conde_msgs.srv import SetStartPose
+from geometry_msgs.msg import Twist
+from std_msgs.msg import String
+
+from conde_testing.ros_harness import stop_process
+from conde_worlds.challenge_world import write_challenge
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "..", "tests"))
+from stepped_sim import SteppedSim, connected, send, wait_for  # noqa: E402
+
+STEP_S = 0.001
+
+
+def main():
+    engine, out_dir = sys.argv[1], sys.argv[2]
+    paths = write_challenge("D1", "v1", 0, os.path.join(out_dir, "D1"))
+    rospy.set_param("/challenge/summary_file", paths["summary"])
+    rospy.init_node("referee_probe")
+    log = open(os.path.join(out_dir, "nodes_%s.log" % engine), "w")
+    sim = subprocess.Popen(["rosrun", "conde_sim", "conde_sim_node", "_world_file:=" + paths["world"],
+                            "_physics_engine:=" + engine, "_paused:=true", "_real_time_factor:=0", "_spawn:=conde"],
+                           stdout=log, stderr=subprocess.STDOUT)
+    referee = subprocess.Popen(["rosrun", "conde_referee", "conde_referee", "_output_dir:=" + out_dir],
+                               stdout=log, stderr=subprocess.STDOUT)
+    events, reports = [], []
+    rospy.Subscriber("/conde_referee/events", String, lambda m: events.append(json.loads(m.data)), queue_size=50)
+    rospy.Subscriber("/conde_referee/report", String, lambda m: reports.append(json.loads(m.data)), queue_size=1)
+    panel = rospy.Publisher("/signalling_panel/signal", PanelSignal, queue_size=10, latch=True)
+    cmd_pub = rospy.Publisher("/cmd_vel", Twist, queue_size=1)
+    try:
+        stepped = SteppedSim()
+        wait_for(lambda: panel.get_num_connections() > 0, "the referee on the panel topic")
+
+        def show(signal):
+            send(panel, PanelSignal(signal=signal, confidence=1.0), "/signalling_panel/signal")
+
+        show(PanelSignal.STOP)
+        stepped.run(1.0, every_s=0.1, step_s=STEP_S)
+        show(PanelSignal.FORWARD)
+        stepped.run(0.2, every_s=0.1, step_s=STEP_S)
+        show(PanelSignal.STOP)  # too late to stop before the crosswalk: the robot drives on
+        cmd = Twist()
+        cmd.linear.x = 0.4
+        connected(cmd_pub, "/cmd_vel")
+        stepped.run(3.0, every_s=0.1, before_chunk=lambda: cmd_pub.publish(cmd), step_s=STEP_S)
+        stepped.step_until(lambda: any(e["kind"] == "stop_not_respected" for e in events), "stop_not_respected")
+        cmd_pub.publish(Twist())
+        show(PanelSignal.FORWARD)
+        rospy.wait_for_service("/conde_sim/set_start_pose")
+        # On the west line of the straight, heading north, 2 m before the crosswalk.
+        answer = rospy.ServiceProxy("/conde_sim/set_start_pose", SetStartPose)("", 1.05, -2.0, 1.5708)
+        assert answer.success, answer.message
+        stepped.run(0.5, every_s=0.1, step_s=STEP_S)
+        stepped.step_until(lambda: any(e["kind"] == "line_touch" for e in events), "line_touch")
+        show(PanelSignal.END_OF_TRIAL)
+        stepped.step_until(lambda: reports, "the referee's report", steps=100)
+        result = {"engine": engine, "events": events, "report": reports[-1], "files": sorted(os.listdir(out_dir)),
+                  "referee_alive": referee.poll() is None}
+    finally:
+        stop_process(referee)
+        stop_process(sim)
+        log.close()
+    print(json.dumps(result), flush=True)
+
+
+if __name__ == "__main__":
+    main()

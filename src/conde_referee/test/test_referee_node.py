@@ -1,0 +1,62 @@
+"""System test: the referee node judging a stepped simulator run (ODE and Bullet), and its
+refusal of a robot without collision geometry (exact message)."""
+import json
+import os
+import subprocess
+
+import pytest
+import rosgraph
+
+from referee_probe_support import conde_urdf
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+
+
+@pytest.fixture(scope="module")
+def master():
+    from conde_testing.ros_harness import Roscore
+
+    with Roscore("conde_referee") as core:
+        yield core.env
+
+
+def _set(master, name, value):
+    rosgraph.Master("/referee_test", master_uri=master["ROS_MASTER_URI"]).setParam(name, value)
+
+
+@pytest.mark.parametrize("engine", ["ode", "bullet"])
+def test_referee_judges_a_stepped_run(master, engine, tmp_path):
+    _set(master, "/robot_description", conde_urdf())
+    out = subprocess.run(["/usr/bin/python3", os.path.join(HERE, "referee_probe.py"), engine, str(tmp_path)],
+                         env=master, capture_output=True, text=True, timeout=240)
+    log = out.stdout[-2000:] + out.stderr[-2000:]
+    logs = sorted(tmp_path.glob("nodes_*.log"))
+    assert out.returncode == 0, log + (logs[0].read_text()[-3000:] if logs else "")
+    result = json.loads(out.stdout.strip().splitlines()[-1])
+    kinds = [e["kind"] for e in result["events"]]
+    assert kinds == ["stop_not_respected", "line_touch", "stopped_outside_zone", "trial_end"], (kinds, log)
+    assert [e["penalty"] for e in result["events"]] == [60, 10, 10, 0]
+    report = result["report"]
+    assert report["challenge"] == "D1" and report["end"] == "end of trial" and report["penalty_total"] == 80
+    assert report["score"] == -80  # no half lap driven
+    assert {"referee.json", "referee.md", "referee.png"} <= set(result["files"])
+    assert result["referee_alive"]
+
+
+def test_robot_without_collision_geometry_stops_the_node(master, tmp_path):
+    _set(master, "/robot_description", '<robot name="ghost"><link name="base_link"/></robot>')
+    _set(master, "/challenge/summary_file", "/nonexistent/challenge.yaml")
+    out = subprocess.run(["rosrun", "conde_referee", "conde_referee"], env=master, capture_output=True, text=True,
+                         timeout=60)
+    assert out.returncode == 1
+    assert ("conde_referee: error: robot_description: robot 'ghost' has no collision geometry (a <collision> with a "
+            "box, cylinder or sphere): the referee needs it for the robot's footprint") in out.stderr
+
+
+def test_malformed_rules_file_stops_the_node(master, tmp_path):
+    rules = tmp_path / "rules.yaml"
+    rules.write_text("format: conde_referee_rules/1\nname: x\npenalties: {}\nscoring: {}\njudging: {}\n")
+    out = subprocess.run(["rosrun", "conde_referee", "conde_referee", "_rules_file:=" + str(rules)], env=master,
+                         capture_output=True, text=True, timeout=60)
+    assert out.returncode == 1
+    assert "conde_referee: error: rules.yaml: scoring: missing key 'laps'\n" in out.stderr
