@@ -159,6 +159,7 @@ RenderScene renderSceneFromWorld(const WorldDescription& world) {
               : w.shape == ObjectShape::kCylinder ? RenderShape::kCylinder
               : w.shape == ObjectShape::kCone     ? RenderShape::kCone
                                                   : RenderShape::kSphere;
+    o.hidden = !w.visible;  // kept, so that object i of the world stays object i of the scene
     o.size_m = w.size_m;
     o.radius_m = w.radius_m;
     o.length_m = w.length_m;
