@@ -127,6 +127,8 @@ double boundingRadius(const RenderObject& o) {
       return std::hypot(o.radius_m, 0.5 * o.length_m);
     case RenderShape::kSphere:
       return o.radius_m;
+    case RenderShape::kMesh:  // about the object origin, which the culling uses as the centre
+      return o.mesh ? o.mesh->boundCentre().norm() + o.mesh->boundRadius() : 0.0;
   }
   return 0.0;
 }
@@ -272,6 +274,27 @@ bool hitRound(const ObjectInView& view, bool cone, const double o[3], const doub
   return true;
 }
 
+// Nearest triangle through the mesh's BVH, lit by its normal turned towards the camera (the
+// triangles are two-sided), in its own colour or the object's.
+bool hitMesh(const ObjectInView& view, const double o[3], const double d[3], double t_near, double t_limit, double& t,
+             std::uint8_t* rgb) {
+  const RenderObject& object = *view.object;
+  if (!object.mesh) return false;
+  int triangle = -1;
+  const Vec3 direction(d[0], d[1], d[2]);
+  if (!object.mesh->intersect(Vec3(o[0], o[1], o[2]), direction, t_near, t_limit, t, triangle)) return false;
+  Vec3 normal = object.mesh->normal(triangle);
+  if (normal.dot(direction) > 0.0) normal = -normal;
+  const Vec3& c = object.mesh_triangle_rgb && !object.mesh_triangle_rgb->empty()
+                      ? (*object.mesh_triangle_rgb)[triangle]
+                      : object.color_rgb;
+  const double light = kAmbient + kDiffuse * std::max(0.0, normal.dot(view.to_sun_local));
+  rgb[0] = toByte(c.x * light);
+  rgb[1] = toByte(c.y * light);
+  rgb[2] = toByte(c.z * light);
+  return true;
+}
+
 bool hitObject(const ObjectInView& view, const Vec3& ray_optical, double t_near, double t_limit, double& t,
                std::uint8_t* rgb) {
   const double(*m)[3] = view.local_R_optical;
@@ -287,6 +310,8 @@ bool hitObject(const ObjectInView& view, const Vec3& ray_optical, double t_near,
       return hitRound(view, false, view.origin_local, d, t_near, t_limit, t, rgb);
     case RenderShape::kCone:
       return hitRound(view, true, view.origin_local, d, t_near, t_limit, t, rgb);
+    case RenderShape::kMesh:
+      return hitMesh(view, view.origin_local, d, t_near, t_limit, t, rgb);
   }
   return false;
 }
