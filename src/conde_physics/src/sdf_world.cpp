@@ -201,15 +201,21 @@ class SdfConverter {
         const std::string file = meshPath(mesh, where);
         if (!mesh.Submesh().empty()) note(where + ": <submesh> ignored (the whole mesh is used)");
         const auto scale = mesh.Scale();
-        std::shared_ptr<const MeshData> data;
-        try {
-          data = std::make_shared<const MeshData>(loadMeshFile(file, Vec3(scale.X(), scale.Y(), scale.Z())));
-        } catch (const MeshFileError& e) {
-          throw WorldFileError(where + ": " + e.what());
+        // A file used by many models is read (and its BVH built) once.
+        std::ostringstream key;
+        key << file << ' ' << scale.X() << ' ' << scale.Y() << ' ' << scale.Z();
+        LoadedMesh& loaded = meshes_[key.str()];
+        if (!loaded.data) {
+          try {
+            loaded.data = std::make_shared<const MeshData>(loadMeshFile(file, Vec3(scale.X(), scale.Y(), scale.Z())));
+          } catch (const MeshFileError& e) {
+            throw WorldFileError(where + ": " + e.what());
+          }
+          loaded.bvh = std::make_shared<const MeshBvh>(loaded.data->vertices_m, loaded.data->triangles);
         }
         o.shape = ObjectShape::kMesh;
-        o.mesh = data;
-        o.mesh_bvh = std::make_shared<const MeshBvh>(data->vertices_m, data->triangles);
+        o.mesh = loaded.data;
+        o.mesh_bvh = loaded.bvh;
         o.mesh_path = file;
         return true;
       }
@@ -305,6 +311,11 @@ class SdfConverter {
   WorldDescription world_;
   std::set<std::string> used_names_;
   bool ground_noted_ = false;
+  struct LoadedMesh {
+    std::shared_ptr<const MeshData> data;
+    std::shared_ptr<const MeshBvh> bvh;
+  };
+  std::map<std::string, LoadedMesh> meshes_;  // by file and scale
 };
 
 }  // namespace
