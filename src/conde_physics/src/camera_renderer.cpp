@@ -285,9 +285,8 @@ bool hitMesh(const ObjectInView& view, const double o[3], const double d[3], dou
   if (!object.mesh->intersect(Vec3(o[0], o[1], o[2]), direction, t_near, t_limit, t, triangle)) return false;
   Vec3 normal = object.mesh->normal(triangle);
   if (normal.dot(direction) > 0.0) normal = -normal;
-  const Vec3& c = object.mesh_triangle_rgb && !object.mesh_triangle_rgb->empty()
-                      ? (*object.mesh_triangle_rgb)[triangle]
-                      : object.color_rgb;
+  const Vec3& c = object.mesh_triangle_rgb && !object.mesh_triangle_rgb->empty() ? (*object.mesh_triangle_rgb)[triangle]
+                                                                                 : object.color_rgb;
   const double light = kAmbient + kDiffuse * std::max(0.0, normal.dot(view.to_sun_local));
   rgb[0] = toByte(c.x * light);
   rgb[1] = toByte(c.y * light);

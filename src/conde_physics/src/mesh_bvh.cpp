@@ -88,9 +88,8 @@ int MeshBvh::build(std::vector<int>& order, const std::vector<Vec3>& centroids, 
     if (c_hi[k] - c_lo[k] > c_hi[axis] - c_lo[axis]) axis = k;
   }
   const int middle = begin + (end - begin) / 2;
-  std::nth_element(order.begin() + begin, order.begin() + middle, order.begin() + end, [&](int a, int b) {
-    return component(centroids[a], axis) < component(centroids[b], axis);
-  });
+  std::nth_element(order.begin() + begin, order.begin() + middle, order.begin() + end,
+                   [&](int a, int b) { return component(centroids[a], axis) < component(centroids[b], axis); });
   nodes_[index] = node;
   build(order, centroids, vertices, triangles, begin, middle);  // left child: index + 1
   const int right = build(order, centroids, vertices, triangles, middle, end);

@@ -15,15 +15,15 @@ MeshData loadMeshFile(const std::string& path, const Vec3& scale) {
   const std::string where = "mesh file '" + path + "'";
   if (!std::ifstream(path).good()) throw MeshFileError(where + ": cannot open it");
   Assimp::Importer importer;
-  const aiScene* scene =
-      importer.ReadFile(path, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_PreTransformVertices |
-                                  aiProcess_SortByPType);
+  const aiScene* scene = importer.ReadFile(path, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
+                                                     aiProcess_PreTransformVertices | aiProcess_SortByPType);
   if (scene == nullptr || (scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE) != 0 || scene->mNumMeshes == 0) {
     std::string reason = importer.GetErrorString();
     if (reason.empty()) reason = "no meshes in it";
     throw MeshFileError(where + ": " + reason);
   }
-  std::string extension = path.substr(path.find_last_of('.') == std::string::npos ? path.size() : path.find_last_of('.'));
+  std::string extension =
+      path.substr(path.find_last_of('.') == std::string::npos ? path.size() : path.find_last_of('.'));
   std::transform(extension.begin(), extension.end(), extension.begin(),
                  [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   // assimp turns Collada scenes y-up (rotating z-up files); ROS and Gazebo want z-up.
@@ -43,9 +43,9 @@ MeshData loadMeshFile(const std::string& path, const Vec3& scale) {
     Vec3 rgb(0.7, 0.7, 0.7);
     aiColor4D diffuse;
     // STL has no materials (assimp makes up a grey one), nor has assimp's default material.
-    const aiMaterial* material =
-        extension != ".stl" && part->mMaterialIndex < scene->mNumMaterials ? scene->mMaterials[part->mMaterialIndex]
-                                                                            : nullptr;
+    const aiMaterial* material = extension != ".stl" && part->mMaterialIndex < scene->mNumMaterials
+                                     ? scene->mMaterials[part->mMaterialIndex]
+                                     : nullptr;
     if (material != nullptr && material->GetName() != aiString(AI_DEFAULT_MATERIAL_NAME) &&
         material->Get(AI_MATKEY_COLOR_DIFFUSE, diffuse) == AI_SUCCESS) {
       rgb = Vec3(diffuse.r, diffuse.g, diffuse.b);

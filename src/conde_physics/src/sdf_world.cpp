@@ -1,5 +1,6 @@
 #include "conde_physics/sdf_world.h"
 
+#include <tinyxml2.h>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -7,7 +8,6 @@
 #include <sdf/sdf.hh>
 #include <set>
 #include <sstream>
-#include <tinyxml2.h>
 
 #include "conde_physics/mesh_bvh.h"
 
@@ -40,15 +40,24 @@ std::string errorText(const sdf::Error& e, const std::string& path) {
 // Colours of Gazebo's stock script materials (media/materials/scripts/gazebo.material, diffuse).
 const std::map<std::string, Vec3>& gazeboMaterials() {
   static const std::map<std::string, Vec3> table = {
-      {"Gazebo/White", {1.0, 1.0, 1.0}},     {"Gazebo/Grey", {0.7, 0.7, 0.7}},
-      {"Gazebo/Gray", {0.7, 0.7, 0.7}},      {"Gazebo/DarkGrey", {0.175, 0.175, 0.175}},
-      {"Gazebo/DarkGray", {0.175, 0.175, 0.175}}, {"Gazebo/Black", {0.0, 0.0, 0.0}},
-      {"Gazebo/Red", {1.0, 0.0, 0.0}},       {"Gazebo/Green", {0.0, 1.0, 0.0}},
-      {"Gazebo/Blue", {0.0, 0.0, 1.0}},      {"Gazebo/Yellow", {1.0, 1.0, 0.0}},
-      {"Gazebo/Orange", {1.0, 0.5088, 0.0468}}, {"Gazebo/Purple", {1.0, 0.0, 1.0}},
-      {"Gazebo/Turquoise", {0.0, 1.0, 1.0}}, {"Gazebo/Indigo", {0.33, 0.0, 0.5}},
-      {"Gazebo/Wood", {1.0, 0.8, 0.6}},      {"Gazebo/WoodFloor", {0.8, 0.6, 0.4}},
-      {"Gazebo/Bricks", {0.6, 0.3, 0.2}},    {"Gazebo/FlatBlack", {0.1, 0.1, 0.1}},
+      {"Gazebo/White", {1.0, 1.0, 1.0}},
+      {"Gazebo/Grey", {0.7, 0.7, 0.7}},
+      {"Gazebo/Gray", {0.7, 0.7, 0.7}},
+      {"Gazebo/DarkGrey", {0.175, 0.175, 0.175}},
+      {"Gazebo/DarkGray", {0.175, 0.175, 0.175}},
+      {"Gazebo/Black", {0.0, 0.0, 0.0}},
+      {"Gazebo/Red", {1.0, 0.0, 0.0}},
+      {"Gazebo/Green", {0.0, 1.0, 0.0}},
+      {"Gazebo/Blue", {0.0, 0.0, 1.0}},
+      {"Gazebo/Yellow", {1.0, 1.0, 0.0}},
+      {"Gazebo/Orange", {1.0, 0.5088, 0.0468}},
+      {"Gazebo/Purple", {1.0, 0.0, 1.0}},
+      {"Gazebo/Turquoise", {0.0, 1.0, 1.0}},
+      {"Gazebo/Indigo", {0.33, 0.0, 0.5}},
+      {"Gazebo/Wood", {1.0, 0.8, 0.6}},
+      {"Gazebo/WoodFloor", {0.8, 0.6, 0.4}},
+      {"Gazebo/Bricks", {0.6, 0.3, 0.2}},
+      {"Gazebo/FlatBlack", {0.1, 0.1, 0.1}},
   };
   return table;
 }
@@ -101,7 +110,8 @@ class SdfConverter {
         world_.real_time_factor = physics->RealTimeFactor();
     }
     if (w.LightCount() > 0)
-      note(std::to_string(w.LightCount()) + " <light> accepted and ignored (the cameras light objects with a fixed sun)");
+      note(std::to_string(w.LightCount()) +
+           " <light> accepted and ignored (the cameras light objects with a fixed sun)");
     for (sdf::ElementPtr e = w.Element()->GetFirstElement(); e; e = e->GetNextElement()) {
       static const std::set<std::string> used = {"model", "physics", "gravity", "light", "include", "frame"};
       if (used.count(e->GetName()) == 0 && e->GetExplicitlySetInFile())
@@ -127,7 +137,8 @@ class SdfConverter {
     const std::string package = rest.substr(0, slash);
     const std::string package_dir = packages_ ? packages_(package) : "";
     if (package_dir.empty()) return "";
-    const fs::path candidate = slash == std::string::npos ? fs::path(package_dir) : fs::path(package_dir) / rest.substr(slash + 1);
+    const fs::path candidate =
+        slash == std::string::npos ? fs::path(package_dir) : fs::path(package_dir) / rest.substr(slash + 1);
     return fs::exists(candidate) ? candidate.string() : "";
   }
 
@@ -136,7 +147,8 @@ class SdfConverter {
     std::string path;
     if (uri.compare(0, 8, "model://") == 0) {
       path = findModelUri(uri);
-      if (path.empty()) throw WorldFileError(where + ": mesh '" + uri + "' not found (GAZEBO_MODEL_PATH, ROS packages)");
+      if (path.empty())
+        throw WorldFileError(where + ": mesh '" + uri + "' not found (GAZEBO_MODEL_PATH, ROS packages)");
       return path;
     }
     std::string error;
@@ -191,7 +203,8 @@ class SdfConverter {
         const Vec3 z(0.0, 0.0, 1.0), normal(n.X(), n.Y(), n.Z());
         const Vec3 axis = z.cross(normal);
         if (axis.norm() > 1e-12)
-          o.pose = o.pose * Pose(Vec3(), Quat::fromAxisAngle(axis / axis.norm(), std::acos(std::max(-1.0, std::min(1.0, normal.z)))));
+          o.pose = o.pose * Pose(Vec3(), Quat::fromAxisAngle(axis / axis.norm(),
+                                                             std::acos(std::max(-1.0, std::min(1.0, normal.z)))));
         else if (normal.z < 0)
           o.pose = o.pose * Pose(Vec3(), Quat::fromAxisAngle(Vec3(1, 0, 0), M_PI));
         return true;
@@ -243,7 +256,8 @@ class SdfConverter {
       const Pose link_pose = model_pose * resolved(link.SemanticPose());
       const std::string link_name = name + "::" + link.Name();
       const std::string link_where = path_ + ": link '" + link_name + "'";
-      if (link.SensorCount() > 0) note("link '" + link_name + "': sensors ignored (robots carry sensors as URDF plugins)");
+      if (link.SensorCount() > 0)
+        note("link '" + link_name + "': sensors ignored (robots carry sensors as URDF plugins)");
       if (model.Static()) {
         addStaticLink(link, link_pose, link_name, link_where);
       } else {

@@ -149,9 +149,10 @@ TEST(SdfWorld, ModelPathComesFromGazeboModelPath) {
   {
     std::FILE* f = std::fopen(world.c_str(), "w");
     ASSERT_TRUE(f);
-    std::fputs("<?xml version='1.0'?><sdf version='1.6'><world name='w'><include><uri>model://mesh_block</uri>"
-               "<pose>1 2 0 0 0 0</pose></include></world></sdf>",
-               f);
+    std::fputs(
+        "<?xml version='1.0'?><sdf version='1.6'><world name='w'><include><uri>model://mesh_block</uri>"
+        "<pose>1 2 0 0 0 0</pose></include></world></sdf>",
+        f);
     std::fclose(f);
   }
   unsetenv("GAZEBO_MODEL_PATH");
@@ -170,8 +171,9 @@ TEST(SdfWorld, ModelPathComesFromGazeboModelPath) {
 
 TEST(SdfWorld, BadInputNamesFileAndLine) {
   EXPECT_EQ(errorOf("bad_syntax.world"),
-            kDir + "/bad_syntax.world:7: XML error: Error=XML_ERROR_MISMATCHED_ELEMENT ErrorID=14 (0xe) Line number=7: "
-                   "XMLElement name=collision");
+            kDir +
+                "/bad_syntax.world:7: XML error: Error=XML_ERROR_MISMATCHED_ELEMENT ErrorID=14 (0xe) Line number=7: "
+                "XMLElement name=collision");
   EXPECT_EQ(errorOf("missing_include.world"),
             kDir + "/missing_include.world:4: Unable to find uri[model://no_such_model]");
   const std::string mesh_error = errorOf("bad_mesh.world");

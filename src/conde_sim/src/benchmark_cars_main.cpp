@@ -27,12 +27,12 @@
 #include <vector>
 
 #include "benchmark_support.h"
+#include "conde_physics/world_file.h"
 #include "conde_sim/ackermann_drive.h"
 #include "conde_sim/laser_scanner.h"
 #include "conde_sim/simulation.h"
 #include "conde_sim/step_loop.h"
 #include "conde_sim/update_timer.h"
-#include "conde_physics/world_file.h"
 
 namespace cp = conde_physics;
 using Clock = std::chrono::steady_clock;

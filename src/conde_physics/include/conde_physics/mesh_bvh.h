@@ -37,8 +37,8 @@ class MeshBvh {
   static constexpr int kLeafTriangles = 4;
   struct Node {
     double lo[3], hi[3];
-    int first = 0;       // leaf: first triangle (in BVH order); inner: index of the right child
-    int count = 0;       // leaf: triangle count; inner: 0 (the left child follows the node)
+    int first = 0;  // leaf: first triangle (in BVH order); inner: index of the right child
+    int count = 0;  // leaf: triangle count; inner: 0 (the left child follows the node)
   };
   struct Triangle {  // in BVH order
     Vec3 a, e1, e2;

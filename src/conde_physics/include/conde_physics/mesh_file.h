@@ -23,8 +23,8 @@ class MeshFileError : public std::runtime_error {
 };
 
 struct MeshData {
-  std::vector<Vec3> vertices_m;   // scaled
-  std::vector<int> triangles;     // 3 vertex indices per triangle
+  std::vector<Vec3> vertices_m;    // scaled
+  std::vector<int> triangles;      // 3 vertex indices per triangle
   std::vector<Vec3> triangle_rgb;  // one 0..1 colour per triangle; empty when no material has one
 };
 

@@ -105,8 +105,8 @@ Shape collisionShapeOf(const WorldObject& object);
 
 // A one-body model for a dynamic object: link frame = object frame (place it at object.pose),
 // uniform-solid inertia of the true shape from mass_kg (a cone's centre of mass lies
-// length_m/4 below the object centre; a mesh counts as its solid bounding box), the collision of collisionShapeOf with the object's
-// friction. Throws std::invalid_argument for static objects (add those with addStaticShape).
+// length_m/4 below the object centre; a mesh counts as its solid bounding box), the collision of collisionShapeOf with
+// the object's friction. Throws std::invalid_argument for static objects (add those with addStaticShape).
 ArticulatedModel modelOfDynamicObject(const WorldObject& object);
 
 }  // namespace conde_physics
