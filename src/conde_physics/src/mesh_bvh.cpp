@@ -101,7 +101,10 @@ int MeshBvh::build(std::vector<int>& order, const std::vector<Vec3>& centroids, 
 bool MeshBvh::intersect(const Vec3& o, const Vec3& d, double t_min, double t_max, double& t, int& triangle) const {
   if (nodes_.empty()) return false;
   const double origin[3] = {o.x, o.y, o.z};
-  const double inv[3] = {1.0 / d.x, 1.0 / d.y, 1.0 / d.z};  // +-inf for a zero component
+  // A zero component gets a huge finite inverse instead of infinity: (slab - origin) * inv is then
+  // 0 rather than NaN for an origin on the slab plane, and no per-slab NaN test is needed.
+  auto inverse = [](double v) { return v != 0.0 ? 1.0 / v : std::copysign(1e300, v); };
+  const double inv[3] = {inverse(d.x), inverse(d.y), inverse(d.z)};
   double best = t_max;
   int best_triangle = -1;
   // Entry distance of the ray into a node's box, or +inf when it misses within [t_min, best].
@@ -109,10 +112,6 @@ bool MeshBvh::intersect(const Vec3& o, const Vec3& d, double t_min, double t_max
     double t0 = t_min, t1 = best;
     for (int k = 0; k < 3; ++k) {
       double a = (n.lo[k] - origin[k]) * inv[k], b = (n.hi[k] - origin[k]) * inv[k];
-      if (std::isnan(a) || std::isnan(b)) {  // origin on the slab plane with d[k] = 0: inside
-        if (origin[k] < n.lo[k] || origin[k] > n.hi[k]) return std::numeric_limits<double>::infinity();
-        continue;
-      }
       if (a > b) std::swap(a, b);
       t0 = std::max(t0, a);
       t1 = std::min(t1, b);
