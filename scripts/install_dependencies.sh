@@ -17,7 +17,7 @@ run_packages=(
   python3-tf2-ros ros-robot-state-publisher python3-cv-bridge python3-opencv python3-numpy
   python3-yaml python3-rospkg python3-matplotlib python3-scipy python3-pip
   python3-nav-msgs python3-trajectory-msgs python3-geometry-msgs python3-sensor-msgs python3-std-srvs python3-visualization-msgs python3-rosgraph-msgs
-  liburdfdom-tools libbullet3.24 libode8 libyaml-cpp0.7
+  liburdfdom-tools libbullet3.24 libode8 libyaml-cpp0.7 libassimp5 libsdformat12-12
   rviz xvfb
 )
 build_packages=(
@@ -28,6 +28,7 @@ build_packages=(
   libros-rosgraph-msgs-dev libstd-srvs-dev libstd-msgs-dev libtrajectory-msgs-dev
   ros-message-generation ros-message-runtime
   liburdfdom-dev liburdf-dev libbullet-dev libode-dev libyaml-cpp-dev libopencv-dev
+  libassimp-dev libsdformat-dev
   libimage-transport-dev libcv-bridge-dev
   googletest libgtest-dev python3-pytest python3-pip
   clang-format flake8 shellcheck

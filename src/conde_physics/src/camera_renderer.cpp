@@ -112,6 +112,7 @@ struct ObjectInView {
   Vec3 direction_optical;
   double angular_radius_rad = 0.0, cos_angular = 1.0, sin_angular = 0.0;
   bool surrounds_camera = false;  // the camera is inside the bounding sphere: test every tile
+  double nearest_m = 0.0;         // distance from the camera to the bounding sphere
   double local_R_optical[3][3];
   double origin_local[3];  // camera position in the object frame
   Vec3 to_sun_local;
@@ -127,8 +128,17 @@ double boundingRadius(const RenderObject& o) {
       return std::hypot(o.radius_m, 0.5 * o.length_m);
     case RenderShape::kSphere:
       return o.radius_m;
+    case RenderShape::kMesh:  // about boundingCentre
+      return o.mesh ? o.mesh->boundRadius() : 0.0;
   }
   return 0.0;
+}
+
+// World centre of the bounding sphere: the object's origin, except for a mesh (its vertices'
+// bounding box centre, which may lie far from the origin).
+Vec3 boundingCentre(const RenderObject& o) {
+  if (o.shape == RenderShape::kMesh && o.mesh) return o.pose * o.mesh->boundCentre();
+  return o.pose.position;
 }
 
 void shadeInto(const ObjectInView& view, const Vec3& normal_local, std::uint8_t* out) {
@@ -272,6 +282,26 @@ bool hitRound(const ObjectInView& view, bool cone, const double o[3], const doub
   return true;
 }
 
+// Nearest triangle through the mesh's BVH, lit by its normal turned towards the camera (the
+// triangles are two-sided), in its own colour or the object's.
+bool hitMesh(const ObjectInView& view, const double o[3], const double d[3], double t_near, double t_limit, double& t,
+             std::uint8_t* rgb) {
+  const RenderObject& object = *view.object;
+  if (!object.mesh) return false;
+  int triangle = -1;
+  const Vec3 direction(d[0], d[1], d[2]);
+  if (!object.mesh->intersect(Vec3(o[0], o[1], o[2]), direction, t_near, t_limit, t, triangle)) return false;
+  Vec3 normal = object.mesh->normal(triangle);
+  if (normal.dot(direction) > 0.0) normal = -normal;
+  const Vec3& c = object.mesh_triangle_rgb && !object.mesh_triangle_rgb->empty() ? (*object.mesh_triangle_rgb)[triangle]
+                                                                                 : object.color_rgb;
+  const double light = kAmbient + kDiffuse * std::max(0.0, normal.dot(view.to_sun_local));
+  rgb[0] = toByte(c.x * light);
+  rgb[1] = toByte(c.y * light);
+  rgb[2] = toByte(c.z * light);
+  return true;
+}
+
 bool hitObject(const ObjectInView& view, const Vec3& ray_optical, double t_near, double t_limit, double& t,
                std::uint8_t* rgb) {
   const double(*m)[3] = view.local_R_optical;
@@ -287,6 +317,8 @@ bool hitObject(const ObjectInView& view, const Vec3& ray_optical, double t_near,
       return hitRound(view, false, view.origin_local, d, t_near, t_limit, t, rgb);
     case RenderShape::kCone:
       return hitRound(view, true, view.origin_local, d, t_near, t_limit, t, rgb);
+    case RenderShape::kMesh:
+      return hitMesh(view, view.origin_local, d, t_near, t_limit, t, rgb);
   }
   return false;
 }
@@ -403,7 +435,7 @@ void CameraRenderer::render(const RenderScene& scene, const Pose& world_T_optica
   const Vec3 to_sun_world = toSunWorld();
   for (const RenderObject& object : scene.objects_) {
     if (object.hidden || (exclude_group != -1 && object.group == exclude_group)) continue;
-    const Vec3 offset_world = object.pose.position - camera_world;
+    const Vec3 offset_world = boundingCentre(object) - camera_world;
     // Optical coordinates of the bounding sphere centre: optical_R_world = world_R_optical^T.
     Vec3 centre;
     centre.x = world_R_optical[0][0] * offset_world.x + world_R_optical[1][0] * offset_world.y +
@@ -418,6 +450,7 @@ void CameraRenderer::render(const RenderScene& scene, const Pose& world_T_optica
     ObjectInView view;
     view.object = &object;
     view.surrounds_camera = distance <= radius;
+    view.nearest_m = std::max(0.0, distance - radius);
     if (!view.surrounds_camera) {
       view.direction_optical = centre / distance;
       view.sin_angular = radius / distance;
@@ -445,6 +478,10 @@ void CameraRenderer::render(const RenderScene& scene, const Pose& world_T_optica
     for (int f = 0; f < 6; ++f) shadeInto(view, face_normals[f], view.face_rgb[f]);
     in_view.push_back(view);
   }
+  // Nearest first: the depth test then rejects most of what lies behind (a mesh's hierarchy at its
+  // root box). Stable, so that objects at the same distance keep the scene's order.
+  std::stable_sort(in_view.begin(), in_view.end(),
+                   [](const ObjectInView& a, const ObjectInView& b) { return a.nearest_m < b.nearest_m; });
 
   // Ground and sky.
   const bool textured = !scene.ground_levels_.empty();

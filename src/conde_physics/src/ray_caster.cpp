@@ -5,6 +5,7 @@
 #include <limits>
 #include <memory>
 
+#include "conde_physics/mesh_bvh.h"
 #include "conde_physics/physics_engine.h"
 
 namespace conde_physics {
@@ -77,6 +78,10 @@ bool hitCylinder(double r, double h, const Vec3& o, const Vec3& d, double t_max,
 
 // Nearest triangle (both sides) of a mesh, Moeller-Trumbore.
 bool hitMesh(const Shape& mesh, const Vec3& o, const Vec3& d, double t_max, double& t) {
+  if (mesh.mesh_bvh) {
+    int triangle = -1;
+    return mesh.mesh_bvh->intersect(o, d, 0.0, t_max, t, triangle);
+  }
   double best = t_max;
   bool found = false;
   const auto& v = mesh.mesh_vertices_m;
@@ -206,6 +211,8 @@ bool RayScene::hitShape(const Shape& shape, const Vec3& o, const Vec3& d, double
 
 void RayScene::addPrimitive(const Shape& shape, const Pose& pose, int model, int body) {
   shapes_.push_back(std::make_unique<Shape>(shape));
+  if (shape.type == ShapeType::kMesh && !shape.mesh_bvh && !shape.mesh_triangles.empty())
+    shapes_.back()->mesh_bvh = std::make_shared<const MeshBvh>(shape.mesh_vertices_m, shape.mesh_triangles);
   Primitive p;
   p.shape = shapes_.back().get();
   p.pose = pose;

@@ -158,7 +158,14 @@ RenderScene renderSceneFromWorld(const WorldDescription& world) {
     o.shape = w.shape == ObjectShape::kBox        ? RenderShape::kBox
               : w.shape == ObjectShape::kCylinder ? RenderShape::kCylinder
               : w.shape == ObjectShape::kCone     ? RenderShape::kCone
-                                                  : RenderShape::kSphere;
+              : w.shape == ObjectShape::kSphere   ? RenderShape::kSphere
+                                                  : RenderShape::kMesh;
+    if (w.shape == ObjectShape::kMesh) {
+      o.mesh = w.mesh_bvh;
+      if (w.mesh && !w.mesh->triangle_rgb.empty())
+        o.mesh_triangle_rgb = std::shared_ptr<const std::vector<Vec3>>(w.mesh, &w.mesh->triangle_rgb);
+    }
+    o.hidden = !w.visible;  // kept, so that object i of the world stays object i of the scene
     o.size_m = w.size_m;
     o.radius_m = w.radius_m;
     o.length_m = w.length_m;

@@ -1,5 +1,8 @@
 #include "conde_physics/urdf_model.h"
 
+#include "conde_physics/mesh_bvh.h"
+#include "conde_physics/mesh_file.h"
+
 #include <console_bridge/console.h>
 #include <tinyxml2.h>
 #include <urdf_parser/urdf_parser.h>
@@ -63,47 +66,19 @@ void addMass(MassProps& acc, double m, const Vec3& com, const Inertia& inertia_a
 
 }  // namespace
 
-void loadStlMesh(const std::string& path, const Vec3& scale, Shape& shape) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw ModelError("cannot open mesh file '" + path + "'");
-  std::string data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+Shape meshShapeFromFile(const std::string& path, const Vec3& scale) {
+  MeshData mesh;
+  try {
+    mesh = loadMeshFile(path, scale);
+  } catch (const MeshFileError& e) {
+    throw ModelError(e.what());
+  }
+  Shape shape;
   shape.type = ShapeType::kMesh;
-  shape.mesh_vertices_m.clear();
-  shape.mesh_triangles.clear();
-  auto add_vertex = [&](double x, double y, double z) {
-    shape.mesh_vertices_m.emplace_back(x * scale.x, y * scale.y, z * scale.z);
-    shape.mesh_triangles.push_back(static_cast<int>(shape.mesh_vertices_m.size()) - 1);
-  };
-  // Binary STL: 80-byte header, uint32 count, 50 bytes per triangle. The size check tells it
-  // apart from ASCII files that happen to start with "solid".
-  if (data.size() >= 84) {
-    uint32_t count = 0;
-    std::memcpy(&count, data.data() + 80, 4);
-    if (data.size() == 84 + static_cast<size_t>(count) * 50) {
-      for (uint32_t t = 0; t < count; ++t) {
-        const char* tri = data.data() + 84 + t * 50 + 12;  // skip the normal
-        for (int v = 0; v < 3; ++v) {
-          float xyz[3];
-          std::memcpy(xyz, tri + v * 12, 12);
-          add_vertex(xyz[0], xyz[1], xyz[2]);
-        }
-      }
-      if (count == 0) throw ModelError("mesh file '" + path + "' has no triangles");
-      return;
-    }
-  }
-  std::istringstream text(data);
-  std::string word;
-  while (text >> word) {
-    if (word == "vertex") {
-      double x, y, z;
-      if (!(text >> x >> y >> z)) throw ModelError("mesh file '" + path + "': malformed ASCII STL vertex");
-      add_vertex(x, y, z);
-    }
-  }
-  if (shape.mesh_vertices_m.empty() || shape.mesh_vertices_m.size() % 3 != 0) {
-    throw ModelError("mesh file '" + path + "' is not a readable STL file");
-  }
+  shape.mesh_vertices_m = std::move(mesh.vertices_m);
+  shape.mesh_triangles = std::move(mesh.triangles);
+  shape.mesh_bvh = std::make_shared<const MeshBvh>(shape.mesh_vertices_m, shape.mesh_triangles);
+  return shape;
 }
 
 ArticulatedModel buildModelFromUrdf(const std::string& urdf_xml, const std::string& source,
@@ -208,12 +183,8 @@ ArticulatedModel buildModelFromUrdf(const std::string& urdf_xml, const std::stri
           std::string error;
           const std::string path = resolveResourcePath(mesh->filename, ".", packages, error);
           if (!error.empty()) throw ModelError(where + ": mesh '" + mesh->filename + "': " + error);
-          const std::string lower = path.size() >= 4 ? path.substr(path.size() - 4) : path;
-          if (lower != ".stl" && lower != ".STL") {
-            throw ModelError(where + ": mesh '" + mesh->filename + "': only STL collision meshes are supported");
-          }
           try {
-            loadStlMesh(path, Vec3(mesh->scale.x, mesh->scale.y, mesh->scale.z), spec.shape);
+            spec.shape = meshShapeFromFile(path, Vec3(mesh->scale.x, mesh->scale.y, mesh->scale.z));
           } catch (const ModelError& e) {
             throw ModelError(where + ": " + e.what());
           }

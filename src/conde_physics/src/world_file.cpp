@@ -1,5 +1,7 @@
 #include "conde_physics/world_file.h"
 
+#include "conde_physics/sdf_world.h"
+
 #include <yaml-cpp/yaml.h>
 
 #include <sys/stat.h>
@@ -480,6 +482,8 @@ bool textureLoads(const std::string& path) {
 }
 
 WorldDescription loadWorldFile(const std::string& path, const PackageResolver& packages) {
+  const std::string extension = std::filesystem::path(path).extension().string();
+  if (extension == ".world" || extension == ".sdf") return loadSdfWorld(path, packages);
   // Read the file ourselves: YAML::LoadFile only says "bad file" without the reason.
   std::string text;
   {
@@ -530,6 +534,14 @@ Shape collisionShapeOf(const WorldObject& object) {
       s.type = ShapeType::kSphere;
       s.radius_m = object.radius_m;
       break;
+    case ObjectShape::kMesh:
+      s.type = ShapeType::kMesh;
+      if (object.mesh) {
+        s.mesh_vertices_m = object.mesh->vertices_m;
+        s.mesh_triangles = object.mesh->triangles;
+      }
+      s.mesh_bvh = object.mesh_bvh;
+      break;
   }
   return s;
 }
@@ -561,6 +573,20 @@ ArticulatedModel modelOfDynamicObject(const WorldObject& object) {
       inertia.ixx = inertia.iyy = m * (3.0 * r * r / 20.0 + 3.0 * h * h / 80.0);
       inertia.izz = 3.0 * m * r * r / 10.0;
       break;
+    case ObjectShape::kMesh: {
+      // The solid bounding box of the vertices (documented simplification).
+      Vec3 lo, hi;
+      if (object.mesh && !object.mesh->vertices_m.empty()) {
+        lo = hi = object.mesh->vertices_m.front();
+        for (const Vec3& p : object.mesh->vertices_m) {
+          lo = Vec3(std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z));
+          hi = Vec3(std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z));
+        }
+      }
+      body.inertial_frame.position = (lo + hi) * 0.5;
+      inertia = boxInertia(m, hi - lo);
+      break;
+    }
   }
   body.principal_inertia_kgm2 = Vec3(inertia.ixx, inertia.iyy, inertia.izz);
   if (object.collision) {

@@ -1,5 +1,8 @@
 // Speed of many Ackermann cars with a LiDAR each, physics only (no ROS), per engine, side by side:
 //   conde_sim_benchmark_cars CAR.urdf [cars=1,4,16,50] [sim_seconds=10] [engines=ode,bullet] [solver_iterations=10]
+//                            [extra_world]
+// extra_world: a world file (e.g. the mesh rocks of conde_physics/benchmark/make_mesh_world.py)
+// whose objects join the arena, so that the scans meet its shapes.
 // Every car runs the Ackermann drive (four driven wheels, PIDs at every 1 ms physics step) on a
 // circle and casts its LiDAR (the URDF's `laser` link: 1081 beams over 270 degrees, 10 m, noise
 // 0.01 m) at 40 Hz, whether or not anyone would listen. The solver runs 10 iterations per step
@@ -18,11 +21,13 @@
 #include <cstdio>
 #include <fstream>
 #include <memory>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "benchmark_support.h"
+#include "conde_physics/world_file.h"
 #include "conde_sim/ackermann_drive.h"
 #include "conde_sim/laser_scanner.h"
 #include "conde_sim/simulation.h"
@@ -40,7 +45,7 @@ constexpr double kLidarRate_hz = 40.0;
 int gridSide(int cars) { return static_cast<int>(std::ceil(std::sqrt(static_cast<double>(cars)))); }
 
 // Four walls around the grid of cars, 2 m beyond the outermost car.
-cp::WorldDescription arena(int cars, int solver_iterations) {
+cp::WorldDescription arena(int cars, int solver_iterations, const cp::WorldDescription* extra) {
   const double half = (gridSide(cars) - 1) * kSpacing_m / 2.0 + 2.0;
   cp::WorldDescription w;
   w.name = "arena";
@@ -57,6 +62,7 @@ cp::WorldDescription arena(int cars, int solver_iterations) {
   wall("south", 0, -half - 0.05, 2 * half + 0.2, 0.1);
   wall("east", half + 0.05, 0, 0.1, 2 * half);
   wall("west", -half - 0.05, 0, 0.1, 2 * half);
+  if (extra) w.objects.insert(w.objects.end(), extra->objects.begin(), extra->objects.end());
   return w;
 }
 
@@ -72,8 +78,9 @@ struct Result {
   long steps = 0, scans = 0;
 };
 
-Result run(const std::string& engine, const std::string& urdf, int cars, double sim_seconds, int solver_iterations) {
-  conde_sim::Simulation sim(arena(cars, solver_iterations), engine, nullptr);
+Result run(const std::string& engine, const std::string& urdf, int cars, double sim_seconds, int solver_iterations,
+           const cp::WorldDescription* extra) {
+  conde_sim::Simulation sim(arena(cars, solver_iterations, extra), engine, nullptr);
   const int side = gridSide(cars);
   for (int i = 0; i < cars; ++i) {
     conde_sim::RobotSpec spec;
@@ -139,7 +146,8 @@ Result run(const std::string& engine, const std::string& urdf, int cars, double 
 int main(int argc, char** argv) {
   if (argc < 2) {
     std::fprintf(stderr,
-                 "usage: %s CAR.urdf [cars=1,4,16,50] [sim_seconds=10] [engines=ode,bullet] [solver_iterations=10]\n",
+                 "usage: %s CAR.urdf [cars=1,4,16,50] [sim_seconds=10] [engines=ode,bullet] [solver_iterations=10] "
+                 "[extra_world]\n",
                  argv[0]);
     return 2;
   }
@@ -150,6 +158,15 @@ int main(int argc, char** argv) {
   const std::vector<std::string> engines = conde_sim::benchmark::splitList(argc > 4 ? argv[4] : "ode,bullet");
   const int solver_iterations = argc > 5 ? std::atoi(argv[5]) : 10;
   try {
+    std::optional<cp::WorldDescription> extra;
+    if (argc > 6) {
+      extra = cp::loadWorldFile(argv[6], nullptr);
+      size_t triangles = 0;
+      for (const cp::WorldObject& o : extra->objects) {
+        if (o.collision && o.mesh) triangles += o.mesh->triangles.size() / 3;
+      }
+      std::printf("extra world %s: %zu objects, %zu collision triangles\n", argv[6], extra->objects.size(), triangles);
+    }
     std::printf("physics at %.0f Hz, %d solver iterations; LiDAR 1081 beams over 270 degrees at %.0f Hz per car\n\n",
                 1.0 / cp::PhysicsSettings().step_s, solver_iterations, kLidarRate_hz);
     std::printf(
@@ -157,7 +174,7 @@ int main(int argc, char** argv) {
         "physics + PIDs per step [us] | per scan of 1081 beams [us] |\n|---|---|---|---|---|---|---|---|\n");
     for (const std::string& cars : car_counts) {
       for (const std::string& engine : engines) {
-        const Result r = run(engine, *urdf, std::stoi(cars), sim_seconds, solver_iterations);
+        const Result r = run(engine, *urdf, std::stoi(cars), sim_seconds, solver_iterations, extra ? &*extra : nullptr);
         std::printf("| %s | %s | %.1f | %.2f | %.2f | %.2f | %.1f | %.0f |\n", engine.c_str(), cars.c_str(), r.sim_s,
                     r.cpu_s, r.sim_s / r.cpu_s, r.sim_s / r.wall_s, 1e6 * r.physics_s / r.steps,
                     r.scans > 0 ? 1e6 * r.lidar_s / r.scans : 0.0);

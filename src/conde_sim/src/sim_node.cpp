@@ -2,7 +2,7 @@
 // steps ODE or Bullet at a fixed step, owns /clock, and runs the plugins between steps.
 //
 // Parameters (private):
-//   ~world_file        path of the *.world.yaml (required)
+//   ~world_file        path of the *.world.yaml, or an SDF *.world / *.sdf (required)
 //   ~physics_engine    ode | bullet                                   [ode]
 //   ~real_time_factor  1.0 paces to the wall clock, 0 runs as fast as possible   [1.0]
 //   ~paused            start paused (use ~step / ~unpause_physics)    [false]
@@ -98,6 +98,9 @@ class SimNode : public SimHost {
     }
 
     cp::WorldDescription world = cp::loadWorldFile(world_file, packagePath);
+    for (const std::string& note : world.notes) ROS_INFO("conde_sim: %s", note.c_str());
+    // An SDF world's <real_time_factor> applies unless the parameter is set.
+    if (world.real_time_factor && !pnh_.hasParam("real_time_factor")) real_time_factor_ = *world.real_time_factor;
     sim_ = std::make_unique<Simulation>(world, engine_name_, packagePath);
     loadRobots();
     for (int r = 0; r < sim_->robotCount(); ++r) {

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "conde_physics/mesh_bvh.h"
 #include "conde_physics/urdf_model.h"
 
 namespace conde_sim {
@@ -215,7 +216,7 @@ cp::Twist Simulation::linkTwist(int robot, const std::string& link) const {
   return t;
 }
 
-// Render objects for one collision shape; meshes become their bounding box.
+// Render objects for one collision shape (meshes as their triangles).
 static bool renderObjectOfShape(const cp::Shape& shape, cp::RenderObject& object) {
   switch (shape.type) {
     case cp::ShapeType::kBox:
@@ -231,18 +232,12 @@ static bool renderObjectOfShape(const cp::Shape& shape, cp::RenderObject& object
       object.shape = cp::RenderShape::kSphere;
       object.radius_m = shape.radius_m;
       return true;
-    case cp::ShapeType::kMesh: {
-      if (shape.mesh_vertices_m.empty()) return false;
-      cp::Vec3 lo = shape.mesh_vertices_m.front(), hi = lo;
-      for (const cp::Vec3& v : shape.mesh_vertices_m) {
-        lo = {std::min(lo.x, v.x), std::min(lo.y, v.y), std::min(lo.z, v.z)};
-        hi = {std::max(hi.x, v.x), std::max(hi.y, v.y), std::max(hi.z, v.z)};
-      }
-      object.shape = cp::RenderShape::kBox;
-      object.size_m = hi - lo;
-      object.pose.position = object.pose.position + object.pose.orientation.rotate((lo + hi) * 0.5);
+    case cp::ShapeType::kMesh:
+      if (shape.mesh_triangles.empty()) return false;
+      object.shape = cp::RenderShape::kMesh;
+      object.mesh = shape.mesh_bvh ? shape.mesh_bvh
+                                   : std::make_shared<const cp::MeshBvh>(shape.mesh_vertices_m, shape.mesh_triangles);
       return true;
-    }
   }
   return false;
 }

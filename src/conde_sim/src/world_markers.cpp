@@ -118,6 +118,7 @@ visualization_msgs::MarkerArray worldMarkers(const cp::WorldDescription& world, 
   int id = 0;
   for (const cp::WorldObject& o : world.objects) {
     visualization_msgs::Marker m = base("objects", id++);
+    if (!o.visible) continue;  // an SDF <collision>: its <visual> has a marker of its own
     m.pose = toMsg(o.pose);
     m.color.r = o.color_rgb.x;
     m.color.g = o.color_rgb.y;
@@ -138,6 +139,27 @@ visualization_msgs::MarkerArray worldMarkers(const cp::WorldDescription& world, 
         m.type = visualization_msgs::Marker::CYLINDER;
         m.scale.x = m.scale.y = 2 * o.radius_m;
         m.scale.z = o.length_m;
+        break;
+      case cp::ObjectShape::kMesh:
+        m.type = visualization_msgs::Marker::TRIANGLE_LIST;
+        m.scale.x = m.scale.y = m.scale.z = 1.0;
+        if (o.mesh) {
+          for (int index : o.mesh->triangles) {
+            geometry_msgs::Point p;
+            p.x = o.mesh->vertices_m[index].x;
+            p.y = o.mesh->vertices_m[index].y;
+            p.z = o.mesh->vertices_m[index].z;
+            m.points.push_back(p);
+          }
+          for (const cp::Vec3& c : o.mesh->triangle_rgb) {
+            std_msgs::ColorRGBA rgba;
+            rgba.r = c.x;
+            rgba.g = c.y;
+            rgba.b = c.z;
+            rgba.a = 1.0;
+            m.colors.insert(m.colors.end(), 3, rgba);  // one per vertex
+          }
+        }
         break;
     }
     markers.markers.push_back(m);

@@ -6,12 +6,15 @@
 // at its centre of mass with principal axes (`inertial_frame`), which both ODE and Bullet want.
 #pragma once
 
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "conde_physics/math.h"
 
 namespace conde_physics {
+
+class MeshBvh;
 
 enum class ShapeType { kBox, kCylinder, kSphere, kMesh };
 
@@ -23,6 +26,9 @@ struct Shape {
   double length_m = 0.0;              // kCylinder
   std::vector<Vec3> mesh_vertices_m;  // kMesh: already scaled
   std::vector<int> mesh_triangles;    // kMesh: 3 vertex indices per triangle
+  // kMesh, optional: a hierarchy over these triangles for ray queries, shared between copies
+  // (the ray caster builds one when it is missing).
+  std::shared_ptr<const MeshBvh> mesh_bvh;
 };
 
 // Contact properties, as in Gazebo's <gazebo reference="link"> tags. Two touching surfaces use

@@ -1,12 +1,15 @@
 // What cameras see: RGB images, the textured ground plane and the objects on it (boxes with an
-// optional face image, cylinders, cones, spheres), built from a world file or by hand.
+// optional face image, cylinders, cones, spheres, triangle meshes), built from a world file or by
+// hand.
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "conde_physics/math.h"
+#include "conde_physics/mesh_bvh.h"
 #include "conde_physics/world_file.h"
 
 namespace conde_physics {
@@ -32,7 +35,7 @@ struct RgbImage {
 // the path when it does not decode.
 RgbImage loadRgbImage(const std::string& path);
 
-enum class RenderShape { kBox, kCylinder, kCone, kSphere };
+enum class RenderShape { kBox, kCylinder, kCone, kSphere, kMesh };
 
 struct RenderObject {
   RenderShape shape = RenderShape::kBox;
@@ -45,6 +48,10 @@ struct RenderObject {
   // upright and not mirrored for a viewer in front of the face (as libgazebo_ros_video). Drawn
   // unlit (like a screen). Empty = plain colour.
   RgbImage face_image;
+  // kMesh: the triangles (object frame) and, optionally, one colour per triangle (index as in
+  // the BVH's input; null or empty: color_rgb). Shared, never copied per frame.
+  std::shared_ptr<const MeshBvh> mesh;
+  std::shared_ptr<const std::vector<Vec3>> mesh_triangle_rgb;
   int group = -1;       // e.g. the model id of a robot; cameras may exclude one group
   bool hidden = false;  // not drawn (a robot deleted while the simulation runs)
 };

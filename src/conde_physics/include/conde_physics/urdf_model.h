@@ -31,7 +31,9 @@ ArticulatedModel buildModelFromUrdf(const std::string& urdf_xml, const std::stri
                                     const PackageResolver& packages, std::vector<std::string>* warnings = nullptr,
                                     GazeboBlocks* gazebo = nullptr);
 
-// Reads a binary or ASCII STL file into `shape` (vertices scaled by `scale`). Throws ModelError.
-void loadStlMesh(const std::string& path, const Vec3& scale, Shape& shape);
+// A kMesh collision shape (with its ray-query hierarchy) from any mesh file assimp reads (STL,
+// Collada, OBJ; mesh_file.h), vertices scaled by `scale`. Throws ModelError
+// "mesh file '<path>': <reason>".
+Shape meshShapeFromFile(const std::string& path, const Vec3& scale);
 
 }  // namespace conde_physics

@@ -1,4 +1,5 @@
-// Loader of world files (`*.world.yaml`, format `conde_world/1`, see docs/world_format.md).
+// Loader of world files: `*.world.yaml` (format `conde_world/1`) and SDF worlds (`*.world`,
+// `*.sdf`, read by libsdformat; sdf_world.h), see docs/world_format.md.
 //
 // Usage:
 //   WorldDescription world = loadWorldFile(path, [](const std::string& pkg) { return ros::package::getPath(pkg); });
@@ -14,17 +15,20 @@
 //   "w.world.yaml:7: objects[1] (box_a): unknown key 'colour' (expected one of: name, ...)".
 #pragma once
 
+#include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "conde_physics/math.h"
+#include "conde_physics/mesh_file.h"
 #include "conde_physics/model.h"
 #include "conde_physics/resource_path.h"
 
 namespace conde_physics {
 
-enum class ObjectShape { kBox, kCylinder, kCone, kSphere };
+enum class ObjectShape { kBox, kCylinder, kCone, kSphere, kMesh };
 
 // The infinite plane z = 0. The texture covers [x_min_m, x_max_m] x [y_min_m, y_max_m]:
 // image columns run along +x, row 0 is at y_max_m. Elsewhere (or everywhere without a
@@ -53,6 +57,12 @@ struct WorldObject {
   double mass_kg = 0.0;    // > 0 for dynamic objects, 0 for static ones
   bool collision = true;   // false: seen by cameras only (static objects only)
   SurfaceParams friction;  // only mu and mu2 come from the file
+  bool visible = true;     // false: collides but cameras do not see it (an SDF <collision>)
+  // kMesh (SDF worlds): the triangles in the object frame (scaled), their colours (empty: all
+  // color_rgb), a ray-query hierarchy over them, and the file they came from (absolute).
+  std::shared_ptr<const MeshData> mesh;
+  std::shared_ptr<const MeshBvh> mesh_bvh;
+  std::string mesh_path;
 };
 
 // A named start pose for a robot: root link at `pose` (position + yaw only).
@@ -68,6 +78,10 @@ struct WorldDescription {
   GroundSpec ground;
   std::vector<WorldObject> objects;  // in file order
   std::vector<SpawnPose> spawns;     // in file order
+  // SDF <physics><real_time_factor>, when the file gives one (the node's parameter wins).
+  std::optional<double> real_time_factor;
+  // What the loader accepted but ignores, one line each (the node logs them as INFO).
+  std::vector<std::string> notes;
 
   const SpawnPose* findSpawn(const std::string& name) const;  // nullptr when absent
 };
@@ -77,7 +91,8 @@ class WorldFileError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-// Reads and validates a world file; `texture` paths are resolved relative to the file or
+// Reads and validates a world file, by its name: `*.world` and `*.sdf` are SDF (loadSdfWorld),
+// anything else YAML. For YAML `texture` paths are resolved relative to the file or
 // through `packages` (package://) and must decode as images. Throws WorldFileError.
 WorldDescription loadWorldFile(const std::string& path, const PackageResolver& packages);
 
@@ -85,13 +100,13 @@ WorldDescription loadWorldFile(const std::string& path, const PackageResolver& p
 bool textureLoads(const std::string& path);
 
 // Collision geometry of an object in its own frame. A cone collides as the cylinder of its
-// base radius and height (documented simplification).
+// base radius and height (documented simplification); a mesh as its triangles.
 Shape collisionShapeOf(const WorldObject& object);
 
 // A one-body model for a dynamic object: link frame = object frame (place it at object.pose),
 // uniform-solid inertia of the true shape from mass_kg (a cone's centre of mass lies
-// length_m/4 below the object centre), the collision of collisionShapeOf with the object's
-// friction. Throws std::invalid_argument for static objects (add those with addStaticShape).
+// length_m/4 below the object centre; a mesh counts as its solid bounding box), the collision of collisionShapeOf with
+// the object's friction. Throws std::invalid_argument for static objects (add those with addStaticShape).
 ArticulatedModel modelOfDynamicObject(const WorldObject& object);
 
 }  // namespace conde_physics
