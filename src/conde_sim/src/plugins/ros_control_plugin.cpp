@@ -25,6 +25,12 @@
 // unknown joint stops the simulator with a message naming the controller, the key and the value.
 // pid accepts p, i, d, i_clamp (or i_clamp_min = -i_clamp_max), antiwindup, publish_state.
 //
+// Coupled joints (our extension): a joint controller may list `mimic_joints: [name, ...]`, joints
+// that get a controller of the same type and gains with the same command, as if one motor drove
+// them all (the NAO's two HipYawPitch joints). URDF <mimic> tags are ignored by the physics
+// (conde_physics warns), so this is how a mimic joint follows its master on both engines;
+// multiplier 1 and offset 0 only.
+//
 // Gazebo keys: <controlPeriod> [s] (default: every physics step), <robotSimType> (only
 // gazebo_ros_control/DefaultRobotHWSim), <eStopTopic> (std_msgs/Bool: while true, no effort,
 // velocity 0, positions held); <robotParam> and <legacyModeNS> are accepted and have no effect
@@ -107,14 +113,20 @@ class RosControlPlugin : public SimPlugin {
   }
 
   void reset() override {
-    for (auto& c : controllers_) c.controller->reset();
+    for (auto& c : controllers_) {
+      for (JointController* j : c.all()) j->reset();
+    }
   }
 
   void beforeStep() override {
     if (control_timer_.due(ctx_.sim->stepCount())) {
-      for (auto& c : controllers_) c.controller->update(control_timer_.stepsPerUpdate() * ctx_.sim->stepS());
+      for (auto& c : controllers_) {
+        for (JointController* j : c.all()) j->update(control_timer_.stepsPerUpdate() * ctx_.sim->stepS());
+      }
     }
-    for (auto& c : controllers_) c.controller->apply();
+    for (auto& c : controllers_) {
+      for (JointController* j : c.all()) j->apply();
+    }
   }
 
   void afterStep() override {
@@ -128,7 +140,9 @@ class RosControlPlugin : public SimPlugin {
       joint_state_.velocity[j] = e.jointVelocity(id, static_cast<int>(j));
       joint_state_.effort[j] = 0.0;
     }
-    for (const auto& c : controllers_) joint_state_.effort[c.controller->joint()] = c.controller->effort();
+    for (const auto& c : controllers_) {
+      for (const JointController* j : c.all()) joint_state_.effort[j->joint()] = j->effort();
+    }
     joint_state_pub_.publish(joint_state_);
   }
 
@@ -136,8 +150,34 @@ class RosControlPlugin : public SimPlugin {
   struct Loaded {
     std::string name;
     std::unique_ptr<JointController> controller;
+    std::vector<std::unique_ptr<JointController>> mimics;  // mimic_joints, same command
     ros::Subscriber sub;
+
+    std::vector<JointController*> all() const {
+      std::vector<JointController*> v = {controller.get()};
+      for (const auto& m : mimics) v.push_back(m.get());
+      return v;
+    }
   };
+
+  // The index of the movable joint `joint` named by `key` of controller `name`; an error if the
+  // robot has no such joint or another controller already drives it.
+  int jointKey(const std::string& name, const std::string& key, const std::string& joint) const {
+    const int index = ctx_.sim->robot(ctx_.robot).model.jointIndex(joint);
+    if (index < 0) {
+      throw controllerError(
+          name, key,
+          "robot '" + ctx_.sim->robot(ctx_.robot).spec.name + "' has no movable joint named '" + joint + "'");
+    }
+    for (const auto& c : controllers_) {
+      for (const JointController* j : c.all()) {
+        if (j->joint() == index) {
+          throw controllerError(name, key, "joint '" + joint + "' is already controlled by '" + c.name + "'");
+        }
+      }
+    }
+    return index;
+  }
 
   // Controllers on the parameter server: direct children of the namespace with a `type` key
   // naming a ros_control controller, in name order.
@@ -183,18 +223,26 @@ class RosControlPlugin : public SimPlugin {
       throw controllerError(name, "type",
                             "unsupported controller type '" + type + "' (supported: " + supportedTypes() + ")");
     }
-    const std::vector<std::string> allowed = {"type", "joint", "pid"};
+    const std::vector<std::string> allowed = {"type", "joint", "pid", "mimic_joints"};
     checkKeys(name, config, "", allowed);
-    const std::string joint = stringKey(name, config, "joint");
-    const int index = ctx_.sim->robot(ctx_.robot).model.jointIndex(joint);
-    if (index < 0) {
-      throw controllerError(
-          name, "joint",
-          "robot '" + ctx_.sim->robot(ctx_.robot).spec.name + "' has no movable joint named '" + joint + "'");
-    }
-    for (const auto& c : controllers_) {
-      if (c.controller->joint() == index) {
-        throw controllerError(name, "joint", "joint '" + joint + "' is already controlled by '" + c.name + "'");
+    const int index = jointKey(name, "joint", stringKey(name, config, "joint"));
+    std::vector<int> mimic_indices;
+    if (config.hasMember("mimic_joints")) {
+      XmlRpc::XmlRpcValue& list = config["mimic_joints"];
+      if (list.getType() != XmlRpc::XmlRpcValue::TypeArray) {
+        throw controllerError(name, "mimic_joints", "expected a list of joint names, got " + typeName(list.getType()));
+      }
+      for (int k = 0; k < list.size(); ++k) {
+        if (list[k].getType() != XmlRpc::XmlRpcValue::TypeString) {
+          throw controllerError(name, "mimic_joints",
+                                "expected a list of joint names, got " + typeName(list[k].getType()));
+        }
+        const int mimic = jointKey(name, "mimic_joints", static_cast<std::string>(list[k]));
+        if (mimic == index || std::find(mimic_indices.begin(), mimic_indices.end(), mimic) != mimic_indices.end()) {
+          throw controllerError(name, "mimic_joints",
+                                "joint '" + static_cast<std::string>(list[k]) + "' is listed twice");
+        }
+        mimic_indices.push_back(mimic);
       }
     }
     PidController::Gains gains;
@@ -207,15 +255,20 @@ class RosControlPlugin : public SimPlugin {
     Loaded loaded;
     loaded.name = name;
     loaded.controller = std::make_unique<JointController>(*ctx_.sim, ctx_.robot, index, jtype, gains);
-    JointController* controller = loaded.controller.get();
+    std::vector<JointController*> driven = {loaded.controller.get()};
+    for (int mimic : mimic_indices) {
+      loaded.mimics.push_back(std::make_unique<JointController>(*ctx_.sim, ctx_.robot, mimic, jtype, gains));
+      driven.push_back(loaded.mimics.back().get());
+    }
     const std::string topic = name + "/command";
-    loaded.sub =
-        nh_.subscribe<std_msgs::Float64>(topic, 1, [this, controller, name](const std_msgs::Float64::ConstPtr& m) {
-          if (!controller->setCommand(m->data)) {
-            ROS_WARN_THROTTLE(1.0, "%s: ignoring a non-finite command on %s", name.c_str(),
-                              nh_.resolveName(name + "/command").c_str());
-          }
-        });
+    loaded.sub = nh_.subscribe<std_msgs::Float64>(topic, 1, [this, driven, name](const std_msgs::Float64::ConstPtr& m) {
+      bool ok = true;
+      for (JointController* c : driven) ok = c->setCommand(m->data) && ok;
+      if (!ok) {
+        ROS_WARN_THROTTLE(1.0, "%s: ignoring a non-finite command on %s", name.c_str(),
+                          nh_.resolveName(name + "/command").c_str());
+      }
+    });
     controllers_.push_back(std::move(loaded));
   }
 
