@@ -102,7 +102,7 @@ def test_check_urdf_accepts_every_argument_combination(args, tmp_path):
     text = process(**args)
     assert_no_leftover_xacro(text)
     printed = check_urdf(text, tmp_path, 'nao.urdf')
-    assert 'root Link: %s' % ('world' if args.get('fixed') == 'true' else 'base_link') in printed
+    assert 'root Link: %s' % ('world' if args.get('fixed') == 'true' else 'base_footprint') in printed
 
 
 @pytest.mark.parametrize('arg,value', [('limits', 'gazebo'), ('fixed', 'yes'), ('cameras', '1'), ('imu', 'no')])
@@ -172,6 +172,9 @@ def test_paper_limits_are_uniform():
 
 def test_leg_geometry_is_the_documented_one():
     root = robot()
+    # base_footprint is on the ground under the torso when the legs are straight
+    assert floats(joints(root)['base_footprint_joint'].find('origin').get('xyz')) == pytest.approx(
+        [0, 0, 0.085 + 0.1 + 0.1029 + 0.04519])
     offsets = {n: floats(joints(root)[n].find('origin').get('xyz')) for n in JOINTS}
     assert offsets['LHipYawPitch'] == pytest.approx([0, 0.05, -0.085])
     assert offsets['RHipYawPitch'] == pytest.approx([0, -0.05, -0.085])

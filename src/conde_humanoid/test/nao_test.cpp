@@ -22,10 +22,6 @@ using conde_sim::Simulation;
 
 namespace {
 
-// Torso height [m] above the soles with straight legs: hip 0.085 + thigh 0.100 + tibia 0.1029 +
-// foot 0.04519 (documentation's link lengths).
-constexpr double kStraightLegTorsoHeightM = 0.085 + 0.100 + 0.1029 + 0.04519;
-
 // The standing pose [rad]: knees bent 0.7 rad, hip and ankle pitch sharing it so that the soles
 // stay parallel to the torso; arms down along the body; hands half open (a hand held at its
 // closed stop, 0, chatters on ODE: a velocity motor against a joint stop on a 5 g body). Joints
@@ -40,8 +36,9 @@ const std::map<std::string, double>& standPose() {
   return pose;
 }
 
-// Where the fixed robot hangs: feet 0.17 m above the ground.
-cp::Pose hanging() { return cp::Pose::fromXyzRpy(0, 0, 0.5, 0, 0, 0); }
+// Where the fixed robot hangs: feet 0.17 m above the ground (the spawn pose is base_footprint's,
+// under the soles when the legs are straight).
+cp::Pose hanging() { return cp::Pose::fromXyzRpy(0, 0, 0.17, 0, 0, 0); }
 
 class Nao : public ::testing::TestWithParam<std::string> {
  protected:
@@ -123,7 +120,7 @@ TEST_P(Nao, EveryJointReachesItsPositionTarget) {
 // for 30 s of simulated time. The torso stays upright and its height within a band around the
 // pose's height (no fall, no sinking into the ground).
 TEST_P(Nao, StandsForThirtySeconds) {
-  build(false, cp::Pose::fromXyzRpy(0, 0, kStraightLegTorsoHeightM + 0.002, 0, 0, 0));
+  build(false, cp::Pose::fromXyzRpy(0, 0, 0.002, 0, 0, 0));
   for (const auto& kv : standPose()) command(kv.first, kv.second);
   // Torso height of the standing pose: the legs' vertical extent shrinks by cos(0.35) on the
   // thigh and the tibia.
