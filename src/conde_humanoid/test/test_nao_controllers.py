@@ -1,4 +1,4 @@
-"""The NAO's controller YAML (config/nao_controllers.yaml) against its description
+"""The NAO's controller YAMLs (config/nao_controllers.yaml, nao_trajectory_controller.yaml) against its description
 (conde_description's robots/nao.urdf.xacro): one position controller per degree of freedom, every
 movable joint driven exactly once, RHipYawPitch coupled to LHipYawPitch."""
 
@@ -10,7 +10,9 @@ import yaml
 
 from conde_testing.ros_harness import xacro_finding
 
-CONFIG = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), 'config', 'nao_controllers.yaml')
+CONFIG_DIR = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), 'config')
+CONFIG = os.path.join(CONFIG_DIR, 'nao_controllers.yaml')
+TRAJECTORY_CONFIG = os.path.join(CONFIG_DIR, 'nao_trajectory_controller.yaml')
 
 
 def nao_urdf():
@@ -20,8 +22,8 @@ def nao_urdf():
     return ET.fromstring(document.toprettyxml())
 
 
-def load():
-    with open(CONFIG) as f:
+def load(path=CONFIG):
+    with open(path) as f:
         return yaml.safe_load(f)
 
 
@@ -45,3 +47,15 @@ def test_25_position_controllers_and_the_joint_states():
     assert config['HipYawPitch_position_controller'] == {
         'type': 'position_controllers/JointPositionController', 'joint': 'LHipYawPitch',
         'mimic_joints': ['RHipYawPitch']}
+
+
+def test_the_trajectory_controller_drives_every_movable_joint_once():
+    movable = {j.get('name') for j in nao_urdf().findall('joint') if j.get('type') != 'fixed'}
+    config = load(TRAJECTORY_CONFIG)
+    assert set(config) == {'joint_state_controller', 'nao_trajectory_controller'}
+    trajectory = config['nao_trajectory_controller']
+    assert trajectory['type'] == 'position_controllers/JointTrajectoryController'
+    assert trajectory['mimic_joints'] == {'RHipYawPitch': 'LHipYawPitch'}
+    driven = trajectory['joints'] + list(trajectory['mimic_joints'])
+    assert len(trajectory['joints']) == 25
+    assert len(driven) == len(set(driven)) and set(driven) == movable
