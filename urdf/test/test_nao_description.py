@@ -216,3 +216,14 @@ def test_imu_in_the_torso_and_two_head_cameras():
         assert joints(root)[name + '_joint'].find('parent').get('link') == 'Head'
     assert not [p for p in robot(cameras='false', imu='false').iter('plugin')
                 if p.get('filename') != 'libgazebo_ros_control.so']
+
+
+@pytest.mark.parametrize('camera', ['CameraTop', 'CameraBottom'])
+def test_cameras_are_outside_the_head(camera):
+    """The renderer draws the robot's own visuals: a camera inside the head would see its inside."""
+    root = robot()
+    head = links(root)['Head'].find('visual')
+    centre = floats(head.find('origin').get('xyz'))
+    radius = float(head.find('geometry/sphere').get('radius'))
+    position = floats(joints(root)[camera + '_joint'].find('origin').get('xyz'))
+    assert np.linalg.norm(position - centre) > radius + 0.005
