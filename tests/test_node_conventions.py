@@ -30,6 +30,7 @@ NODES = [
     ("conde_major", "major_ackermann_controller", "/ackermann_controller", "major_ackermann_controller"),
     ("conde_eval", "odometry_test_node", "/odometry_test", "odometry_test"),
     ("conde_eval", "start_when_ready", "/start_when_ready", "start_when_ready"),
+    ("conde_humanoid", "nao_pose", "/nao_pose", "nao_pose"),
 ]
 IDS = [node[1] for node in NODES]
 
