@@ -118,7 +118,32 @@ def test_controller_of_an_unsupported_type(master):
         "unsupported controller type 'diff_drive_controller/DiffDriveController' (supported: "
         "effort_controllers/JointPositionController, effort_controllers/JointVelocityController, "
         "effort_controllers/JointEffortController, velocity_controllers/JointVelocityController, "
-        "position_controllers/JointPositionController, joint_state_controller/JointStateController)")
+        "position_controllers/JointPositionController, position_controllers/JointTrajectoryController, "
+        "joint_state_controller/JointStateController)")
+
+
+@pytest.mark.parametrize("controller, detail", [
+    ({"type": "position_controllers/JointPositionController", "joint": "right_steering_joint",
+      "mimic_joints": ["left_steer"]},
+     "parameter /right_steering_ctrlr/mimic_joints: robot 'ackermann_car' has no movable joint named 'left_steer'"),
+    ({"type": "position_controllers/JointPositionController", "joint": "right_steering_joint",
+      "mimic_joints": ["left_steering_joint"]},
+     "parameter /right_steering_ctrlr/mimic_joints: joint 'left_steering_joint' is already controlled by "
+     "'left_steering_ctrlr'"),
+    ({"type": "position_controllers/JointPositionController", "joint": "right_steering_joint",
+      "mimic_joints": "left_front_wheel_joint"},
+     "parameter /right_steering_ctrlr/mimic_joints: expected a list of joint names, got a string"),
+    ({"type": "position_controllers/JointTrajectoryController", "joints": ["right_steering_joint"],
+      "mimic_joints": {"left_front_wheel_joint": "right_front_wheel_joint"}},
+     "parameter /right_steering_ctrlr/mimic_joints/left_front_wheel_joint: the master must be one of `joints`"),
+    ({"type": "position_controllers/JointTrajectoryController"},
+     "parameter /right_steering_ctrlr/joints: required: a list of joint names"),
+], ids=["mimic_joint_unknown", "mimic_joint_already_controlled", "mimic_joints_not_a_list",
+        "trajectory_mimic_master_not_a_joint", "trajectory_without_joints"])
+def test_bad_coupled_or_trajectory_controller(master, controller, detail):
+    controllers = dict(CONTROLLERS, right_steering_ctrlr=controller)
+    error, line = ros_control_error(master, car_urdf("ros_control"), controllers)
+    assert error == f"/robot_description:{line}: {ROS_CONTROL}: controller 'right_steering_ctrlr': {detail}"
 
 
 def test_controller_with_an_unknown_pid_key(master):

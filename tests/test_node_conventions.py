@@ -31,6 +31,7 @@ NODES = [
     ("conde_eval", "odometry_test_node", "/odometry_test", "odometry_test"),
     ("conde_eval", "start_when_ready", "/start_when_ready", "start_when_ready"),
     ("conde_referee", "conde_referee", "/conde_referee", "conde_referee"),
+    ("conde_humanoid", "nao_pose", "/nao_pose", "nao_pose"),
 ]
 IDS = [node[1] for node in NODES]
 

@@ -25,6 +25,20 @@
 // unknown joint stops the simulator with a message naming the controller, the key and the value.
 // pid accepts p, i, d, i_clamp (or i_clamp_min = -i_clamp_max), antiwindup, publish_state.
 //
+// position_controllers/JointTrajectoryController (as in ros_controllers): `joints: [...]`
+// (optional `mimic_joints: {follower: master}`, masters among `joints`), listening on
+// <controller>/command (trajectory_msgs/JointTrajectory, joint_names = the controller's joints in
+// any order). A trajectory replaces the one before; it starts at header.stamp (0 = on receipt)
+// from the joints' current targets and is sampled every step (joint_trajectory.h: linear without
+// velocities, cubic with them); each joint is driven like a position_controllers joint.
+// Not supported: goal constraints, the follow_joint_trajectory action, partial goals.
+//
+// Coupled joints (our extension): a joint controller may list `mimic_joints: [name, ...]`, joints
+// that get a controller of the same type and gains with the same command, as if one motor drove
+// them all (the NAO's two HipYawPitch joints). URDF <mimic> tags are ignored by the physics
+// (conde_physics warns), so this is how a mimic joint follows its master on both engines;
+// multiplier 1 and offset 0 only.
+//
 // Gazebo keys: <controlPeriod> [s] (default: every physics step), <robotSimType> (only
 // gazebo_ros_control/DefaultRobotHWSim), <eStopTopic> (std_msgs/Bool: while true, no effort,
 // velocity 0, positions held); <robotParam> and <legacyModeNS> are accepted and have no effect
@@ -34,6 +48,7 @@
 #include <sensor_msgs/JointState.h>
 #include <std_msgs/Bool.h>
 #include <std_msgs/Float64.h>
+#include <trajectory_msgs/JointTrajectory.h>
 
 #include <algorithm>
 #include <cmath>
@@ -41,6 +56,7 @@
 #include <sstream>
 
 #include "conde_sim/joint_controller.h"
+#include "conde_sim/joint_trajectory.h"
 #include "conde_sim/plugin.h"
 #include "conde_sim/update_timer.h"
 
@@ -48,6 +64,7 @@ namespace conde_sim {
 namespace {
 
 constexpr char kJointStateType[] = "joint_state_controller/JointStateController";
+constexpr char kTrajectoryType[] = "position_controllers/JointTrajectoryController";
 
 std::string supportedTypes() {
   std::string s;
@@ -55,7 +72,7 @@ std::string supportedTypes() {
                  JointControllerType::kEffort, JointControllerType::kVelocity, JointControllerType::kPosition}) {
     s += std::string(jointControllerTypeName(t)) + ", ";
   }
-  return s + kJointStateType;
+  return s + kTrajectoryType + ", " + kJointStateType;
 }
 
 // A ros_control controller type by convention: "package/NameController".
@@ -101,20 +118,38 @@ class RosControlPlugin : public SimPlugin {
     if (!estop_topic.empty()) estop_sub_ = nh_.subscribe(estop_topic, 1, &RosControlPlugin::onEStop, this);
     std::string summary;
     for (const auto& c : controllers_) summary += " " + c.name;
+    for (const auto& t : trajectories_) summary += " " + t->name;
     if (joint_state_pub_) summary += " " + joint_state_name_;
     ROS_INFO("%s: ros_control controllers in %s:%s", ctx_.sim->robot(ctx_.robot).spec.name.c_str(),
              nh_.getNamespace().c_str(), summary.c_str());
   }
 
   void reset() override {
-    for (auto& c : controllers_) c.controller->reset();
+    for (auto& c : controllers_) {
+      for (JointController* j : c.all()) j->reset();
+    }
+    for (auto& t : trajectories_) {
+      for (auto& j : t->controllers) j->reset();
+      t->trajectory = JointTrajectory();
+    }
   }
 
   void beforeStep() override {
+    for (auto& t : trajectories_) followTrajectory(*t);
     if (control_timer_.due(ctx_.sim->stepCount())) {
-      for (auto& c : controllers_) c.controller->update(control_timer_.stepsPerUpdate() * ctx_.sim->stepS());
+      for (auto& c : controllers_) {
+        for (JointController* j : c.all()) j->update(control_timer_.stepsPerUpdate() * ctx_.sim->stepS());
+      }
+      for (auto& t : trajectories_) {
+        for (auto& j : t->controllers) j->update(control_timer_.stepsPerUpdate() * ctx_.sim->stepS());
+      }
     }
-    for (auto& c : controllers_) c.controller->apply();
+    for (auto& c : controllers_) {
+      for (JointController* j : c.all()) j->apply();
+    }
+    for (auto& t : trajectories_) {
+      for (auto& j : t->controllers) j->apply();
+    }
   }
 
   void afterStep() override {
@@ -128,7 +163,12 @@ class RosControlPlugin : public SimPlugin {
       joint_state_.velocity[j] = e.jointVelocity(id, static_cast<int>(j));
       joint_state_.effort[j] = 0.0;
     }
-    for (const auto& c : controllers_) joint_state_.effort[c.controller->joint()] = c.controller->effort();
+    for (const auto& c : controllers_) {
+      for (const JointController* j : c.all()) joint_state_.effort[j->joint()] = j->effort();
+    }
+    for (const auto& t : trajectories_) {
+      for (const auto& j : t->controllers) joint_state_.effort[j->joint()] = j->effort();
+    }
     joint_state_pub_.publish(joint_state_);
   }
 
@@ -136,8 +176,53 @@ class RosControlPlugin : public SimPlugin {
   struct Loaded {
     std::string name;
     std::unique_ptr<JointController> controller;
+    std::vector<std::unique_ptr<JointController>> mimics;  // mimic_joints, same command
+    ros::Subscriber sub;
+
+    std::vector<JointController*> all() const {
+      std::vector<JointController*> v = {controller.get()};
+      for (const auto& m : mimics) v.push_back(m.get());
+      return v;
+    }
+  };
+
+  // A position_controllers/JointTrajectoryController: one position-motor controller per joint
+  // (masters first, in `joints` order, then the mimic joints), the trajectory being followed.
+  struct TrajectoryLoaded {
+    std::string name;
+    std::vector<std::string> joint_names;  // the masters, in `joints` order
+    std::vector<std::unique_ptr<JointController>> controllers;
+    std::vector<size_t> master_of;  // per controller: index into joint_names
+    JointTrajectory trajectory;
+    double start_s = 0.0;  // simulated time of the trajectory's start
     ros::Subscriber sub;
   };
+
+  // The index of the movable joint `joint` named by `key` of controller `name`; an error if the
+  // robot has no such joint or another controller already drives it.
+  int jointKey(const std::string& name, const std::string& key, const std::string& joint) const {
+    const int index = ctx_.sim->robot(ctx_.robot).model.jointIndex(joint);
+    if (index < 0) {
+      throw controllerError(
+          name, key,
+          "robot '" + ctx_.sim->robot(ctx_.robot).spec.name + "' has no movable joint named '" + joint + "'");
+    }
+    for (const auto& c : controllers_) {
+      for (const JointController* j : c.all()) {
+        if (j->joint() == index) {
+          throw controllerError(name, key, "joint '" + joint + "' is already controlled by '" + c.name + "'");
+        }
+      }
+    }
+    for (const auto& t : trajectories_) {
+      for (const auto& j : t->controllers) {
+        if (j->joint() == index) {
+          throw controllerError(name, key, "joint '" + joint + "' is already controlled by '" + t->name + "'");
+        }
+      }
+    }
+    return index;
+  }
 
   // Controllers on the parameter server: direct children of the namespace with a `type` key
   // naming a ros_control controller, in name order.
@@ -178,23 +263,35 @@ class RosControlPlugin : public SimPlugin {
       loadJointStateController(name, config);
       return;
     }
+    if (type == kTrajectoryType) {
+      loadTrajectoryController(name, config);
+      return;
+    }
     JointControllerType jtype;
     if (!parseJointControllerType(type, jtype)) {
       throw controllerError(name, "type",
                             "unsupported controller type '" + type + "' (supported: " + supportedTypes() + ")");
     }
-    const std::vector<std::string> allowed = {"type", "joint", "pid"};
+    const std::vector<std::string> allowed = {"type", "joint", "pid", "mimic_joints"};
     checkKeys(name, config, "", allowed);
-    const std::string joint = stringKey(name, config, "joint");
-    const int index = ctx_.sim->robot(ctx_.robot).model.jointIndex(joint);
-    if (index < 0) {
-      throw controllerError(
-          name, "joint",
-          "robot '" + ctx_.sim->robot(ctx_.robot).spec.name + "' has no movable joint named '" + joint + "'");
-    }
-    for (const auto& c : controllers_) {
-      if (c.controller->joint() == index) {
-        throw controllerError(name, "joint", "joint '" + joint + "' is already controlled by '" + c.name + "'");
+    const int index = jointKey(name, "joint", stringKey(name, config, "joint"));
+    std::vector<int> mimic_indices;
+    if (config.hasMember("mimic_joints")) {
+      XmlRpc::XmlRpcValue& list = config["mimic_joints"];
+      if (list.getType() != XmlRpc::XmlRpcValue::TypeArray) {
+        throw controllerError(name, "mimic_joints", "expected a list of joint names, got " + typeName(list.getType()));
+      }
+      for (int k = 0; k < list.size(); ++k) {
+        if (list[k].getType() != XmlRpc::XmlRpcValue::TypeString) {
+          throw controllerError(name, "mimic_joints",
+                                "expected a list of joint names, got " + typeName(list[k].getType()));
+        }
+        const int mimic = jointKey(name, "mimic_joints", static_cast<std::string>(list[k]));
+        if (mimic == index || std::find(mimic_indices.begin(), mimic_indices.end(), mimic) != mimic_indices.end()) {
+          throw controllerError(name, "mimic_joints",
+                                "joint '" + static_cast<std::string>(list[k]) + "' is listed twice");
+        }
+        mimic_indices.push_back(mimic);
       }
     }
     PidController::Gains gains;
@@ -207,16 +304,124 @@ class RosControlPlugin : public SimPlugin {
     Loaded loaded;
     loaded.name = name;
     loaded.controller = std::make_unique<JointController>(*ctx_.sim, ctx_.robot, index, jtype, gains);
-    JointController* controller = loaded.controller.get();
+    std::vector<JointController*> driven = {loaded.controller.get()};
+    for (int mimic : mimic_indices) {
+      loaded.mimics.push_back(std::make_unique<JointController>(*ctx_.sim, ctx_.robot, mimic, jtype, gains));
+      driven.push_back(loaded.mimics.back().get());
+    }
     const std::string topic = name + "/command";
-    loaded.sub =
-        nh_.subscribe<std_msgs::Float64>(topic, 1, [this, controller, name](const std_msgs::Float64::ConstPtr& m) {
-          if (!controller->setCommand(m->data)) {
-            ROS_WARN_THROTTLE(1.0, "%s: ignoring a non-finite command on %s", name.c_str(),
-                              nh_.resolveName(name + "/command").c_str());
-          }
-        });
+    loaded.sub = nh_.subscribe<std_msgs::Float64>(topic, 1, [this, driven, name](const std_msgs::Float64::ConstPtr& m) {
+      bool ok = true;
+      for (JointController* c : driven) ok = c->setCommand(m->data) && ok;
+      if (!ok) {
+        ROS_WARN_THROTTLE(1.0, "%s: ignoring a non-finite command on %s", name.c_str(),
+                          nh_.resolveName(name + "/command").c_str());
+      }
+    });
     controllers_.push_back(std::move(loaded));
+  }
+
+  void loadTrajectoryController(const std::string& name, XmlRpc::XmlRpcValue& config) {
+    checkKeys(name, config, "", {"type", "joints", "mimic_joints"});
+    auto t = std::make_unique<TrajectoryLoaded>();
+    t->name = name;
+    if (!config.hasMember("joints") || config["joints"].getType() != XmlRpc::XmlRpcValue::TypeArray ||
+        config["joints"].size() == 0) {
+      throw controllerError(name, "joints", "required: a list of joint names");
+    }
+    auto add = [&](const std::string& key, const std::string& joint, size_t master) {
+      const int index = jointKey(name, key, joint);
+      for (const auto& j : t->controllers) {
+        if (j->joint() == index) throw controllerError(name, key, "joint '" + joint + "' is listed twice");
+      }
+      t->controllers.push_back(std::make_unique<JointController>(
+          *ctx_.sim, ctx_.robot, index, JointControllerType::kPosition, PidController::Gains()));
+      t->master_of.push_back(master);
+    };
+    for (int k = 0; k < config["joints"].size(); ++k) {
+      if (config["joints"][k].getType() != XmlRpc::XmlRpcValue::TypeString) {
+        throw controllerError(name, "joints", "expected a list of joint names");
+      }
+      t->joint_names.push_back(static_cast<std::string>(config["joints"][k]));
+      add("joints", t->joint_names.back(), t->joint_names.size() - 1);
+    }
+    if (config.hasMember("mimic_joints")) {
+      XmlRpc::XmlRpcValue& mimics = config["mimic_joints"];
+      if (mimics.getType() != XmlRpc::XmlRpcValue::TypeStruct) {
+        throw controllerError(name, "mimic_joints", "expected {follower joint: master joint}");
+      }
+      for (auto& kv : mimics) {
+        const std::string master =
+            kv.second.getType() == XmlRpc::XmlRpcValue::TypeString ? static_cast<std::string>(kv.second) : "";
+        const auto it = std::find(t->joint_names.begin(), t->joint_names.end(), master);
+        if (it == t->joint_names.end()) {
+          throw controllerError(name, "mimic_joints/" + kv.first, "the master must be one of `joints`");
+        }
+        add("mimic_joints", kv.first, static_cast<size_t>(it - t->joint_names.begin()));
+      }
+    }
+    TrajectoryLoaded* loaded = t.get();
+    t->sub = nh_.subscribe<trajectory_msgs::JointTrajectory>(
+        name + "/command", 1,
+        [this, loaded](const trajectory_msgs::JointTrajectory::ConstPtr& m) { onTrajectory(*loaded, *m); });
+    trajectories_.push_back(std::move(t));
+  }
+
+  void onTrajectory(TrajectoryLoaded& t, const trajectory_msgs::JointTrajectory& msg) {
+    const std::string topic = nh_.resolveName(t.name + "/command");
+    // Column of each of the controller's joints in the message.
+    std::vector<size_t> column(t.joint_names.size());
+    if (msg.joint_names.size() != t.joint_names.size()) {
+      ROS_WARN("%s: ignoring a trajectory with %zu joints (the controller has %zu)", topic.c_str(),
+               msg.joint_names.size(), t.joint_names.size());
+      return;
+    }
+    for (size_t j = 0; j < t.joint_names.size(); ++j) {
+      const auto it = std::find(msg.joint_names.begin(), msg.joint_names.end(), t.joint_names[j]);
+      if (it == msg.joint_names.end()) {
+        ROS_WARN("%s: ignoring a trajectory without joint '%s'", topic.c_str(), t.joint_names[j].c_str());
+        return;
+      }
+      column[j] = static_cast<size_t>(it - msg.joint_names.begin());
+    }
+    std::vector<TrajectoryPoint> points;
+    for (const auto& p : msg.points) {
+      TrajectoryPoint point;
+      point.time_s = p.time_from_start.toSec();
+      if (p.positions.size() != column.size() || (!p.velocities.empty() && p.velocities.size() != column.size())) {
+        ROS_WARN("%s: ignoring a trajectory whose points do not give one position (and velocity) per joint",
+                 topic.c_str());
+        return;
+      }
+      for (size_t j = 0; j < column.size(); ++j) {
+        point.positions.push_back(p.positions[column[j]]);
+        if (!p.velocities.empty()) point.velocities.push_back(p.velocities[column[j]]);
+      }
+      for (double v : point.positions) {
+        if (!std::isfinite(v)) {
+          ROS_WARN("%s: ignoring a trajectory with a non-finite position", topic.c_str());
+          return;
+        }
+      }
+      points.push_back(point);
+    }
+    std::vector<double> start(t.joint_names.size());
+    for (size_t c = 0; c < t.controllers.size(); ++c) {
+      if (c < t.joint_names.size()) start[c] = t.controllers[c]->command();
+    }
+    try {
+      t.trajectory = JointTrajectory(start, points);
+    } catch (const std::invalid_argument& e) {
+      ROS_WARN("%s: ignoring a trajectory: %s", topic.c_str(), e.what());
+      return;
+    }
+    t.start_s = msg.header.stamp.isZero() ? ctx_.sim->timeS() : msg.header.stamp.toSec();
+  }
+
+  void followTrajectory(TrajectoryLoaded& t) {
+    if (t.trajectory.empty()) return;
+    const std::vector<double> target = t.trajectory.sample(ctx_.sim->timeS() - t.start_s);
+    for (size_t c = 0; c < t.controllers.size(); ++c) t.controllers[c]->setCommand(target[t.master_of[c]]);
   }
 
   void loadJointStateController(const std::string& name, XmlRpc::XmlRpcValue& config) {
@@ -302,6 +507,7 @@ class RosControlPlugin : public SimPlugin {
   std::string params_where_;
   UpdateTimer control_timer_, joint_state_timer_;
   std::vector<Loaded> controllers_;
+  std::vector<std::unique_ptr<TrajectoryLoaded>> trajectories_;
   std::string joint_state_name_;
   ros::Publisher joint_state_pub_;
   sensor_msgs::JointState joint_state_;

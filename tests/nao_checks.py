@@ -1,0 +1,79 @@
+#!/usr/bin/env python3
+"""Wiring of the NAO (nao.test): nao.launch loads the 25 position controllers, nao_pose commands
+the standing pose, the joints reach it, the IMU says the torso is upright, and a command to the
+HipYawPitch controller moves both hips (mimic_joints). The simulation is stepped."""
+import os
+import time
+import unittest
+
+import rospkg
+import rospy
+import rostest
+from sensor_msgs.msg import Imu, JointState
+from std_msgs.msg import Float64
+
+from conde_humanoid.poses import load_pose_commands
+from stepped_sim import Latest, SteppedSim, connected, send, wait_for
+
+CONFIG_DIR = os.path.join(rospkg.RosPack().get_path('conde_humanoid'), 'config')
+
+
+def stand_pose():
+    """{joint: angle [rad]} of the stand pose, every joint (0 where the pose names none)."""
+    commands = load_pose_commands(os.path.join(CONFIG_DIR, 'nao_poses.yaml'), 'stand',
+                                  os.path.join(CONFIG_DIR, 'nao_controllers.yaml'))
+    pose = {name.replace('_position_controller', ''): angle for name, angle in commands.items()}
+    pose['LHipYawPitch'] = pose['RHipYawPitch'] = pose.pop('HipYawPitch')
+    return pose
+
+
+class NaoTest(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        rospy.init_node('nao_checks')
+        cls.sim = SteppedSim()
+        cls.joints = Latest('/joint_states', JointState)
+        cls.imu = Latest('/imu', Imu)
+        connected(cls.joints.sub, '/joint_states')
+        connected(cls.imu.sub, '/imu')
+
+    def positions(self):
+        state = self.joints.wait_until_stamped(self.sim.time_s, 0.02)
+        return dict(zip(state.name, state.position))
+
+    def test_1_stands_in_the_commanded_pose(self):
+        # nao_pose publishes the pose once, latched: every controller's command must come out of it.
+        commands = load_pose_commands(os.path.join(CONFIG_DIR, 'nao_poses.yaml'), 'stand',
+                                      os.path.join(CONFIG_DIR, 'nao_controllers.yaml'))
+        received = {name: Latest('/%s/command' % name, Float64) for name in commands}
+        for name, latest in received.items():
+            wait_for(lambda: latest.messages, 'the stand pose from nao_pose on /%s/command' % name)
+            self.assertEqual(latest.last.data, commands[name], name)
+            latest.sub.unregister()  # the connections counted below are then the simulator's
+        # The simulator may connect to some of them later than this test did: send the same pose
+        # once more through connections known to be up, so that stepping starts from it.
+        for name, angle in commands.items():
+            pub = rospy.Publisher('/%s/command' % name, Float64, queue_size=1, latch=True)
+            connected(pub, '/%s/command' % name)
+            pub.publish(Float64(angle))
+        time.sleep(0.3)
+        self.sim.run(3.0)
+        position = self.positions()
+        self.assertEqual(len(position), 26)
+        for joint, angle in stand_pose().items():
+            self.assertAlmostEqual(position[joint], angle, delta=0.02, msg=joint)
+        q = self.imu.wait_until_stamped(self.sim.time_s, 0.01).orientation
+        up_z = 1 - 2 * (q.x * q.x + q.y * q.y)  # torso z axis, world z component
+        self.assertGreater(up_z, 0.98)
+
+    def test_2_hip_yaw_pitch_drives_both_hips(self):
+        pub = rospy.Publisher('/HipYawPitch_position_controller/command', Float64, queue_size=1)
+        send(pub, Float64(-0.2), '/HipYawPitch_position_controller/command')
+        self.sim.run(1.0)
+        position = self.positions()
+        self.assertAlmostEqual(position['LHipYawPitch'], -0.2, delta=0.02)
+        self.assertAlmostEqual(position['RHipYawPitch'], -0.2, delta=0.02)
+
+
+if __name__ == '__main__':
+    rostest.rosrun('conde_tests', 'nao', NaoTest)
