@@ -27,6 +27,8 @@ void LockstepFrames::onMessage(const std::string& topic, double sim_time_s, doub
     if (state.owed > 0) {
       --state.owed;
       ++state.stats.answered;
+    } else if (was_waiting && state.early == 0) {
+      state.early = 1;  // its trigger may still be on its way (another connection)
     } else {
       ++state.stats.unsolicited;
     }
@@ -46,13 +48,26 @@ void LockstepFrames::onMessage(const std::string& topic, double sim_time_s, doub
     if (!rule.wait_for_first_answer && !state.answered_once) continue;
     // Triggers that come together (both cameras of one frame) owe one answer.
     if (state.owed == 0) {
-      state.owed = 1;
       ++state.stats.triggers;
+      if (state.early > 0) {
+        state.early = 0;
+        ++state.stats.answered;
+      } else {
+        state.owed = 1;
+      }
     }
   }
   if (!was_waiting && waiting()) {
     wait_start_wall_s_ = wall_s;
     ++frames_;
+  }
+  if (!waiting()) endFrame();
+}
+
+void LockstepFrames::endFrame() {
+  for (RuleState& state : rules_state_) {
+    state.stats.unsolicited += state.early;
+    state.early = 0;
   }
 }
 
@@ -67,12 +82,14 @@ bool LockstepFrames::checkTimeout(double wall_s) {
     state.owed = 0;
   }
   ++timed_out_frames_;
+  endFrame();
   return true;
 }
 
 void LockstepFrames::reset() {
   for (RuleState& state : rules_state_) {
     state.owed = 0;
+    state.early = 0;
     state.last_deadline_s = 0.0;
   }
 }

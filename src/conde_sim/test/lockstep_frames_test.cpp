@@ -50,6 +50,25 @@ TEST(LockstepFrames, AnAnswerBeforeItsTriggerIsNotKept) {
   EXPECT_TRUE(frames.waiting());
 }
 
+TEST(LockstepFrames, AChainLinkThatOvertakesItsTriggerCountsInTheSameWait) {
+  cs::LockstepFrames frames({rule("/lane", {"/image"}), rule("/reference", {"/lane"})}, 1.0);
+  frames.onMessage("/image", 0.033, 0.0);
+  frames.onMessage("/reference", 0.033, 0.01);  // on its own connection, before /lane
+  EXPECT_TRUE(frames.waiting());
+  frames.onMessage("/lane", 0.033, 0.02);
+  EXPECT_FALSE(frames.waiting());
+  EXPECT_EQ(frames.stats(1).answered, 1u);
+  EXPECT_EQ(frames.stats(1).unsolicited, 0u);
+  // An early answer whose trigger never comes is not kept past its wait.
+  frames.onMessage("/image", 0.066, 1.0);
+  frames.onMessage("/reference", 0.066, 1.01);
+  EXPECT_TRUE(frames.checkTimeout(2.0));
+  EXPECT_EQ(frames.stats(1).unsolicited, 1u);
+  frames.onMessage("/image", 0.1, 3.0);
+  frames.onMessage("/lane", 0.1, 3.01);
+  EXPECT_TRUE(frames.waiting());  // owes /reference again
+}
+
 TEST(LockstepFrames, ChainsWaitForEveryLink) {
   cs::LockstepFrames frames({rule("/lane", {"/image"}), rule("/reference", {"/lane"})}, 1.0);
   frames.onMessage("/image", 0.033, 0.0);

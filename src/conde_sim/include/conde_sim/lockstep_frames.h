@@ -12,7 +12,9 @@
 //   frames.onMessage("/conde_lane", t_s, wall_s);       // -> false
 //
 // An answer counts when it arrives while its rule owes one (one message on the answer topic since
-// the trigger); an answer nobody owes is counted as unsolicited and not kept for later. A topic
+// the trigger). One that arrives during a wait before its trigger (a chain's link whose trigger
+// comes on another connection) is kept until that wait ends; any other answer nobody owes is
+// counted as unsolicited and not kept for later. A topic
 // may be the answer of one rule and the trigger of another (chains: /conde_lane answers the
 // cameras and triggers the decision's /conde_control_reference); the wait goes on until the
 // whole chain has answered. A rule with rate_hz > 0 owes one answer per period of simulated time,
@@ -72,10 +74,13 @@ class LockstepFrames {
  private:
   struct RuleState {
     std::uint64_t owed = 0;
+    std::uint64_t early = 0;  // an answer that came, during this wait, before its trigger
     bool answered_once = false;
     double last_deadline_s = 0.0;  // rospy.Rate's last_time
     LockstepRuleStats stats;
   };
+
+  void endFrame();  // the wait is over: early answers left are unsolicited
 
   std::vector<LockstepRule> rules_;
   std::vector<RuleState> rules_state_;
