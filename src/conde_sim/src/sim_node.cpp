@@ -27,7 +27,9 @@
 #include <conde_msgs/StepSimulation.h>
 #include <ros/callback_queue.h>
 #include <ros/package.h>
+#include <ros/publication.h>
 #include <ros/ros.h>
+#include <ros/topic_manager.h>
 #include <rosgraph_msgs/Clock.h>
 #include <std_msgs/UInt64.h>
 #include <std_srvs/Empty.h>
@@ -436,10 +438,17 @@ class SimNode : public SimHost {
     lockstep_ = loadLockstepConfig(nh_, where, config);
     lockstep_timeouts_pub_ = pnh_.advertise<std_msgs::UInt64>("lockstep_timeouts", 1, true);
     publishLockstepTimeouts();
-    // Every watched topic, of any type: the node only counts messages. The simulator's own
-    // publications (camera images) come back through roscpp's intra-process delivery, on the
-    // loop's queue, in the order published. Answer queues are long: no answer may be dropped.
+    // Inputs the simulator publishes itself (camera images) are seen at once, after the step, by
+    // their publication's sequence number: roscpp leaves what is published in a queue that its
+    // poll thread sends (and numbers) later, so the loop sends that queue itself after each step
+    // (Publication::processPublishQueue) before it reads the number. A sensor publishes only while someone
+    // subscribes: an input nobody listens to owes nothing. Every other topic, of any type, is
+    // subscribed to (the node only counts messages), with long queues: no answer may be dropped.
     for (const std::string& topic : lockstep_->topicsToWatch()) {
+      if (const ros::PublicationPtr publication = ros::TopicManager::instance()->lookupPublication(topic)) {
+        own_inputs_.push_back(OwnInput{topic, publication->getSequence()});
+        continue;
+      }
       boost::function<void(const topic_tools::ShapeShifter::ConstPtr&)> callback =
           [this, topic](const topic_tools::ShapeShifter::ConstPtr&) {
             lockstep_->onMessage(topic, sim_->timeS(), wallNowS());
@@ -460,6 +469,13 @@ class SimNode : public SimHost {
   // After a step: serve callbacks (the triggers just published, the answers) until nothing is
   // owed or the frame times out.
   void waitForAnswers(ros::CallbackQueue& queue) {
+    for (OwnInput& input : own_inputs_) {
+      const ros::PublicationPtr publication = ros::TopicManager::instance()->lookupPublication(input.topic);
+      if (publication) publication->processPublishQueue();
+      const std::uint32_t sequence = publication ? publication->getSequence() : input.sequence;
+      if (sequence != input.sequence) lockstep_->onMessage(input.topic, sim_->timeS(), wallNowS());
+      input.sequence = sequence;
+    }
     queue.callAvailable();
     while (lockstep_->waiting() && ros::ok()) {
       queue.callAvailable(ros::WallDuration(0.001));
@@ -620,6 +636,11 @@ class SimNode : public SimHost {
   bool lockstep_enabled_ = false;
   std::unique_ptr<LockstepFrames> lockstep_;  // null without ~lockstep
   std::vector<ros::Subscriber> lockstep_subs_;
+  struct OwnInput {
+    std::string topic;
+    std::uint32_t sequence;  // of its publication after the last step
+  };
+  std::vector<OwnInput> own_inputs_;  // inputs the simulator publishes (advertised at start-up)
   ros::Publisher lockstep_timeouts_pub_;
   bool paused_ = false;
   std::uint64_t pending_steps_ = 0;
