@@ -33,8 +33,8 @@
 #include <rosgraph_msgs/Clock.h>
 #include <std_msgs/UInt64.h>
 #include <std_srvs/Empty.h>
-#include <topic_tools/shape_shifter.h>
 #include <sys/resource.h>
+#include <topic_tools/shape_shifter.h>
 
 #include <algorithm>
 #include <chrono>
@@ -103,12 +103,14 @@ std::unique_ptr<LockstepFrames> loadLockstepConfig(const ros::NodeHandle& nh, co
           if (field.first == "answer") {
             rule.answer_topic = topic(field.second, name);
           } else if (field.first == "inputs") {
-            if (field.second.getType() != XmlRpc::XmlRpcValue::TypeArray) throw StartupError(name + ": expected a list");
+            if (field.second.getType() != XmlRpc::XmlRpcValue::TypeArray)
+              throw StartupError(name + ": expected a list");
             for (int j = 0; j < field.second.size(); ++j) rule.trigger_topics.push_back(topic(field.second[j], name));
           } else if (field.first == "rate_hz") {
             rule.rate_hz = number(field.second, name);
           } else if (field.first == "wait_for_first_answer") {
-            if (field.second.getType() != XmlRpc::XmlRpcValue::TypeBoolean) throw StartupError(name + ": expected true or false");
+            if (field.second.getType() != XmlRpc::XmlRpcValue::TypeBoolean)
+              throw StartupError(name + ": expected true or false");
             rule.wait_for_first_answer = static_cast<bool>(field.second);
           } else {
             throw StartupError(item + ": unknown key '" + field.first +
@@ -207,11 +209,10 @@ class SimNode : public SimHost {
     publishClock();
     ROS_INFO("conde_sim: world '%s' (%s), engine %s, step %.4f s, real-time factor %s, %d robot(s), %zu plugin(s)%s",
              sim_->world().name.c_str(), world_file.c_str(), engine_name_.c_str(), sim_->stepS(),
-             lockstep_   ? "lock-step (as fast as the nodes answer)"
+             lockstep_               ? "lock-step (as fast as the nodes answer)"
              : real_time_factor_ > 0 ? std::to_string(real_time_factor_).c_str()
                                      : "unlimited",
-             sim_->robotCount(),
-             plugins_.size(), paused_ ? ", paused" : "");
+             sim_->robotCount(), plugins_.size(), paused_ ? ", paused" : "");
   }
 
   // --- SimHost: what the Gazebo interface asks of the node ---
@@ -481,9 +482,11 @@ class SimNode : public SimHost {
       queue.callAvailable(ros::WallDuration(0.001));
       const std::string missing = lockstep_->missing();
       if (lockstep_->checkTimeout(wallNowS())) {
-        ROS_WARN_THROTTLE(1.0, "conde_sim: lock-step: no answer within %.3f s at t = %.3f s: %s; going on (%lu frames timed out so far)",
-                          lockstep_->timeoutS(), sim_->timeS(), missing.c_str(),
-                          static_cast<unsigned long>(lockstep_->timedOutFrames()));
+        ROS_WARN_THROTTLE(
+            1.0,
+            "conde_sim: lock-step: no answer within %.3f s at t = %.3f s: %s; going on (%lu frames timed out so far)",
+            lockstep_->timeoutS(), sim_->timeS(), missing.c_str(),
+            static_cast<unsigned long>(lockstep_->timedOutFrames()));
         publishLockstepTimeouts();
       }
     }

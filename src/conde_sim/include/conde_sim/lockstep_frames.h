@@ -65,7 +65,7 @@ class LockstepFrames {
   std::vector<std::string> topicsToWatch() const;
   const std::vector<LockstepRule>& rules() const { return rules_; }
   const LockstepRuleStats& stats(std::size_t rule) const { return rules_state_[rule].stats; }
-  std::uint64_t frames() const { return frames_; }          // waits begun
+  std::uint64_t frames() const { return frames_; }  // waits begun
   std::uint64_t timedOutFrames() const { return timed_out_frames_; }
   double timeoutS() const { return timeout_s_; }
   // "/conde_lane (answers /camera/image_raw)" for each rule still owed, comma-separated.
