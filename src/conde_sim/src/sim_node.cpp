@@ -14,6 +14,10 @@
 //                      (~robots: [] starts with no robot, as gazebo_ros/empty_world.launch)
 //   ~gazebo_namespace  namespace of Gazebo's services and topics (gazebo_api.h)  [/gazebo]
 //   ~gazebo_states_rate_hz  <ns>/model_states and link_states per simulated second  [100]
+//   ~lockstep          wait, after each step, for the answers of the nodes listed in
+//                      ~lockstep_config (lockstep_frames.h); no real-time pacing   [false]
+//   ~lockstep_config   {timeout_s, rules: [{answer, inputs, rate_hz, wait_for_first_answer}]}
+// Topics: ~lockstep_timeouts (std_msgs/UInt64, latched): frames given up at the lock-step timeout.
 // Services: ~pause_physics, ~unpause_physics, ~reset_world (std_srvs/Empty),
 //           ~step (conde_msgs/StepSimulation), ~set_start_pose (conde_msgs/SetStartPose);
 //           Gazebo's under ~gazebo_namespace (gazebo_api.h). When the node is named like that
@@ -23,10 +27,14 @@
 #include <conde_msgs/StepSimulation.h>
 #include <ros/callback_queue.h>
 #include <ros/package.h>
+#include <ros/publication.h>
 #include <ros/ros.h>
+#include <ros/topic_manager.h>
 #include <rosgraph_msgs/Clock.h>
+#include <std_msgs/UInt64.h>
 #include <std_srvs/Empty.h>
 #include <sys/resource.h>
+#include <topic_tools/shape_shifter.h>
 
 #include <algorithm>
 #include <chrono>
@@ -38,6 +46,7 @@
 #include <sstream>
 #include <thread>
 
+#include "conde_sim/lockstep_frames.h"
 #include "conde_sim/plugin_loader.h"
 #include "conde_sim/simulation.h"
 #include "conde_sim/step_loop.h"
@@ -57,6 +66,70 @@ class StartupError : public std::runtime_error {
 };
 
 std::string packagePath(const std::string& name) { return ros::package::getPath(name); }
+
+double wallNowS() { return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(); }
+
+// ~lockstep_config: {timeout_s, rules: [{answer, inputs, rate_hz, wait_for_first_answer}]}, topic
+// names resolved by `nh`. Unknown keys are refused.
+std::unique_ptr<LockstepFrames> loadLockstepConfig(const ros::NodeHandle& nh, const std::string& where,
+                                                   XmlRpc::XmlRpcValue config) {
+  auto number = [&](XmlRpc::XmlRpcValue& v, const std::string& name) {
+    if (v.getType() == XmlRpc::XmlRpcValue::TypeDouble) return static_cast<double>(v);
+    if (v.getType() == XmlRpc::XmlRpcValue::TypeInt) return static_cast<double>(static_cast<int>(v));
+    throw StartupError(name + ": expected a number");
+  };
+  auto topic = [&](XmlRpc::XmlRpcValue& v, const std::string& name) {
+    if (v.getType() != XmlRpc::XmlRpcValue::TypeString) throw StartupError(name + ": expected a topic name");
+    return nh.resolveName(static_cast<std::string>(v));
+  };
+  if (config.getType() != XmlRpc::XmlRpcValue::TypeStruct) {
+    throw StartupError(where + ": expected a dictionary {timeout_s, rules} (load the lock-step YAML there)");
+  }
+  double timeout_s = 1.0;
+  std::vector<LockstepRule> rules;
+  for (auto& kv : config) {
+    const std::string key = where + "/" + kv.first;
+    if (kv.first == "timeout_s") {
+      timeout_s = number(kv.second, key);
+    } else if (kv.first == "rules") {
+      if (kv.second.getType() != XmlRpc::XmlRpcValue::TypeArray) throw StartupError(key + ": expected a list");
+      for (int i = 0; i < kv.second.size(); ++i) {
+        const std::string item = key + "[" + std::to_string(i) + "]";
+        XmlRpc::XmlRpcValue& r = kv.second[i];
+        if (r.getType() != XmlRpc::XmlRpcValue::TypeStruct) throw StartupError(item + ": expected a dictionary");
+        LockstepRule rule;
+        for (auto& field : r) {
+          const std::string name = item + "." + field.first;
+          if (field.first == "answer") {
+            rule.answer_topic = topic(field.second, name);
+          } else if (field.first == "inputs") {
+            if (field.second.getType() != XmlRpc::XmlRpcValue::TypeArray)
+              throw StartupError(name + ": expected a list");
+            for (int j = 0; j < field.second.size(); ++j) rule.trigger_topics.push_back(topic(field.second[j], name));
+          } else if (field.first == "rate_hz") {
+            rule.rate_hz = number(field.second, name);
+          } else if (field.first == "wait_for_first_answer") {
+            if (field.second.getType() != XmlRpc::XmlRpcValue::TypeBoolean)
+              throw StartupError(name + ": expected true or false");
+            rule.wait_for_first_answer = static_cast<bool>(field.second);
+          } else {
+            throw StartupError(item + ": unknown key '" + field.first +
+                               "' (expected answer, inputs, rate_hz, wait_for_first_answer)");
+          }
+        }
+        if (rule.answer_topic.empty()) throw StartupError(item + ": 'answer' (a topic name) is required");
+        if (rule.trigger_topics.empty()) throw StartupError(item + ": 'inputs' (a list of topic names) is required");
+        if (rule.rate_hz < 0) throw StartupError(item + ".rate_hz: must be >= 0");
+        rules.push_back(rule);
+      }
+    } else {
+      throw StartupError(where + ": unknown key '" + kv.first + "' (expected timeout_s, rules)");
+    }
+  }
+  if (!(timeout_s > 0)) throw StartupError(where + "/timeout_s: must be > 0");
+  if (rules.empty()) throw StartupError(where + "/rules: at least one rule is needed");
+  return std::make_unique<LockstepFrames>(rules, timeout_s);
+}
 
 cp::Pose parseSpawn(const std::string& spawn, const cp::WorldDescription& world, const std::string& where) {
   if (spawn.empty()) return world.spawns.empty() ? cp::Pose() : world.spawns.front().pose;
@@ -87,6 +160,7 @@ class SimNode : public SimHost {
     pnh_.param("max_sim_time_s", max_sim_time_s_, 0.0);
     pnh_.param("gazebo_namespace", gazebo_ns_, std::string("/gazebo"));
     pnh_.param("gazebo_states_rate_hz", gazebo_states_rate_hz_, 100.0);
+    pnh_.param("lockstep", lockstep_enabled_, false);
     if (gazebo_states_rate_hz_ <= 0) throw StartupError("parameter ~gazebo_states_rate_hz must be > 0");
     gazebo_ns_ = ros::names::resolve(gazebo_ns_);
     if (real_time_factor_ < 0) throw StartupError("parameter ~real_time_factor must be >= 0 (0 = as fast as possible)");
@@ -112,6 +186,7 @@ class SimNode : public SimHost {
     clock_hook_.node = this;
 
     clock_pub_ = nh_.advertise<rosgraph_msgs::Clock>("/clock", 10);
+    if (lockstep_enabled_) startLockstep();
     markers_pub_ = pnh_.advertise<visualization_msgs::MarkerArray>("world_markers", 1, true);
     const char* ros_home = std::getenv("ROS_HOME");
     const char* home = std::getenv("HOME");
@@ -137,8 +212,10 @@ class SimNode : public SimHost {
     publishClock();
     ROS_INFO("conde_sim: world '%s' (%s), engine %s, step %.4f s, real-time factor %s, %d robot(s), %zu plugin(s)%s",
              sim_->world().name.c_str(), world_file.c_str(), engine_name_.c_str(), sim_->stepS(),
-             real_time_factor_ > 0 ? std::to_string(real_time_factor_).c_str() : "unlimited", sim_->robotCount(),
-             plugins_.size(), paused_ ? ", paused" : "");
+             lockstep_               ? "lock-step (as fast as the nodes answer)"
+             : real_time_factor_ > 0 ? std::to_string(real_time_factor_).c_str()
+                                     : "unlimited",
+             sim_->robotCount(), plugins_.size(), paused_ ? ", paused" : "");
   }
 
   // --- SimHost: what the Gazebo interface asks of the node ---
@@ -168,6 +245,7 @@ class SimNode : public SimHost {
   void resetWorldNow() override {
     sim_->resetWorld();
     for (auto& p : plugins_) p.plugin->reset();
+    if (lockstep_) lockstep_->reset();
     ROS_INFO("conde_sim: world reset at t = %.3f s", sim_->timeS());
   }
 
@@ -222,12 +300,13 @@ class SimNode : public SimHost {
       }
       queue.callAvailable();
       loop_->update();
+      if (lockstep_) waitForAnswers(queue);
       if (pending_steps_ > 0 && --pending_steps_ == 0) finishStepRequest();
       if (max_sim_time_s_ > 0 && sim_->timeS() >= max_sim_time_s_ - 1e-9) {
         ROS_INFO("conde_sim: reached ~max_sim_time_s = %.3f s; stopping", max_sim_time_s_);
         break;
       }
-      if (real_time_factor_ > 0 && !paused_) {
+      if (real_time_factor_ > 0 && !paused_ && !lockstep_) {
         const auto target =
             wall_start + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
                              std::chrono::duration<double>((sim_->timeS() - sim_start_s) / real_time_factor_));
@@ -246,6 +325,7 @@ class SimNode : public SimHost {
         "peak RSS %.1f MB, CPU %.3f s (simulated seconds per CPU second %.1f)",
         simulated_s, wall_s, simulated_s / std::max(wall_s, 1e-9), usage.ru_maxrss / 1024.0, cpu_s,
         simulated_s / std::max(cpu_s, 1e-9));
+    if (lockstep_) reportLockstep();
   }
 
  private:
@@ -341,14 +421,98 @@ class SimNode : public SimHost {
     loop_->add(clock_hook_);
   }
 
-  // /clock after every plugin, at ~clock_rate_hz of simulated time.
+  // /clock after every plugin, at ~clock_rate_hz of simulated time; a lock-step trigger.
   struct ClockHook : StepHooks {
     SimNode* node = nullptr;
     UpdateTimer timer;
     void afterStep() override {
-      if (timer.due(node->sim_->stepCount())) node->publishClock();
+      if (!timer.due(node->sim_->stepCount())) return;
+      node->publishClock();
+      if (node->lockstep_) node->lockstep_->onMessage("/clock", node->sim_->timeS(), wallNowS());
     }
   };
+
+  // --- lock-step ---
+  void startLockstep() {
+    XmlRpc::XmlRpcValue config;
+    const std::string where = pnh_.resolveName("lockstep_config");
+    if (!pnh_.getParam("lockstep_config", config)) {
+      throw StartupError("~lockstep is true but " + where + " is not set (load the lock-step YAML there)");
+    }
+    lockstep_ = loadLockstepConfig(nh_, where, config);
+    lockstep_timeouts_pub_ = pnh_.advertise<std_msgs::UInt64>("lockstep_timeouts", 1, true);
+    publishLockstepTimeouts();
+    // Inputs the simulator publishes itself (camera images) are seen at once, after the step, by
+    // their publication's sequence number: roscpp leaves what is published in a queue that its
+    // poll thread sends (and numbers) later, so the loop sends that queue itself after each step
+    // (Publication::processPublishQueue) before it reads the number. A sensor publishes only while someone
+    // subscribes: an input nobody listens to owes nothing. Every other topic, of any type, is
+    // subscribed to (the node only counts messages), with long queues: no answer may be dropped.
+    for (const std::string& topic : lockstep_->topicsToWatch()) {
+      if (const ros::PublicationPtr publication = ros::TopicManager::instance()->lookupPublication(topic)) {
+        own_inputs_.push_back(OwnInput{topic, publication->getSequence()});
+        continue;
+      }
+      boost::function<void(const topic_tools::ShapeShifter::ConstPtr&)> callback =
+          [this, topic](const topic_tools::ShapeShifter::ConstPtr&) {
+            lockstep_->onMessage(topic, sim_->timeS(), wallNowS());
+          };
+      lockstep_subs_.push_back(nh_.subscribe<topic_tools::ShapeShifter>(topic, 1000, callback));
+    }
+    for (const LockstepRule& rule : lockstep_->rules()) {
+      std::string inputs;
+      for (const auto& t : rule.trigger_topics) inputs += (inputs.empty() ? "" : ", ") + t;
+      ROS_INFO("conde_sim: lock-step: %s answers %s%s%s", rule.answer_topic.c_str(), inputs.c_str(),
+               rule.rate_hz > 0 ? (" at " + std::to_string(rule.rate_hz) + " Hz").c_str() : "",
+               rule.wait_for_first_answer ? "" : " (once it has answered)");
+    }
+    ROS_INFO("conde_sim: lock-step: timeout %.3f s of wall time per frame; ~real_time_factor ignored",
+             lockstep_->timeoutS());
+  }
+
+  // After a step: serve callbacks (the triggers just published, the answers) until nothing is
+  // owed or the frame times out.
+  void waitForAnswers(ros::CallbackQueue& queue) {
+    for (OwnInput& input : own_inputs_) {
+      const ros::PublicationPtr publication = ros::TopicManager::instance()->lookupPublication(input.topic);
+      if (publication) publication->processPublishQueue();
+      const std::uint32_t sequence = publication ? publication->getSequence() : input.sequence;
+      if (sequence != input.sequence) lockstep_->onMessage(input.topic, sim_->timeS(), wallNowS());
+      input.sequence = sequence;
+    }
+    queue.callAvailable();
+    while (lockstep_->waiting() && ros::ok()) {
+      queue.callAvailable(ros::WallDuration(0.001));
+      const std::string missing = lockstep_->missing();
+      if (lockstep_->checkTimeout(wallNowS())) {
+        ROS_WARN_THROTTLE(
+            1.0,
+            "conde_sim: lock-step: no answer within %.3f s at t = %.3f s: %s; going on (%lu frames timed out so far)",
+            lockstep_->timeoutS(), sim_->timeS(), missing.c_str(),
+            static_cast<unsigned long>(lockstep_->timedOutFrames()));
+        publishLockstepTimeouts();
+      }
+    }
+  }
+
+  void publishLockstepTimeouts() {
+    std_msgs::UInt64 msg;
+    msg.data = lockstep_->timedOutFrames();
+    lockstep_timeouts_pub_.publish(msg);
+  }
+
+  void reportLockstep() {
+    ROS_INFO("conde_sim: lock-step: %lu frames waited for answers, %lu timed out (timeout %.3f s)",
+             static_cast<unsigned long>(lockstep_->frames()), static_cast<unsigned long>(lockstep_->timedOutFrames()),
+             lockstep_->timeoutS());
+    for (std::size_t i = 0; i < lockstep_->rules().size(); ++i) {
+      const LockstepRuleStats& s = lockstep_->stats(i);
+      ROS_INFO("conde_sim: lock-step: %s: %lu owed, %lu answered, %lu timed out, %lu unsolicited",
+               lockstep_->rules()[i].answer_topic.c_str(), static_cast<unsigned long>(s.triggers),
+               static_cast<unsigned long>(s.answered), static_cast<unsigned long>(s.timeouts),
+               static_cast<unsigned long>(s.unsolicited));
+    }
+  }
 
   void publishClock() {
     rosgraph_msgs::Clock clock;
@@ -475,6 +639,15 @@ class SimNode : public SimHost {
   double real_time_factor_ = 1.0, clock_rate_hz_ = 1000.0, max_sim_time_s_ = 0.0;
   std::unique_ptr<StepLoop> loop_;
   ClockHook clock_hook_;
+  bool lockstep_enabled_ = false;
+  std::unique_ptr<LockstepFrames> lockstep_;  // null without ~lockstep
+  std::vector<ros::Subscriber> lockstep_subs_;
+  struct OwnInput {
+    std::string topic;
+    std::uint32_t sequence;  // of its publication after the last step
+  };
+  std::vector<OwnInput> own_inputs_;  // inputs the simulator publishes (advertised at start-up)
+  ros::Publisher lockstep_timeouts_pub_;
   bool paused_ = false;
   std::uint64_t pending_steps_ = 0;
 
