@@ -46,6 +46,8 @@ namespace {
 // Boxes and cylinders keep their exact size (the margin is taken from inside); convex hulls
 // grow by it.
 constexpr double kShapeMargin_m = 0.001;
+// Contact points closer than this are reported by lastContacts() even without an impulse.
+constexpr double kTouching_m = 0.001;
 // Stand-ins for massless bodies of moving models [kg, kg m^2].
 constexpr double kTinyMass_kg = 1e-3;
 constexpr double kTinyInertia_kgm2 = 1e-6;
@@ -428,7 +430,9 @@ class BulletEngine : public PhysicsEngine {
       if (side0 == sides_.end() || side1 == sides_.end()) continue;
       for (int p = 0; p < manifold->getNumContacts(); ++p) {
         const btManifoldPoint& pt = manifold->getContactPoint(p);
-        if (pt.getDistance() > 0.0 && pt.getAppliedImpulse() <= 0.0) continue;  // apart
+        // Manifolds keep points up to 2 cm apart; a body resting against another without pushing
+        // stays a hair apart (no impulse), so points within kTouching_m count as touching.
+        if (pt.getDistance() > kTouching_m && pt.getAppliedImpulse() <= 0.0) continue;  // apart
         Contact c;
         c.a = side0->second;
         c.b = side1->second;
