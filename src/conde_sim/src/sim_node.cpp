@@ -14,6 +14,8 @@
 //                      (~robots: [] starts with no robot, as gazebo_ros/empty_world.launch)
 //   ~gazebo_namespace  namespace of Gazebo's services and topics (gazebo_api.h)  [/gazebo]
 //   ~gazebo_states_rate_hz  <ns>/model_states and link_states per simulated second  [100]
+//   ~contacts_rate_hz  ~contacts (gazebo_msgs/ContactsState: robots against world objects and
+//                      robots, not the ground; contacts.h) per simulated second, while subscribed  [50]
 // Services: ~pause_physics, ~unpause_physics, ~reset_world (std_srvs/Empty),
 //           ~step (conde_msgs/StepSimulation), ~set_start_pose (conde_msgs/SetStartPose);
 //           Gazebo's under ~gazebo_namespace (gazebo_api.h). When the node is named like that
@@ -38,6 +40,7 @@
 #include <sstream>
 #include <thread>
 
+#include "conde_sim/contacts.h"
 #include "conde_sim/plugin_loader.h"
 #include "conde_sim/simulation.h"
 #include "conde_sim/step_loop.h"
@@ -107,6 +110,8 @@ class SimNode : public SimHost {
       for (auto& plugin : loadPlugins(r)) plugins_.push_back(std::move(plugin));
     }
     world_displays_ = std::make_unique<WorldDisplays>(nh_, *sim_);
+    // ~contacts: robots against world objects and robots, only while subscribed (contacts.h).
+    contacts_ = std::make_unique<ContactsPublisher>(pnh_, "contacts", *sim_, pnh_.param("contacts_rate_hz", 50.0));
     loop_ = std::make_unique<StepLoop>(*sim_);
     clock_hook_.timer = UpdateTimer(clock_rate_hz_, sim_->stepS());
     clock_hook_.node = this;
@@ -338,6 +343,7 @@ class SimNode : public SimHost {
     loop_->clear();
     for (auto& p : plugins_) loop_->add(*p.plugin);
     loop_->add(*gazebo_);
+    loop_->add(*contacts_);
     loop_->add(clock_hook_);
   }
 
@@ -468,6 +474,7 @@ class SimNode : public SimHost {
   tf2_ros::StaticTransformBroadcaster static_tf_;
   std::unique_ptr<Simulation> sim_;
   std::unique_ptr<WorldDisplays> world_displays_;
+  std::unique_ptr<ContactsPublisher> contacts_;
   std::vector<LoadedPlugin> plugins_;
   std::unique_ptr<GazeboApi> gazebo_;
   std::string engine_name_, gazebo_ns_;
