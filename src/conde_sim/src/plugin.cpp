@@ -27,6 +27,7 @@ const std::map<std::string, PluginFactory>& pluginRegistry() {
       {"libgazebo_ros_gpu_laser.so", makeLaserPlugin},
       {"libgazebo_ros_control.so", makeRosControlPlugin},
       {"libconde_ackermann_drive.so", makeAckermannDrivePlugin},
+      {"libgazebo_ros_bumper.so", makeBumperPlugin},
   };
   return registry;
 }

@@ -17,6 +17,8 @@
 //   ~lockstep          wait, after each step, for the answers of the nodes listed in
 //                      ~lockstep_config (lockstep_frames.h); no real-time pacing   [false]
 //   ~lockstep_config   {timeout_s, rules: [{answer, inputs, rate_hz, wait_for_first_answer}]}
+//   ~contacts_rate_hz  ~contacts (gazebo_msgs/ContactsState: robots against world objects and
+//                      robots, not the ground; contacts.h) per simulated second, while subscribed  [50]
 // Topics: ~lockstep_timeouts (std_msgs/UInt64, latched): frames given up at the lock-step timeout.
 // Services: ~pause_physics, ~unpause_physics, ~reset_world (std_srvs/Empty),
 //           ~step (conde_msgs/StepSimulation), ~set_start_pose (conde_msgs/SetStartPose);
@@ -46,6 +48,7 @@
 #include <sstream>
 #include <thread>
 
+#include "conde_sim/contacts.h"
 #include "conde_sim/lockstep_frames.h"
 #include "conde_sim/plugin_loader.h"
 #include "conde_sim/simulation.h"
@@ -181,6 +184,8 @@ class SimNode : public SimHost {
       for (auto& plugin : loadPlugins(r)) plugins_.push_back(std::move(plugin));
     }
     world_displays_ = std::make_unique<WorldDisplays>(nh_, *sim_);
+    // ~contacts: robots against world objects and robots, only while subscribed (contacts.h).
+    contacts_ = std::make_unique<ContactsPublisher>(pnh_, "contacts", *sim_, pnh_.param("contacts_rate_hz", 50.0));
     loop_ = std::make_unique<StepLoop>(*sim_);
     clock_hook_.timer = UpdateTimer(clock_rate_hz_, sim_->stepS());
     clock_hook_.node = this;
@@ -418,6 +423,7 @@ class SimNode : public SimHost {
     loop_->clear();
     for (auto& p : plugins_) loop_->add(*p.plugin);
     loop_->add(*gazebo_);
+    loop_->add(*contacts_);
     loop_->add(clock_hook_);
   }
 
@@ -632,6 +638,7 @@ class SimNode : public SimHost {
   tf2_ros::StaticTransformBroadcaster static_tf_;
   std::unique_ptr<Simulation> sim_;
   std::unique_ptr<WorldDisplays> world_displays_;
+  std::unique_ptr<ContactsPublisher> contacts_;
   std::vector<LoadedPlugin> plugins_;
   std::unique_ptr<GazeboApi> gazebo_;
   std::string engine_name_, gazebo_ns_;

@@ -21,11 +21,13 @@ void Simulation::buildWorld() {
   engine_->addGroundPlane(world_.ground.friction);
   object_model_ids_.assign(world_.objects.size(), -1);
   object_models_.assign(world_.objects.size(), cp::ArticulatedModel());
+  static_shape_objects_.clear();
   for (size_t i = 0; i < world_.objects.size(); ++i) {
     const cp::WorldObject& object = world_.objects[i];
     if (!object.collision) continue;  // visual only
     if (object.is_static) {
       engine_->addStaticShape(cp::collisionShapeOf(object), object.pose, object.friction);
+      static_shape_objects_.push_back(static_cast<int>(i));
     } else {
       object_models_[i] = cp::modelOfDynamicObject(object);
       object_model_ids_[i] = engine_->addModel(object_models_[i], object.pose);
@@ -54,6 +56,26 @@ int Simulation::addRobot(const RobotSpec& spec, std::vector<std::string>* warnin
 }
 
 void Simulation::resetWorld() { buildWorld(); }
+
+Simulation::ContactOwner Simulation::contactOwner(const cp::ContactSide& side) const {
+  ContactOwner owner;
+  if (side.model < 0) {
+    if (side.static_shape >= 0 && side.static_shape < static_cast<int>(static_shape_objects_.size()))
+      owner.object = static_shape_objects_[side.static_shape];
+    return owner;
+  }
+  for (int r = 0; r < robotCount(); ++r) {
+    if (!robots_[r].removed && robots_[r].id == side.model) {
+      owner.robot = r;
+      owner.body = side.body;
+      return owner;
+    }
+  }
+  for (size_t i = 0; i < object_model_ids_.size(); ++i) {
+    if (object_model_ids_[i] == side.model) owner.object = static_cast<int>(i);
+  }
+  return owner;
+}
 
 void Simulation::removeRobot(int robot) {
   Robot& r = robots_.at(robot);

@@ -31,6 +31,25 @@ struct RayHit {
   double distance_m = 0.0;  // from the ray origin; max range when no hit
 };
 
+// One side of a contact: a body of a model, a static shape, or the ground plane.
+struct ContactSide {
+  ModelId model = -1;     // >= 0: body `body` of this model; -1: the static world
+  int body = -1;          // body index within the model (model >= 0)
+  int static_shape = -1;  // model == -1: index of the static shape in addStaticShape order; -1: ground
+  bool isGround() const { return model < 0 && static_shape < 0; }
+};
+
+// One contact point found in the last step. `normal` (unit, world) points from b towards a:
+// a is pushed along +normal, b along -normal.
+struct Contact {
+  ContactSide a, b;
+  Vec3 position_m;         // world
+  Vec3 normal;             // world, unit, from b towards a
+  double depth_m = 0.0;    // penetration, >= 0
+  Vec3 force_on_a_N;       // contact force on a during the step (world); b gets the opposite
+  bool has_force = false;  // false when the backend could not tell
+};
+
 class PhysicsEngine {
  public:
   virtual ~PhysicsEngine() = default;
@@ -50,6 +69,10 @@ class PhysicsEngine {
 
   // Advances the world by settings().step_s.
   virtual void step() = 0;
+
+  // The contact points of the last step() (pairs touching or penetrating; empty before the
+  // first step). Pairs of one model never appear. Valid until the next step() or removeModel().
+  const std::vector<Contact>& lastContacts() const { return last_contacts_; }
 
   // Link frame of body `body` of a model, in world coordinates.
   virtual Pose bodyPose(ModelId model, int body) const = 0;
@@ -85,7 +108,9 @@ class PhysicsEngine {
  protected:
   explicit PhysicsEngine(const PhysicsSettings& settings) : settings_(settings) {}
   PhysicsSettings settings_;
-  RayScene ray_scene_;  // every backend registers its ground plane, static shapes and models here
+  RayScene ray_scene_;                  // every backend registers its ground plane, static shapes and models here
+  std::vector<Contact> last_contacts_;  // every backend fills it in step()
+  int static_shape_count_ = 0;          // every backend counts addStaticShape calls (ContactSide)
 };
 
 // Names accepted by createPhysicsEngine, in the order they are documented.

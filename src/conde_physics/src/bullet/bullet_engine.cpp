@@ -34,6 +34,7 @@
 #include <cmath>
 #include <deque>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include "conde_physics/tyre.h"
@@ -45,6 +46,8 @@ namespace {
 // Boxes and cylinders keep their exact size (the margin is taken from inside); convex hulls
 // grow by it.
 constexpr double kShapeMargin_m = 0.001;
+// Contact points closer than this are reported by lastContacts() even without an impulse.
+constexpr double kTouching_m = 0.001;
 // Stand-ins for massless bodies of moving models [kg, kg m^2].
 constexpr double kTinyMass_kg = 1e-3;
 constexpr double kTinyInertia_kgm2 = 1e-6;
@@ -221,16 +224,17 @@ class BulletEngine : public PhysicsEngine {
     const SurfaceParams* s = keepSurface(surface);
     btCollisionShape* shape = keepShape(std::make_unique<btStaticPlaneShape>(btVector3(0, 0, 1), 0.0));
     shape->setUserPointer(const_cast<SurfaceParams*>(s));
-    addRigidBody(0.0, btVector3(0, 0, 0), shape, btTransform::getIdentity(), -1, s, true);
+    sides_[addRigidBody(0.0, btVector3(0, 0, 0), shape, btTransform::getIdentity(), -1, s, true)] = ContactSide{};
     ray_scene_.addGroundPlane();
   }
 
   void addStaticShape(const Shape& shape, const Pose& world_pose, const SurfaceParams& surface) override {
     const SurfaceParams* s = keepSurface(surface);
     btCollisionShape* bt_shape = makeShape(shape, /*dynamic=*/false);
+    const int index = static_shape_count_++;  // counted even when nothing collides, as in ODE
     if (bt_shape == nullptr) return;
     bt_shape->setUserPointer(const_cast<SurfaceParams*>(s));
-    addRigidBody(0.0, btVector3(0, 0, 0), bt_shape, toBt(world_pose), -1, s, true);
+    sides_[addRigidBody(0.0, btVector3(0, 0, 0), bt_shape, toBt(world_pose), -1, s, true)] = ContactSide{-1, -1, index};
     ray_scene_.addStatic(shape, world_pose);
   }
 
@@ -274,6 +278,7 @@ class BulletEngine : public PhysicsEngine {
       if (!collides) shape = keepShape(std::make_unique<btEmptyShape>());
       const btTransform com_world = toBt(root_pose * spec.initial_pose_in_model * spec.inertial_frame);
       body.rb = addRigidBody(mass_kg, inertia_kgm2, shape, com_world, id, fallback, collides);
+      sides_[body.rb] = ContactSide{id, static_cast<int>(i), -1};
     }
 
     m->joints.resize(model.joints.size());
@@ -338,7 +343,11 @@ class BulletEngine : public PhysicsEngine {
       if (joint.hinge) world_->removeConstraint(joint.hinge);
       if (joint.slider) world_->removeConstraint(joint.slider);
     }
-    for (const Body& body : m.bodies) world_->removeRigidBody(body.rb);
+    for (const Body& body : m.bodies) {
+      world_->removeRigidBody(body.rb);
+      sides_.erase(body.rb);
+    }
+    last_contacts_.clear();
     models_[model].reset();
     ray_scene_.removeModel(model);
   }
@@ -349,6 +358,7 @@ class BulletEngine : public PhysicsEngine {
       if (m)
         for (Joint& joint : m->joints) applyJointEfforts(joint, dt_s);
     world_->stepSimulation(dt_s, 0, dt_s);  // exactly one internal step; clears applied forces
+    collectContacts(dt_s);
     for (auto& m : models_)
       if (m)
         for (Joint& joint : m->joints) updatePosition(joint);
@@ -408,6 +418,37 @@ class BulletEngine : public PhysicsEngine {
   }
 
  private:
+  // The manifolds' points that touch or carried an impulse this step. Bullet's normal on B
+  // points from B towards A, and the solver's impulses act on A along the normal and friction
+  // directions, as Contact wants for a = body 0, b = body 1.
+  void collectContacts(double dt_s) {
+    last_contacts_.clear();
+    for (int m = 0; m < dispatcher_->getNumManifolds(); ++m) {
+      const btPersistentManifold* manifold = dispatcher_->getManifoldByIndexInternal(m);
+      const auto side0 = sides_.find(manifold->getBody0());
+      const auto side1 = sides_.find(manifold->getBody1());
+      if (side0 == sides_.end() || side1 == sides_.end()) continue;
+      for (int p = 0; p < manifold->getNumContacts(); ++p) {
+        const btManifoldPoint& pt = manifold->getContactPoint(p);
+        // Manifolds keep points up to 2 cm apart; a body resting against another without pushing
+        // stays a hair apart (no impulse), so points within kTouching_m count as touching.
+        if (pt.getDistance() > kTouching_m && pt.getAppliedImpulse() <= 0.0) continue;  // apart
+        Contact c;
+        c.a = side0->second;
+        c.b = side1->second;
+        c.position_m = fromBt((pt.getPositionWorldOnA() + pt.getPositionWorldOnB()) * 0.5);
+        c.normal = fromBt(pt.m_normalWorldOnB);
+        c.depth_m = std::max(0.0, -static_cast<double>(pt.getDistance()));
+        const btVector3 impulse = pt.m_normalWorldOnB * pt.getAppliedImpulse() +
+                                  pt.m_lateralFrictionDir1 * pt.m_appliedImpulseLateral1 +
+                                  pt.m_lateralFrictionDir2 * pt.m_appliedImpulseLateral2;
+        c.force_on_a_N = fromBt(impulse / dt_s);
+        c.has_force = true;
+        last_contacts_.push_back(c);
+      }
+    }
+  }
+
   // ---- construction helpers ----
 
   const SurfaceParams* keepSurface(const SurfaceParams& s) {
@@ -664,6 +705,7 @@ class BulletEngine : public PhysicsEngine {
   std::unique_ptr<btSequentialImpulseConstraintSolver> solver_;
   std::unique_ptr<WorldWithoutCcd> world_;
   std::vector<std::unique_ptr<Model>> models_;
+  std::unordered_map<const btCollisionObject*, ContactSide> sides_;  // who each object is
 };
 
 }  // namespace

@@ -67,7 +67,9 @@ bool finitePositive(double v) { return std::isfinite(v) && v > 0.0; }
 
 // Owned by the engine; every geom's user data points at one (stable address in a deque).
 struct GeomInfo {
-  ModelId model = -1;  // -1: static world
+  ModelId model = -1;     // -1: static world
+  int body = -1;          // body index in the model (model >= 0)
+  int static_shape = -1;  // static world: addStaticShape index, -1 for the ground plane
   SurfaceParams surface;
   bool tyre = false;  // a wheel's cylinder (tyre.h): one rounded-tread contact on planes
   double tyre_radius_m = 0.0, tyre_width_m = 0.0;
@@ -155,6 +157,9 @@ class OdeEngine final : public PhysicsEngine {
   unsigned long rand_seed_ = 0;  // this engine's QuickStep shuffle seed
   int max_contacts_per_pair_ = 1;
   std::vector<dContact> contacts_;  // dCollide output, max_contacts_per_pair_ long
+  // The step's contact joints' feedback (stable addresses), one per entry of last_contacts_.
+  std::deque<dJointFeedback> feedback_;
+  std::vector<char> feedback_reversed_;  // the joint's first body is b's (a has no body)
   std::deque<GeomInfo> geom_infos_;
   std::vector<std::unique_ptr<MeshStore>> meshes_;
   std::vector<ModelState> models_;
@@ -271,7 +276,7 @@ void OdeEngine::addStaticShape(const Shape& shape, const Pose& world_pose, const
   dQuaternion q;
   toOde(world_pose.orientation, q);
   dGeomSetQuaternion(geom, q);
-  registerGeom(geom, -1, surface, static_space_);
+  registerGeom(geom, -1, surface, static_space_).static_shape = static_shape_count_++;
   ray_scene_.addStatic(shape, world_pose);
 }
 
@@ -327,6 +332,7 @@ ModelId OdeEngine::addModel(const ArticulatedModel& model, const Pose& root_pose
       toOde(offset.orientation, oq);
       dGeomSetOffsetQuaternion(geom, oq);
       GeomInfo& info = registerGeom(geom, id, collision.surface, kinematic ? static_space_ : model_space);
+      info.body = static_cast<int>(state.bodies.size());
       if (kinematic) state.static_geoms.push_back(geom);
       if (!kinematic && isWheelCollision(model, b, collision) &&
           canBeTyre(collision.shape.radius_m, collision.shape.length_m)) {
@@ -384,6 +390,7 @@ void OdeEngine::removeModel(ModelId model) {
   modelAt(model);  // validates
   std::lock_guard<std::mutex> lock(odeGlobalStateMutex());
   ModelState& m = models_[static_cast<size_t>(model)];
+  last_contacts_.clear();
   for (size_t j = 0; j < m.joint_count; ++j) {
     JointState& joint = joints_[m.first_joint + j];
     dJointDestroy(joint.id);
@@ -516,10 +523,23 @@ void OdeEngine::collidePair(dGeomID a, dGeomID b) {
   }
 
   dBodyID body_a = dGeomGetBody(a), body_b = dGeomGetBody(b);
+  const ContactSide side_a{info_a->model, info_a->body, info_a->static_shape};
+  const ContactSide side_b{info_b->model, info_b->body, info_b->static_shape};
   for (int i = 0; i < count; ++i) {
     contacts_[i].surface = surface;
     dJointID contact = dJointCreateContact(world_, contact_group_, &contacts_[i]);
     dJointAttach(contact, body_a, body_b);
+    feedback_.emplace_back();
+    dJointSetFeedback(contact, &feedback_.back());
+    feedback_reversed_.push_back(body_a == nullptr);
+    const dContactGeom& g = contacts_[i].geom;
+    Contact c;
+    c.a = side_a;
+    c.b = side_b;
+    c.position_m = toVec3(g.pos);
+    c.normal = toVec3(g.normal);  // ODE: g1 (a) moves along +normal
+    c.depth_m = std::max(0.0, static_cast<double>(g.depth));
+    last_contacts_.push_back(c);
   }
 }
 
@@ -540,12 +560,22 @@ void OdeEngine::step() {
       if (effort != 0.0) dJointAddSliderForce(j.id, effort);
     }
   }
+  last_contacts_.clear();
+  feedback_.clear();
+  feedback_reversed_.clear();
   dSpaceCollide(dynamic_space_, this, &OdeEngine::nearCallback);  // model x model
   dSpaceCollide2(reinterpret_cast<dGeomID>(dynamic_space_), reinterpret_cast<dGeomID>(static_space_), this,
                  &OdeEngine::nearCallback);
   dRandSetSeed(rand_seed_);
   dWorldQuickStep(world_, settings_.step_s);
   rand_seed_ = dRandGetSeed();
+  // The joint's first body is a's when a has one; otherwise ODE attached b first (reversed).
+  for (size_t i = 0; i < last_contacts_.size(); ++i) {
+    Contact& c = last_contacts_[i];
+    const Vec3 f1 = toVec3(feedback_[i].f1);
+    c.force_on_a_N = feedback_reversed_[i] ? Vec3(-f1.x, -f1.y, -f1.z) : f1;
+    c.has_force = true;
+  }
   dJointGroupEmpty(contact_group_);
 
   // Count hinge revolutions: ODE's angle wraps at ±pi; assumes < pi rad per step.

@@ -20,9 +20,11 @@ What is judged (thresholds and penalties from the rules file, rules.py):
   crosswalk while "stop" is shown, or after "end of trial", with the robot's reference point
   outside the immobilisation zone (its lane, from stop_zone_depth_m before the crosswalk's near
   edge to 0.25 m past it);
-- collisions: the footprint overlapping an object's footprint (boxes, cones, tunnel walls; sign
-  faces and the tunnel roof only when lower than the robot's top). Geometric, against the objects'
-  start poses: the simulator has no contacts topic yet, and an object pushed away is not followed;
+- collisions: from the simulator's contacts (on_contacts: the objects the robot touches) once any
+  contacts arrive; until then (and without a contacts topic) geometric: the footprint overlapping
+  an object's footprint (boxes, cones, tunnel walls; sign faces and the tunnel roof only when lower
+  than the robot's top), against the objects' start poses (an object pushed away is not followed).
+  The report's collision_source says which ("contacts" or "geometric");
 - wrong branch: at a loop's gate, the sense in which the loop is driven tells which way the robot
   went at the fork; a left/right order asks for the
   branch if the fork opens to that side (north fork: left; south fork: right), else for straight on.
@@ -90,6 +92,7 @@ class Referee:
         self.touching = False
         self.touching_parking = False
         self.colliding = set()
+        self.contacts_seen = False  # True once on_contacts was called: contacts replace geometry
         self.anchor = None
         self.still_since = 0.0
         self.standstill_judged = False
@@ -131,6 +134,21 @@ class Referee:
             return self._give(t_s, "sign_right", x, y, "sign %d: %s" % (i + 1, sign), penalty=0.0)
         return self._give(t_s, "sign_wrong", x, y, "sign %d: reported %r, it shows %r" % (i + 1, sign, truth))
 
+    def on_contacts(self, t_s: float, touching) -> List[Event]:
+        """The names of what the robot touches at t_s (world objects, other robots; never the
+        ground), e.g. from /conde_sim/contacts. From the first call on, collisions are judged from
+        these instead of geometrically; one event per object each time it starts being touched."""
+        self.contacts_seen = True
+        if self.over or not self.path:
+            return []
+        before = len(self.events)
+        _, x, y, _ = self.path[-1]
+        now = set(touching)
+        for name in sorted(now - self.colliding):
+            self._give(t_s, "collision", x, y, name, key="collision:" + name)
+        self.colliding = now
+        return self.events[before:]
+
     def on_pose(self, t_s: float, x: float, y: float, yaw: float) -> List[Event]:
         if self.over:
             return []
@@ -151,7 +169,8 @@ class Referee:
             self.disqualified, self.over = True, "left the road"
             return self.events[before:]
         self._lines(t_s, x, y, samples)
-        self._collisions(t_s, x, y, yaw)
+        if not self.contacts_seen:
+            self._collisions(t_s, x, y, yaw)
         if prev is not None:
             self._gates(t_s, prev[1], prev[2], x, y)
         self._standstill(t_s, x, y, samples)
@@ -338,6 +357,7 @@ class Referee:
             "end": self.over, "laps": self.half_laps // 2, "half_laps": self.half_laps,
             "driving_time_s": None if driving_s is None else round(driving_s, 3),
             "parked": self.parked, "signs_right": self.signs_right,
+            "collision_source": "contacts" if self.contacts_seen else "geometric",
             "footprint_m": [self.footprint.x_min_m, self.footprint.x_max_m, self.footprint.y_min_m,
                             self.footprint.y_max_m],
             "events": [e.to_dict() for e in self.events],

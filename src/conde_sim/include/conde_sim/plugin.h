@@ -79,5 +79,6 @@ std::unique_ptr<SimPlugin> makeVideoPlugin();
 std::unique_ptr<SimPlugin> makeLaserPlugin();
 std::unique_ptr<SimPlugin> makeRosControlPlugin();
 std::unique_ptr<SimPlugin> makeAckermannDrivePlugin();
+std::unique_ptr<SimPlugin> makeBumperPlugin();
 
 }  // namespace conde_sim

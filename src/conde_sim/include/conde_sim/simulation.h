@@ -100,6 +100,15 @@ class Simulation {
   void addLinkWrench(const ModelRef& model, const std::string& link, const conde_physics::Vec3& force_N,
                      const conde_physics::Vec3& torque_Nm, const conde_physics::Vec3& point_world);
 
+  // Who one side of a physics contact (PhysicsEngine::lastContacts()) is: a robot's body, a
+  // world object (static or dynamic, index into world().objects), or the ground (neither).
+  struct ContactOwner {
+    int robot = -1, body = -1;  // robot index and body index in its model
+    int object = -1;            // world object index
+    bool ground() const { return robot < 0 && object < 0; }
+  };
+  ContactOwner contactOwner(const conde_physics::ContactSide& side) const;
+
   // What cameras see: the world's ground and objects (object i of the world file is scene
   // object i) and every robot's collision shapes (group = robot index; meshes as their bounding
   // boxes). Built on first use; poses follow the physics, synced at most once per step.
@@ -129,6 +138,7 @@ class Simulation {
 
   std::vector<conde_physics::ModelId> object_model_ids_;        // per world object; -1 = static
   std::vector<conde_physics::ArticulatedModel> object_models_;  // per world object; empty for static ones
+  std::vector<int> static_shape_objects_;                       // world object of each static shape
   std::uint64_t step_count_ = 0;
 
   std::unique_ptr<conde_physics::RenderScene> render_scene_;
