@@ -9,7 +9,7 @@ from gazebo_msgs.msg import ContactsState, ModelState
 from gazebo_msgs.srv import ApplyBodyWrench, BodyRequest, GetModelState, SetModelState
 from geometry_msgs.msg import Wrench
 
-from stepped_sim import Latest, SteppedSim, connected
+from stepped_sim import Latest, SteppedSim
 
 ROBOT_LINK = "bot::base_link"
 
@@ -23,10 +23,8 @@ class ContactsTest(unittest.TestCase):
     def setUpClass(cls):
         rospy.init_node("contacts_test")
         cls.sim = SteppedSim()
-        cls.bumper = Latest("/bot/bumper", ContactsState)
-        cls.contacts = Latest("/conde_sim/contacts", ContactsState)
-        connected(cls.bumper.sub, "/bot/bumper")
-        connected(cls.contacts.sub, "/conde_sim/contacts")
+        cls.bumper = Latest.connected("/bot/bumper", ContactsState)
+        cls.contacts = Latest.connected("/conde_sim/contacts", ContactsState)
         rospy.wait_for_service("/gazebo/set_model_state", timeout=60)
         cls.set_state = rospy.ServiceProxy("/gazebo/set_model_state", SetModelState)
         cls.get_state = rospy.ServiceProxy("/gazebo/get_model_state", GetModelState)

@@ -8,7 +8,7 @@ import rostest
 from nav_msgs.msg import Odometry
 from sensor_msgs.msg import Imu
 
-from stepped_sim import Latest, SteppedSim, connected
+from stepped_sim import Latest, SteppedSim
 
 NOISE_STDDEV = 0.05  # imu_noise in imu.test
 
@@ -28,10 +28,8 @@ class ImuNoiseTest(unittest.TestCase):
     def setUpClass(cls):
         rospy.init_node("imu_test")
         cls.sim = SteppedSim()
-        cls.imu = Latest("/imu", Imu)
-        cls.truth = Latest("/ground_truth/odom", Odometry)
-        connected(cls.imu.sub, "/imu")
-        connected(cls.truth.sub, "/ground_truth/odom")
+        cls.imu = Latest.connected("/imu", Imu)
+        cls.truth = Latest.connected("/ground_truth/odom", Odometry)
         cls.sim.step(1000)  # 100 IMU messages (100 Hz), 50 of the ground truth (Conde stands still)
         cls.sim.step_until(lambda: len(cls.imu.messages) >= 100, "100 IMU messages")
 

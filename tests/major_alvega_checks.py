@@ -86,13 +86,11 @@ class MajorAlvegaTest(unittest.TestCase):
         cls.steering_tolerance_rad, cls.radius_tolerance = TOLERANCES[cls.controllers]
         cls.sim = SteppedSim()
         cls.reset_world = rospy.ServiceProxy("/conde_sim/reset_world", Empty)
-        cls.truth = Latest("/odom_ground_truth", Odometry)
-        cls.joints = Latest("/joint_states", JointState)
+        cls.truth = Latest.connected("/odom_ground_truth", Odometry)
+        cls.joints = Latest.connected("/joint_states", JointState)
         cls.commands = {name: Latest(f"/{name}/command", Float64) for name in CONTROLLERS}
         cls.pub = rospy.Publisher("/ackermann_cmd", AckermannDriveStamped, queue_size=1)
         connected(cls.pub, "/ackermann_cmd (major_ackermann_controller)")
-        connected(cls.truth.sub, "/odom_ground_truth")
-        connected(cls.joints.sub, "/joint_states")
         for name, latest in cls.commands.items():
             connected(latest.sub, f"/{name}/command")
 

@@ -32,10 +32,8 @@ class NaoTest(unittest.TestCase):
     def setUpClass(cls):
         rospy.init_node('nao_checks')
         cls.sim = SteppedSim()
-        cls.joints = Latest('/joint_states', JointState)
-        cls.imu = Latest('/imu', Imu)
-        connected(cls.joints.sub, '/joint_states')
-        connected(cls.imu.sub, '/imu')
+        cls.joints = Latest.connected('/joint_states', JointState)
+        cls.imu = Latest.connected('/imu', Imu)
 
     def positions(self):
         state = self.joints.wait_until_stamped(self.sim.time_s, 0.02)

@@ -13,7 +13,7 @@ import yaml
 from sensor_msgs.msg import Imu, JointState
 from trajectory_msgs.msg import JointTrajectory, JointTrajectoryPoint
 
-from stepped_sim import Latest, SteppedSim, connected, send
+from stepped_sim import Latest, SteppedSim, send
 
 CONFIG_DIR = os.path.join(rospkg.RosPack().get_path('conde_humanoid'), 'config')
 
@@ -33,10 +33,8 @@ class NaoTrajectoryTest(unittest.TestCase):
     def setUpClass(cls):
         rospy.init_node('nao_trajectory_checks')
         cls.sim = SteppedSim()
-        cls.joints = Latest('/joint_states', JointState)
-        cls.imu = Latest('/imu', Imu)
-        connected(cls.joints.sub, '/joint_states')
-        connected(cls.imu.sub, '/imu')
+        cls.joints = Latest.connected('/joint_states', JointState)
+        cls.imu = Latest.connected('/imu', Imu)
 
     def positions(self):
         state = self.joints.wait_until_stamped(self.sim.time_s, 0.02)

@@ -36,10 +36,8 @@ class RosControlTest(unittest.TestCase):
         cls.sim = SteppedSim()
 
     def test_controllers_steer_and_drive_the_car(self):
-        joints = Latest("/joint_states", JointState)
-        truth = Latest("/ground_truth/odom", Odometry)
-        connected(joints.sub, "/joint_states")
-        connected(truth.sub, "/ground_truth/odom")
+        joints = Latest.connected("/joint_states", JointState)
+        truth = Latest.connected("/ground_truth/odom", Odometry)
         publishers = {name: rospy.Publisher(f"/{name}/command", Float64, queue_size=1)
                       for name in list(STEERING) + list(WHEELS)}
         for name, pub in publishers.items():

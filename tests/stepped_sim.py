@@ -77,6 +77,13 @@ class Latest:
         self.sub = rospy.Subscriber(topic, msg_type, self.messages.append, queue_size=100)
         self.topic = topic
 
+    @classmethod
+    def connected(cls, topic, msg_type):
+        """A Latest of the topic once its publisher has connected to it."""
+        latest = cls(topic, msg_type)
+        connected(latest.sub, topic)
+        return latest
+
     @property
     def last(self):
         return self.messages[-1] if self.messages else None
