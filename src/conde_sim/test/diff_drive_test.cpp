@@ -13,13 +13,9 @@ namespace cp = conde_physics;
 using conde_sim::DiffDrive;
 using conde_sim::Simulation;
 using conde_sim_test::addRobot;
+using conde_sim_test::condeUrdf;
 
 namespace {
-
-const std::string& condeUrdf() {
-  static const std::string urdf = conde_sim_test::xacroUrdf("urdf/robots/conde.urdf.xacro");
-  return urdf;
-}
 
 // A flat plane with the competition world's physics settings and ground friction (the track's
 // own objects would be in the way of the test manoeuvres).

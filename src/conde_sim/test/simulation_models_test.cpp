@@ -16,13 +16,9 @@ namespace cp = conde_physics;
 using conde_sim::ModelRef;
 using conde_sim::Simulation;
 using conde_sim_test::addRobot;
+using conde_sim_test::condeUrdf;
 
 namespace {
-
-const std::string& condeUrdf() {
-  static const std::string urdf = conde_sim_test::xacroUrdf("urdf/robots/conde.urdf.xacro");
-  return urdf;
-}
 
 // Flat ground, a static wall and a dynamic 1 kg crate.
 cp::WorldDescription crateWorld() {

@@ -41,6 +41,12 @@ inline const std::string& testCarUrdf() {
   return urdf;
 }
 
+// Conde (urdf/robots/conde.urdf.xacro) with its default arguments, expanded once.
+inline const std::string& condeUrdf() {
+  static const std::string urdf = xacroUrdf("urdf/robots/conde.urdf.xacro");
+  return urdf;
+}
+
 // Adds the robot `name` from `urdf` at `spawn_pose`; `source` names the description in messages.
 inline int addRobot(conde_sim::Simulation& sim, const std::string& name, const std::string& source,
                     const std::string& urdf, const conde_physics::Pose& spawn_pose = conde_physics::Pose()) {
