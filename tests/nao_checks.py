@@ -4,18 +4,14 @@ the standing pose, the joints reach it, the IMU says the torso is upright, and a
 HipYawPitch controller moves both hips (mimic_joints). The simulation is stepped."""
 import os
 import time
-import unittest
 
-import rospkg
 import rospy
 import rostest
-from sensor_msgs.msg import Imu, JointState
 from std_msgs.msg import Float64
 
 from conde_humanoid.poses import load_pose_commands
-from stepped_sim import Latest, SteppedSim, connected, send, wait_for
-
-CONFIG_DIR = os.path.join(rospkg.RosPack().get_path('conde_humanoid'), 'config')
+from nao_stepped import CONFIG_DIR, SteppedNaoTest
+from stepped_sim import Latest, connected, send, wait_for
 
 
 def stand_pose():
@@ -27,17 +23,8 @@ def stand_pose():
     return pose
 
 
-class NaoTest(unittest.TestCase):
-    @classmethod
-    def setUpClass(cls):
-        rospy.init_node('nao_checks')
-        cls.sim = SteppedSim()
-        cls.joints = Latest.connected('/joint_states', JointState)
-        cls.imu = Latest.connected('/imu', Imu)
-
-    def positions(self):
-        state = self.joints.wait_until_stamped(self.sim.time_s, 0.02)
-        return dict(zip(state.name, state.position))
+class NaoTest(SteppedNaoTest):
+    NODE_NAME = 'nao_checks'
 
     def test_1_stands_in_the_commanded_pose(self):
         # nao_pose publishes the pose once, latched: every controller's command must come out of it.

@@ -4,18 +4,14 @@ posture at 0 s, the standing pose at 1 s, no velocities: linear) is followed: ha
 at the pose after 1 s, RHipYawPitch following LHipYawPitch, and the torso upright after 3 s. The
 simulation is stepped."""
 import os
-import unittest
 
-import rospkg
 import rospy
 import rostest
 import yaml
-from sensor_msgs.msg import Imu, JointState
 from trajectory_msgs.msg import JointTrajectory, JointTrajectoryPoint
 
-from stepped_sim import Latest, SteppedSim, send
-
-CONFIG_DIR = os.path.join(rospkg.RosPack().get_path('conde_humanoid'), 'config')
+from nao_stepped import CONFIG_DIR, SteppedNaoTest
+from stepped_sim import send
 
 
 def controller_config():
@@ -28,17 +24,8 @@ def stand_pose():
         return yaml.safe_load(f)['stand']
 
 
-class NaoTrajectoryTest(unittest.TestCase):
-    @classmethod
-    def setUpClass(cls):
-        rospy.init_node('nao_trajectory_checks')
-        cls.sim = SteppedSim()
-        cls.joints = Latest.connected('/joint_states', JointState)
-        cls.imu = Latest.connected('/imu', Imu)
-
-    def positions(self):
-        state = self.joints.wait_until_stamped(self.sim.time_s, 0.02)
-        return dict(zip(state.name, state.position))
+class NaoTrajectoryTest(SteppedNaoTest):
+    NODE_NAME = 'nao_trajectory_checks'
 
     def test_follows_a_trajectory_to_the_standing_pose(self):
         joints = controller_config()['joints']
