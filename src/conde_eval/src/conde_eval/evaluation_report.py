@@ -45,31 +45,40 @@ def real_mean_m(distance_m):
     return sum(real) / 2 if real else None
 
 
-def straight_rows(rows):
-    """{commanded_m: [travelled_m, ...]} of the straight runs driven by distance reference."""
+def runs_by(rows, kind, key, value):
+    """{round(row[key], 6): [row[value], ...]} of the rows of one kind ("straight", "square")."""
     out = {}
     for r in rows:
-        if r["kind"] == "straight":
-            out.setdefault(round(r["commanded_m"], 6), []).append(r["travelled_m"])
+        if r["kind"] == kind:
+            out.setdefault(round(r[key], 6), []).append(r[value])
     return out
+
+
+def straight_rows(rows):
+    """{commanded_m: [travelled_m, ...]} of the straight runs driven by distance reference."""
+    return runs_by(rows, "straight", "commanded_m", "travelled_m")
 
 
 def square_rows(rows):
     """{speed_mps: [closing_error_m, ...]}."""
-    out = {}
-    for r in rows:
-        if r["kind"] == "square":
-            out.setdefault(round(r["speed_mps"], 6), []).append(r["closing_error_m"])
-    return out
+    return runs_by(rows, "square", "speed_mps", "closing_error_m")
+
+
+def _table_row(cells):
+    return "| " + " | ".join(cells) + " |"
+
+
+def _table_head(names):
+    """The header and separator lines of a Markdown table with these column names."""
+    return [_table_row(names), "|---" * len(names) + "|"]
 
 
 def straight_table(odometry_by_column):
     """Markdown: one line per commanded distance; columns real, paper's Gazebo, then one per
     simulator column ({column name: rows of odometry_test_node})."""
     cols = list(odometry_by_column)
-    head = ("| commanded | real robot (paper) | paper's Gazebo (error vs real) | "
-            + " | ".join(f"{c} (error vs real)" for c in cols) + " |")
-    lines = [head, "|---" * (3 + len(cols)) + "|"]
+    lines = _table_head(["commanded", "real robot (paper)", "paper's Gazebo (error vs real)"]
+                        + [f"{c} (error vs real)" for c in cols])
     distances = sorted(set(PAPER_STRAIGHT_REAL_M) | {d for rows in odometry_by_column.values()
                                                      for d in straight_rows(rows)})
     for d in distances:
@@ -88,34 +97,32 @@ def straight_table(odometry_by_column):
             mean = float(np.mean(runs))
             err = f"{100 * (mean - real_mean) / real_mean:+.2f} %" if real_mean else "-"
             cells.append(f"{_range(runs)} m, n={len(runs)} ({err})")
-        lines.append("| " + " | ".join(cells) + " |")
+        lines.append(_table_row(cells))
     return "\n".join(lines)
 
 
 def square_table(odometry_by_column):
     cols = list(odometry_by_column)
-    lines = ["| square (1 m, 1 rad/s turns) | real robot (paper) | paper's Gazebo | " + " | ".join(cols) + " |",
-             "|---" * (3 + len(cols)) + "|"]
+    lines = _table_head(["square (1 m, 1 rad/s turns)", "real robot (paper)", "paper's Gazebo"] + cols)
     speeds = sorted({v for rows in odometry_by_column.values() for v in square_rows(rows)} or {0.3, 0.5})
     for v in speeds:
         cells = [f"{v:g} m/s", f"{_range(PAPER_SQUARE_REAL_M)} m (both speeds)", "not in our notes"]
         for c in cols:
             runs = square_rows(odometry_by_column[c]).get(v, [])
             cells.append(f"{_range(runs)} m, n={len(runs)}" if runs else "not run")
-        lines.append("| " + " | ".join(cells) + " |")
+        lines.append(_table_row(cells))
     return "\n".join(lines)
 
 
 def semaphore_table(semaphore_by_engine):
     cols = list(semaphore_by_engine)
-    lines = ["| semaphore recognition | real robot (paper) | paper's Gazebo | " + " | ".join(cols) + " |",
-             "|---" * (3 + len(cols)) + "|"]
+    lines = _table_head(["semaphore recognition", "real robot (paper)", "paper's Gazebo"] + cols)
     cells = ["accuracy", f"{PAPER_SEMAPHORE['accuracy_pct']:.2f} % of {PAPER_SEMAPHORE['images']} images (*)",
              "(*)"]
     for c in cols:
         r = semaphore_by_engine[c]
         cells.append(f"{100.0 * r['correct'] / r['samples']:.2f} % of {r['samples']} images" if r else "not run")
-    lines.append("| " + " | ".join(cells) + " |")
+    lines.append(_table_row(cells))
     lines.append("")
     lines.append("(*) The paper reports one figure, 99.37 % of 700 images; our notes do not say whether those "
                  "images came from the real robot's camera or from Gazebo.")
@@ -289,6 +296,20 @@ def _plt():
     return plt
 
 
+def _label_axes(ax, xlabel, ylabel, title):
+    """Axis labels, title, and the legend to the right of the plot (long simulator names)."""
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    ax.set_title(title)
+    ax.legend(fontsize=7, loc="center left", bbox_to_anchor=(1.0, 0.5))
+
+
+def _save_png(plt, fig, path):
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
 def figure_straight(odometry_by_column, val, path):
     plt = _plt()
     fig, ax = plt.subplots(figsize=(8, 4.8))
@@ -315,13 +336,9 @@ def figure_straight(odometry_by_column, val, path):
         ax.errorbar([3.0 + 0.1], [val["pred3_m"] - 3.0], yerr=[2 * val["pred3_se_m"]], fmt="k*", ms=10, capsize=3,
                     label=f"its 3 m prediction ±2σ ({val['pred3_error_pct']:+.2f} % vs real mean)")
     ax.axhline(0, color="grey", lw=0.5)
-    ax.set_xlabel("commanded distance [m]")
-    ax.set_ylabel("travelled − commanded [m]")
-    ax.set_title("Straight runs driven by distance reference (Table 1)")
-    ax.legend(fontsize=7, loc="center left", bbox_to_anchor=(1.0, 0.5))
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    _label_axes(ax, "commanded distance [m]", "travelled − commanded [m]",
+                "Straight runs driven by distance reference (Table 1)")
+    _save_png(plt, fig, path)
 
 
 def figure_square(odometry_by_column, val, path):
@@ -349,9 +366,7 @@ def figure_square(odometry_by_column, val, path):
         ax2.set_ylabel("y [m]")
         ax2.set_title("Model square path at 0.3 m/s (by distance reference)", fontsize=9)
         ax2.legend(fontsize=7)
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    _save_png(plt, fig, path)
 
 
 def figure_semaphore(semaphore_by_engine, path):
@@ -372,9 +387,7 @@ def figure_semaphore(semaphore_by_engine, path):
         ax.set_xlabel("classified")
         ax.set_ylabel("shown")
         ax.set_title(f"{e}: {100.0 * r['correct'] / r['samples']:.2f} % of {r['samples']} images", fontsize=10)
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    _save_png(plt, fig, path)
 
 
 def figure_fov(fov_rows, path):
@@ -391,13 +404,9 @@ def figure_fov(fov_rows, path):
                                 (PAPER_FOV_ERROR_PX["vertical"], "k--", "paper: 1.6 px (V)")):
         ax.axhline(value, color="k", ls=style[1:], lw=0.8, label=label)
         ax.axhline(-value, color="k", ls=style[1:], lw=0.8)
-    ax.set_xlabel("chessboard distance [m]")
-    ax.set_ylabel("measured − pinhole board span [px]")
-    ax.set_title("Field of view against a chessboard (Table 3)")
-    ax.legend(fontsize=7, loc="center left", bbox_to_anchor=(1.0, 0.5))
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    _label_axes(ax, "chessboard distance [m]", "measured − pinhole board span [px]",
+                "Field of view against a chessboard (Table 3)")
+    _save_png(plt, fig, path)
 
 
 def write_pdf(markdown_text, figure_paths, path):
