@@ -301,18 +301,19 @@ class Referee:
                 return True
         from conde_worlds.challenge_objects import parking_bays
         if self.course.occupied_bay and inside_box(centre, parking_bays()[self.course.occupied_bay]).all():
-            self.parking_failed = True
-            self._give(t_s, "parked_in_occupied_bay", x, y, "the %s bay is occupied" % self.course.occupied_bay,
-                       penalty=0.0)
-            self.over = "parking failed"
-            return True
+            return self._fail_parking(t_s, "parked_in_occupied_bay", x, y,
+                                      "the %s bay is occupied" % self.course.occupied_bay)
         for name, box in self.course.free_bays().items():
             if inside_box(centre, box).all():
-                self.parking_failed = True
-                self._give(t_s, "parked_outside_bay", x, y, "not entirely inside the %s bay" % name, penalty=0.0)
-                self.over = "parking failed"
-                return True
+                return self._fail_parking(t_s, "parked_outside_bay", x, y, "not entirely inside the %s bay" % name)
         return False
+
+    def _fail_parking(self, t_s, kind, x, y, detail) -> bool:
+        """Ends the run as a failed parking (an event without penalty); True, for _judge_parking."""
+        self.parking_failed = True
+        self._give(t_s, kind, x, y, detail, penalty=0.0)
+        self.over = "parking failed"
+        return True
 
     # --- events and report --------------------------------------------------------------------------
 
