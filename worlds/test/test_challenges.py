@@ -334,7 +334,7 @@ def test_unreadable_file_names_the_path(tmp_path):
     missing = str(tmp_path / "none.yaml")
     with pytest.raises(ChallengeError) as e:
         load_challenges(missing)
-    assert str(e.value) == "%s: cannot read: No such file or directory" % missing
+    assert str(e.value) == "%s: cannot read the challenge file: No such file or directory" % missing
 
 
 def test_top_view_shows_the_boxes_where_they_are(tmp_path):

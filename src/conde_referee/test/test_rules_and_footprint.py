@@ -55,7 +55,7 @@ def test_rules_file_that_is_not_yaml(tmp_path):
     path.write_text("penalties: [")
     with pytest.raises(RulesError) as e:
         load_rules(str(path))
-    assert str(e.value).startswith("rules.yaml: not valid YAML: ")
+    assert str(e.value).startswith("rules.yaml:1: not valid YAML: ")  # the file and the line
 
 
 NO_COLLISION = """<robot name="ghost"><link name="base_link">

@@ -13,7 +13,7 @@ import os
 from dataclasses import dataclass, field
 from typing import Dict, List, Optional
 
-import yaml
+from conde_common.config_files import parse_yaml, read_text
 
 FORMAT = "conde_challenges/1"
 SIGNALS = ("none", "left", "right", "forward", "stop", "end_of_trial", "parking")
@@ -94,14 +94,8 @@ def load_challenges(path: Optional[str] = None) -> Challenges:
     """Reads and validates a challenge file; raises ChallengeError."""
     path = path or default_path()
     where = os.path.basename(path)
-    try:
-        with open(path) as f:
-            data = yaml.safe_load(f)
-    except OSError as e:
-        raise ChallengeError("%s: cannot read: %s" % (path, e.strerror))
-    except yaml.YAMLError as e:
-        raise ChallengeError("%s: not valid YAML: %s" % (where, e))
-    return parse_challenges(data, path)
+    text = read_text(path, ChallengeError, "the challenge file")
+    return parse_challenges(parse_yaml(text, where, ChallengeError, "not valid YAML"), path)
 
 
 # --- validation helpers (each raises with "<file>: <key>: ...") ---------------------------------

@@ -11,7 +11,7 @@ import os
 from dataclasses import dataclass
 from typing import Dict
 
-import yaml
+from conde_common.config_files import parse_yaml, read_text
 
 FORMAT = "conde_referee_rules/1"
 PENALTIES = ("false_start", "line_touch", "leave_road", "wrong_direction", "stop_not_respected",
@@ -46,14 +46,8 @@ def default_path() -> str:
 def load_rules(path=None) -> Rules:
     path = path or default_path()
     where = os.path.basename(path)
-    try:
-        with open(path) as f:
-            data = yaml.safe_load(f)
-    except OSError as e:
-        raise RulesError("%s: cannot read: %s" % (path, e.strerror))
-    except yaml.YAMLError as e:
-        raise RulesError("%s: not valid YAML: %s" % (where, e))
-    return parse_rules(data, where)
+    text = read_text(path, RulesError, "the rules file")
+    return parse_rules(parse_yaml(text, where, RulesError, "not valid YAML"), where)
 
 
 def _fail(where, key, message):
