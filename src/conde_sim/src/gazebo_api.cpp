@@ -25,6 +25,7 @@ bool finite(const geometry_msgs::Pose& p) {
 }
 
 bool finite(const geometry_msgs::Vector3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+bool finite(const geometry_msgs::Twist& t) { return finite(t.linear) && finite(t.angular); }
 
 cp::Vec3 fromMsg(const geometry_msgs::Vector3& v) { return cp::Vec3(v.x, v.y, v.z); }
 cp::Vec3 fromMsg(const geometry_msgs::Point& v) { return cp::Vec3(v.x, v.y, v.z); }
@@ -35,6 +36,13 @@ cp::Pose fromMsg(const geometry_msgs::Pose& p) {
   const double norm = std::sqrt(q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z);
   const cp::Quat rotation = norm > 1e-12 ? cp::Quat(q.w / norm, q.x / norm, q.y / norm, q.z / norm) : cp::Quat();
   return cp::Pose(fromMsg(p.position), rotation);
+}
+
+cp::Twist fromMsg(const geometry_msgs::Twist& t) {
+  cp::Twist twist;
+  twist.linear_mps = fromMsg(t.linear);
+  twist.angular_radps = fromMsg(t.angular);
+  return twist;
 }
 
 geometry_msgs::Twist toTwistMsg(const cp::Twist& t) {
@@ -87,8 +95,10 @@ GazeboApi::GazeboApi(SimHost& host, Simulation& sim, const std::string& ns, ros:
   ros::NodeHandle nh;
   model_states_pub_ = nh.advertise<gazebo_msgs::ModelStates>(p + "model_states", 1);
   link_states_pub_ = nh.advertise<gazebo_msgs::LinkStates>(p + "link_states", 1);
-  model_state_sub_ = nh.subscribe(p + "set_model_state", 10, &GazeboApi::onModelStateTopic, this);
-  link_state_sub_ = nh.subscribe(p + "set_link_state", 10, &GazeboApi::onLinkStateTopic, this);
+  model_state_sub_ = nh.subscribe(p + "set_model_state", 10,
+                                  &GazeboApi::onStateTopic<gazebo_msgs::ModelState, &GazeboApi::setModelState>, this);
+  link_state_sub_ = nh.subscribe(p + "set_link_state", 10,
+                                 &GazeboApi::onStateTopic<gazebo_msgs::LinkState, &GazeboApi::setLinkState>, this);
 }
 
 // --- frames and names (loop thread) ---
@@ -179,50 +189,66 @@ bool GazeboApi::onGetModelState(gazebo_msgs::GetModelState::Request& req, gazebo
                            "] not found, did you forget to scope the link by model name?";
       return;
     }
-    cp::Pose pose = sim_.linkPose(model, "");
-    cp::Twist twist = sim_.linkTwist(model, "");
-    toFrame(frame.pose, frame.twist, pose, twist);
     res.header.frame_id = isWorldFrame(req.relative_entity_name) ? "world" : req.relative_entity_name;
-    res.pose = toMsg(pose);
-    res.twist = toTwistMsg(twist);
+    stateSeenFrom(frame, model, "", res.pose, res.twist);
     res.success = true;
     res.status_message = "GetModelState: got properties";
   });
   return true;
 }
 
+bool GazeboApi::stateInWorld(const std::string& service, const std::string& frame_field,
+                             const std::string& reference_frame, const geometry_msgs::Pose& pose_msg,
+                             const geometry_msgs::Twist& twist_msg, cp::Pose& pose, cp::Twist& twist,
+                             std::string& message) const {
+  Frame frame;
+  if (!finite(pose_msg) || !finite(twist_msg)) {
+    message = service + ": pose and twist must be finite";
+    return false;
+  }
+  if (!frameState(reference_frame, frame)) {
+    message = service + ": " + frame_field + " [" + reference_frame + "] does not exist";
+    return false;
+  }
+  pose = fromMsg(pose_msg);
+  twist = fromMsg(twist_msg);
+  fromFrame(frame.pose, pose, twist);
+  return true;
+}
+
+void GazeboApi::stateSeenFrom(const Frame& frame, const ModelRef& model, const std::string& link,
+                              geometry_msgs::Pose& pose_msg, geometry_msgs::Twist& twist_msg) const {
+  cp::Pose pose = sim_.linkPose(model, link);
+  cp::Twist twist = sim_.linkTwist(model, link);
+  toFrame(frame.pose, frame.twist, pose, twist);
+  pose_msg = toMsg(pose);
+  twist_msg = toTwistMsg(twist);
+}
+
 bool GazeboApi::setModelState(const gazebo_msgs::ModelState& state, std::string& message) {
   const ModelRef model = sim_.findModel(state.model_name);
-  Frame frame;
+  cp::Pose pose;
+  cp::Twist twist;
   if (!model.valid()) {
     message = "SetModelState: model [" + state.model_name + "] does not exist";
-  } else if (!finite(state.pose) || !finite(state.twist.linear) || !finite(state.twist.angular)) {
-    message = "SetModelState: pose and twist must be finite";
-  } else if (!frameState(state.reference_frame, frame)) {
-    message = "SetModelState: specified reference frame entity [" + state.reference_frame + "] does not exist";
-  } else if (sim_.articulatedModel(model).fixed_to_world) {
-    message = "SetModelState: model [" + state.model_name + "] is fixed to the world";
-  } else {
-    cp::Pose pose = fromMsg(state.pose);
-    cp::Twist twist;
-    twist.linear_mps = fromMsg(state.twist.linear);
-    twist.angular_radps = fromMsg(state.twist.angular);
-    fromFrame(frame.pose, pose, twist);
-    sim_.setModelState(model, pose, twist);
-    message = "SetModelState: set model state done";
-    return true;
+    return false;
   }
-  return false;
+  if (!stateInWorld("SetModelState", "specified reference frame entity", state.reference_frame, state.pose, state.twist,
+                    pose, twist, message)) {
+    return false;
+  }
+  if (sim_.articulatedModel(model).fixed_to_world) {
+    message = "SetModelState: model [" + state.model_name + "] is fixed to the world";
+    return false;
+  }
+  sim_.setModelState(model, pose, twist);
+  message = "SetModelState: set model state done";
+  return true;
 }
 
 bool GazeboApi::onSetModelState(gazebo_msgs::SetModelState::Request& req, gazebo_msgs::SetModelState::Response& res) {
   host_.runOnLoop([&] { res.success = setModelState(req.model_state, res.status_message); });
   return true;
-}
-
-void GazeboApi::onModelStateTopic(const gazebo_msgs::ModelState::ConstPtr& msg) {
-  std::string message;
-  if (!setModelState(*msg, message)) ROS_WARN_THROTTLE(1.0, "%s", message.c_str());
 }
 
 bool GazeboApi::onGetLinkState(gazebo_msgs::GetLinkState::Request& req, gazebo_msgs::GetLinkState::Response& res) {
@@ -242,11 +268,7 @@ bool GazeboApi::onGetLinkState(gazebo_msgs::GetLinkState::Request& req, gazebo_m
       res.status_message = "GetLinkState: reference_frame [" + req.reference_frame + "] does not exist";
       return;
     }
-    cp::Pose pose = sim_.linkPose(model, link);
-    cp::Twist twist = sim_.linkTwist(model, link);
-    toFrame(frame.pose, frame.twist, pose, twist);
-    res.link_state.pose = toMsg(pose);
-    res.link_state.twist = toTwistMsg(twist);
+    stateSeenFrom(frame, model, link, res.link_state.pose, res.link_state.twist);
     res.success = true;
     res.status_message = "GetLinkState: got state";
   });
@@ -256,34 +278,24 @@ bool GazeboApi::onGetLinkState(gazebo_msgs::GetLinkState::Request& req, gazebo_m
 bool GazeboApi::setLinkState(const gazebo_msgs::LinkState& state, std::string& message) {
   ModelRef model;
   std::string link;
-  Frame frame;
+  cp::Pose pose;
+  cp::Twist twist;
   if (!findLink(state.link_name, model, link)) {
     message = "SetLinkState: link [" + state.link_name + "] does not exist (name it model::link)";
-  } else if (!finite(state.pose) || !finite(state.twist.linear) || !finite(state.twist.angular)) {
-    message = "SetLinkState: pose and twist must be finite";
-  } else if (!frameState(state.reference_frame, frame)) {
-    message = "SetLinkState: reference_frame [" + state.reference_frame + "] does not exist";
-  } else {
-    cp::Pose pose = fromMsg(state.pose);
-    cp::Twist twist;
-    twist.linear_mps = fromMsg(state.twist.linear);
-    twist.angular_radps = fromMsg(state.twist.angular);
-    fromFrame(frame.pose, pose, twist);
-    sim_.setLinkState(model, link, pose, twist);
-    message = "SetLinkState: success";
-    return true;
+    return false;
   }
-  return false;
+  if (!stateInWorld("SetLinkState", "reference_frame", state.reference_frame, state.pose, state.twist, pose, twist,
+                    message)) {
+    return false;
+  }
+  sim_.setLinkState(model, link, pose, twist);
+  message = "SetLinkState: success";
+  return true;
 }
 
 bool GazeboApi::onSetLinkState(gazebo_msgs::SetLinkState::Request& req, gazebo_msgs::SetLinkState::Response& res) {
   host_.runOnLoop([&] { res.success = setLinkState(req.link_state, res.status_message); });
   return true;
-}
-
-void GazeboApi::onLinkStateTopic(const gazebo_msgs::LinkState::ConstPtr& msg) {
-  std::string message;
-  if (!setLinkState(*msg, message)) ROS_WARN_THROTTLE(1.0, "%s", message.c_str());
 }
 
 // --- properties ---

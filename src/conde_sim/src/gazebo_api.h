@@ -93,6 +93,15 @@ class GazeboApi : public StepHooks {
   bool frameState(const std::string& frame, Frame& state) const;
   // "model::link" into its parts; false when not of that form or unknown.
   bool findLink(const std::string& scoped, ModelRef& model, std::string& link) const;
+  // The state of `link` of `model` ("" = the model's root) seen from `frame`, as messages.
+  void stateSeenFrom(const Frame& frame, const ModelRef& model, const std::string& link, geometry_msgs::Pose& pose,
+                     geometry_msgs::Twist& twist) const;
+  // A state to set, given in `reference_frame`, into the world; false with Gazebo's status
+  // message ("<service>: ...") when not finite or when the frame (named `frame_field` in the
+  // message) does not exist.
+  bool stateInWorld(const std::string& service, const std::string& frame_field, const std::string& reference_frame,
+                    const geometry_msgs::Pose& pose_msg, const geometry_msgs::Twist& twist_msg,
+                    conde_physics::Pose& pose, conde_physics::Twist& twist, std::string& message) const;
   // True on success; `message` as Gazebo's status_message.
   bool setModelState(const gazebo_msgs::ModelState& state, std::string& message);
   // True on success; `message` as Gazebo's status_message.
@@ -116,8 +125,12 @@ class GazeboApi : public StepHooks {
   bool onSpawnUrdf(gazebo_msgs::SpawnModel::Request& req, gazebo_msgs::SpawnModel::Response& res);
   bool onSpawnSdf(gazebo_msgs::SpawnModel::Request& req, gazebo_msgs::SpawnModel::Response& res);
   bool onDeleteModel(gazebo_msgs::DeleteModel::Request& req, gazebo_msgs::DeleteModel::Response& res);
-  void onModelStateTopic(const gazebo_msgs::ModelState::ConstPtr& msg);
-  void onLinkStateTopic(const gazebo_msgs::LinkState::ConstPtr& msg);
+  // The set_model_state / set_link_state topics: as the service, a rejected state is a throttled warning.
+  template <typename State, bool (GazeboApi::*set)(const State&, std::string&)>
+  void onStateTopic(const boost::shared_ptr<const State>& msg) {
+    std::string message;
+    if (!(this->*set)(*msg, message)) ROS_WARN_THROTTLE(1.0, "%s", message.c_str());
+  }
 
   SimHost& host_;
   Simulation& sim_;
