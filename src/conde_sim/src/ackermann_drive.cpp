@@ -73,6 +73,17 @@ cp::Vec3 axisInBase(const Robot& robot, const cp::Pose& base_in_model, int joint
 
 }  // namespace
 
+AckermannDrive::Config AckermannDrive::Config::placeNamedJoints() {
+  Config c;
+  c.left_steering_joint = "left_steering_joint";
+  c.right_steering_joint = "right_steering_joint";
+  c.left_front_wheel_joint = "left_front_wheel_joint";
+  c.right_front_wheel_joint = "right_front_wheel_joint";
+  c.left_rear_wheel_joint = "left_rear_wheel_joint";
+  c.right_rear_wheel_joint = "right_rear_wheel_joint";
+  return c;
+}
+
 MeasuredCarGeometry measureCarGeometry(const Robot& robot, const std::string& base_link,
                                        const std::string& left_steering_joint, const std::string& right_steering_joint,
                                        const std::string& left_rear_wheel_joint,

@@ -94,13 +94,7 @@ Result run(const std::string& engine, const std::string& urdf, int cars, double 
   std::vector<std::unique_ptr<conde_sim::AckermannDrive>> drives;
   std::vector<std::unique_ptr<conde_sim::LaserScanner>> lidars;
   for (int i = 0; i < cars; ++i) {
-    conde_sim::AckermannDrive::Config c;
-    c.left_steering_joint = "left_steering_joint";
-    c.right_steering_joint = "right_steering_joint";
-    c.left_front_wheel_joint = "left_front_wheel_joint";
-    c.right_front_wheel_joint = "right_front_wheel_joint";
-    c.left_rear_wheel_joint = "left_rear_wheel_joint";
-    c.right_rear_wheel_joint = "right_rear_wheel_joint";
+    conde_sim::AckermannDrive::Config c = conde_sim::AckermannDrive::Config::placeNamedJoints();
     c.drive_front = true;
     c.command_timeout_s = 0.0;
     drives.push_back(std::make_unique<conde_sim::AckermannDrive>(sim, i, c));

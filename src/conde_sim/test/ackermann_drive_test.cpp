@@ -13,15 +13,12 @@
 
 namespace cp = conde_physics;
 using conde_sim::AckermannDrive;
-using conde_sim::Simulation;
-using conde_sim_test::addRobot;
 using conde_sim_test::testCarUrdf;
 
 namespace {
 
 cp::WorldDescription flatWorld() {
-  cp::WorldDescription w;
-  w.name = "flat";
+  cp::WorldDescription w = conde_sim_test::flatGround("flat");
   // 10 solver iterations, as the car benchmark and the racetrack world (within 0.2 % of the
   // Ackermann turning radius on both engines; wheels touch as tyres, conde_physics/tyre.h).
   w.physics.solver_iterations = 10;
@@ -57,23 +54,15 @@ double fitCircle(const std::vector<cp::Vec3>& points, double& cx, double& cy) {
   return std::sqrt(cx * cx + cy * cy - x[2]);
 }
 
-class AckermannCar : public ::testing::TestWithParam<std::string> {
+class AckermannCar : public conde_sim_test::SteppedRobotTest {
  protected:
   void SetUp() override {
-    ASSERT_NE(testCarUrdf().find("<robot"), std::string::npos) << "xacro failed: " << testCarUrdf();
-    sim_ = std::make_unique<Simulation>(flatWorld(), GetParam(), nullptr);
-    addRobot(*sim_, "car", "ackermann_car.urdf", testCarUrdf());
+    ASSERT_NO_FATAL_FAILURE(buildWorld(flatWorld(), "car", "ackermann_car.urdf", testCarUrdf()));
     makeDrive(defaultConfig());
   }
 
   static AckermannDrive::Config defaultConfig() {
-    AckermannDrive::Config c;
-    c.left_steering_joint = "left_steering_joint";
-    c.right_steering_joint = "right_steering_joint";
-    c.left_front_wheel_joint = "left_front_wheel_joint";
-    c.right_front_wheel_joint = "right_front_wheel_joint";
-    c.left_rear_wheel_joint = "left_rear_wheel_joint";
-    c.right_rear_wheel_joint = "right_rear_wheel_joint";
+    AckermannDrive::Config c = AckermannDrive::Config::placeNamedJoints();
     c.base_link = "base_footprint";
     c.encoder_odometry = true;
     return c;
@@ -122,7 +111,6 @@ class AckermannCar : public ::testing::TestWithParam<std::string> {
     return fitted_m;
   }
 
-  std::unique_ptr<Simulation> sim_;
   std::unique_ptr<AckermannDrive> drive_;
 };
 
@@ -247,10 +235,9 @@ TEST_P(AckermannCar, EncoderOdometryFollowsGroundTruth) {
 
 TEST_P(AckermannCar, SameCommandsGiveTheSameTrajectory) {
   auto trajectory = [&]() {
-    Simulation sim(flatWorld(), GetParam(), nullptr);
-    addRobot(sim, "car", "ackermann_car.urdf", testCarUrdf());
-    AckermannDrive drive(sim, 0, defaultConfig());
-    return conde_sim_test::baseTrajectory(sim, drive, 2000,
+    auto sim = conde_sim_test::simulationWithRobot(flatWorld(), GetParam(), "car", "ackermann_car.urdf", testCarUrdf());
+    AckermannDrive drive(*sim, 0, defaultConfig());
+    return conde_sim_test::baseTrajectory(*sim, drive, 2000,
                                           [&](int i) { drive.commandDrive(0.6, 0.3 * std::sin(i * 0.002)); });
   };
   EXPECT_EQ(trajectory(), trajectory());

@@ -11,8 +11,6 @@
 
 namespace cp = conde_physics;
 using conde_sim::DiffDrive;
-using conde_sim::Simulation;
-using conde_sim_test::addRobot;
 using conde_sim_test::condeUrdf;
 
 namespace {
@@ -22,19 +20,16 @@ namespace {
 cp::WorldDescription flatWorld() {
   const cp::WorldDescription competition =
       cp::loadWorldFile(std::string(CONDE_REPO_ROOT) + "/worlds/worlds/competition.world.yaml", nullptr);
-  cp::WorldDescription w;
-  w.name = "flat";
+  cp::WorldDescription w = conde_sim_test::flatGround("flat");
   w.physics = competition.physics;
   w.ground.friction = competition.ground.friction;
   return w;
 }
 
-class ConDiffDrive : public ::testing::TestWithParam<std::string> {
+class ConDiffDrive : public conde_sim_test::SteppedRobotTest {
  protected:
   void SetUp() override {
-    ASSERT_NE(condeUrdf().find("<robot"), std::string::npos) << "xacro failed: " << condeUrdf();
-    sim_ = std::make_unique<Simulation>(flatWorld(), GetParam(), nullptr);
-    addRobot(*sim_, "conde", "conde.urdf.xacro", condeUrdf());
+    ASSERT_NO_FATAL_FAILURE(buildWorld(flatWorld(), "conde", "conde.urdf.xacro", condeUrdf()));
     DiffDrive::Config c;
     c.left_joint = "left_wheel_joint";
     c.right_joint = "right_wheel_joint";
@@ -67,7 +62,6 @@ class ConDiffDrive : public ::testing::TestWithParam<std::string> {
 
   cp::Pose truth() const { return sim_->linkPose(0, "base_footprint"); }
 
-  std::unique_ptr<Simulation> sim_;
   std::unique_ptr<DiffDrive> drive_;
 };
 
@@ -141,15 +135,14 @@ TEST_P(ConDiffDrive, NonFiniteCommandsAreIgnored) {
 
 TEST_P(ConDiffDrive, SameCommandsGiveTheSameTrajectory) {
   auto trajectory = [&]() {
-    Simulation sim(flatWorld(), GetParam(), nullptr);
-    addRobot(sim, "conde", "conde.urdf.xacro", condeUrdf());
+    auto sim = conde_sim_test::simulationWithRobot(flatWorld(), GetParam(), "conde", "conde.urdf.xacro", condeUrdf());
     DiffDrive::Config c;
     c.left_joint = "left_wheel_joint";
     c.right_joint = "right_wheel_joint";
     c.params.wheel_separation_m = 0.33;
     c.params.wheel_diameter_m = 0.064;
-    DiffDrive drive(sim, 0, c);
-    return conde_sim_test::baseTrajectory(sim, drive, 3000, [&](int i) { drive.command(0.4, std::sin(i * 0.001)); });
+    DiffDrive drive(*sim, 0, c);
+    return conde_sim_test::baseTrajectory(*sim, drive, 3000, [&](int i) { drive.command(0.4, std::sin(i * 0.001)); });
   };
   EXPECT_EQ(trajectory(), trajectory());
 }

@@ -15,7 +15,6 @@ namespace cp = conde_physics;
 using conde_sim::JointController;
 using conde_sim::JointControllerType;
 using conde_sim::PidController;
-using conde_sim::Simulation;
 
 namespace {
 
@@ -30,14 +29,11 @@ const std::string& carUrdf() {
 PidController::Gains steeringGains() { return {100.0, 100.0, 0.2, 0.1, 0.0}; }
 PidController::Gains wheelGains() { return {0.1, 2.0, 0.0, 1.0, 0.0}; }
 
-class JointControllers : public ::testing::TestWithParam<std::string> {
+class JointControllers : public conde_sim_test::SteppedRobotTest {
  protected:
   void SetUp() override {
-    ASSERT_NE(carUrdf().find("<robot"), std::string::npos) << "xacro failed: " << carUrdf();
-    cp::WorldDescription w;
-    w.name = "flat";
-    sim_ = std::make_unique<Simulation>(w, GetParam(), nullptr);
-    conde_sim_test::addRobot(*sim_, "car", "ackermann_car.urdf.xacro", carUrdf());
+    cp::WorldDescription w = conde_sim_test::flatGround("flat");
+    ASSERT_NO_FATAL_FAILURE(buildWorld(w, "car", "ackermann_car.urdf.xacro", carUrdf()));
   }
 
   JointController& add(const std::string& joint, JointControllerType type, const PidController::Gains& gains = {}) {
@@ -69,7 +65,6 @@ class JointControllers : public ::testing::TestWithParam<std::string> {
     return std::hypot(t.linear_mps.x, t.linear_mps.y);
   }
 
-  std::unique_ptr<Simulation> sim_;
   std::vector<std::unique_ptr<JointController>> controllers_;
 };
 

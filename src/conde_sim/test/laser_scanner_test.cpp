@@ -32,8 +32,7 @@ cp::WorldObject wall(const std::string& name, double x, double y, double size_x,
 // Empty unless `walls`: a 0.1 m thick wall ahead (face at x = 2 m, 3 m wide) and one on the
 // left (face at y = 1 m, from x = -3 m to 1.5 m).
 cp::WorldDescription world(bool walls) {
-  cp::WorldDescription w;
-  w.name = walls ? "walls" : "empty";
+  cp::WorldDescription w = conde_sim_test::flatGround(walls ? "walls" : "empty");
   if (walls) {
     w.objects.push_back(wall("front", kFrontWallFace_m + 0.05, 0.0, 0.1, 3.0));
     w.objects.push_back(wall("left", -0.75, kLeftWallFace_m + 0.05, 4.5, 0.1));
@@ -54,18 +53,14 @@ LaserScanConfig fixtureLidar(double noise_stddev_m) {
   return c;
 }
 
-class Lidar : public ::testing::TestWithParam<std::string> {
+class Lidar : public conde_sim_test::SteppedRobotTest {
  protected:
   void build(bool walls) {
-    ASSERT_NE(testCarUrdf().find("<robot"), std::string::npos) << "xacro failed: " << testCarUrdf();
-    sim_ = std::make_unique<Simulation>(world(walls), GetParam(), nullptr);
-    addRobot(*sim_, "car", "ackermann_car.urdf", testCarUrdf());
+    ASSERT_NO_FATAL_FAILURE(buildWorld(world(walls), "car", "ackermann_car.urdf", testCarUrdf()));
     for (int i = 0; i < 300; ++i) sim_->step();  // settle on the wheels
   }
 
   cp::Pose laserPose() const { return sim_->linkPose(0, "laser"); }
-
-  std::unique_ptr<Simulation> sim_;
 };
 
 TEST_P(Lidar, CentreBeamReadsTheWallDistance) {

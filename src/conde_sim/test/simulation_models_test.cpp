@@ -14,7 +14,6 @@
 
 namespace cp = conde_physics;
 using conde_sim::ModelRef;
-using conde_sim::Simulation;
 using conde_sim_test::addRobot;
 using conde_sim_test::condeUrdf;
 
@@ -22,8 +21,7 @@ namespace {
 
 // Flat ground, a static wall and a dynamic 1 kg crate.
 cp::WorldDescription crateWorld() {
-  cp::WorldDescription w;
-  w.name = "crate";
+  cp::WorldDescription w = conde_sim_test::flatGround("crate");
   cp::WorldObject wall;
   wall.name = "wall";
   wall.size_m = cp::Vec3(0.1, 2, 0.5);
@@ -39,18 +37,13 @@ cp::WorldDescription crateWorld() {
   return w;
 }
 
-class SimulationModels : public ::testing::TestWithParam<std::string> {
+class SimulationModels : public conde_sim_test::SteppedRobotTest {
  protected:
-  void SetUp() override {
-    ASSERT_NE(condeUrdf().find("<robot"), std::string::npos) << "xacro failed: " << condeUrdf();
-    sim_ = std::make_unique<Simulation>(crateWorld(), GetParam(), nullptr);
-    addRobot(*sim_, "conde", "conde.urdf.xacro", condeUrdf());
-  }
+  void SetUp() override { ASSERT_NO_FATAL_FAILURE(buildWorld(crateWorld(), "conde", "conde.urdf.xacro", condeUrdf())); }
   void run(int steps) {
     conde_sim::StepLoop loop(*sim_);
     loop.run(steps);
   }
-  std::unique_ptr<Simulation> sim_;
 };
 
 TEST_P(SimulationModels, FindsRobotsAndDynamicObjectsByName) {

@@ -47,6 +47,13 @@ inline const std::string& condeUrdf() {
   return urdf;
 }
 
+// A world of flat ground only, named `name`, with the default physics (1 ms step, friction 1).
+inline conde_physics::WorldDescription flatGround(const std::string& name) {
+  conde_physics::WorldDescription w;
+  w.name = name;
+  return w;
+}
+
 // Adds the robot `name` from `urdf` at `spawn_pose`; `source` names the description in messages.
 inline int addRobot(conde_sim::Simulation& sim, const std::string& name, const std::string& source,
                     const std::string& urdf, const conde_physics::Pose& spawn_pose = conde_physics::Pose()) {
@@ -57,6 +64,29 @@ inline int addRobot(conde_sim::Simulation& sim, const std::string& name, const s
   spec.spawn_pose = spawn_pose;
   return sim.addRobot(spec);
 }
+
+// A new simulation of `world` on `engine` with robot 0 `name` from `urdf`.
+inline std::unique_ptr<conde_sim::Simulation> simulationWithRobot(const conde_physics::WorldDescription& world,
+                                                                  const std::string& engine, const std::string& name,
+                                                                  const std::string& source, const std::string& urdf) {
+  auto sim = std::make_unique<conde_sim::Simulation>(world, engine, nullptr);
+  addRobot(*sim, name, source, urdf);
+  return sim;
+}
+
+// A gtest fixture run once per engine (GetParam(): "ode" or "bullet") around one simulation
+// with a robot; SetUp (or the test) calls ASSERT_NO_FATAL_FAILURE(buildWorld(...)) first.
+class SteppedRobotTest : public ::testing::TestWithParam<std::string> {
+ protected:
+  // `world` on this test's engine with robot 0 `name` from `urdf` (`source` names it in messages).
+  void buildWorld(const conde_physics::WorldDescription& world, const std::string& name, const std::string& source,
+                  const std::string& urdf) {
+    ASSERT_NE(urdf.find("<robot"), std::string::npos) << "xacro failed: " << urdf;
+    sim_ = simulationWithRobot(world, GetParam(), name, source, urdf);
+  }
+
+  std::unique_ptr<conde_sim::Simulation> sim_;
+};
 
 // One physics step with a drive's hooks around it, through the simulator's own step loop.
 template <class Drive>

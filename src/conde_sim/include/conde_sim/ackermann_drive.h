@@ -80,6 +80,11 @@ class AckermannDrive {
     double command_timeout_s = 0.5;                                  // 0 = never
     double update_rate_hz = 50.0;                                    // odometry
     bool encoder_odometry = false;                                   // false: ground truth ("world")
+
+    // The defaults with the six joints named after their place: left_steering_joint,
+    // right_steering_joint, {left,right}_{front,rear}_wheel_joint (the F1/10 racecar and the
+    // test car of the gtests use these names).
+    static Config placeNamedJoints();
   };
 
   // Throws AckermannConfigError naming the plugin parameter at fault (unknown joint or link,
