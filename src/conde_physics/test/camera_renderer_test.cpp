@@ -19,8 +19,10 @@
 
 #include "conde_physics/camera_renderer.h"
 #include "conde_physics/world_file.h"
+#include "test_models.h"
 
 namespace cp = conde_physics;
+using conde_physics_test::lookAt;
 
 namespace {
 
@@ -35,15 +37,6 @@ cp::LensDistortion condeDistortion() {
   d.p1 = 0.004883645512607;
   d.p2 = 0.001092737340199;
   return d;
-}
-
-// Optical frame at `eye` looking at `target`, image up towards `up`.
-cp::Pose lookAt(const cp::Vec3& eye, const cp::Vec3& target, const cp::Vec3& up = {0, 0, 1}) {
-  const cp::Vec3 z = (target - eye).normalized();
-  const cp::Vec3 x = z.cross(up).normalized();
-  const cp::Vec3 y = z.cross(x);
-  const double m[3][3] = {{x.x, y.x, z.x}, {x.y, y.y, z.y}, {x.z, y.z, z.z}};
-  return cp::Pose(eye, cp::Quat::fromMatrix(m));
 }
 
 // A pose whose local x and y axes point along the given (orthogonal, unit) world directions.

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "conde_physics/physics_engine.h"
+#include "test_models.h"
 
 namespace cp = conde_physics;
 
@@ -77,14 +78,8 @@ cp::ArticulatedModel makeCart() {
     wheel.collisions.push_back(tyre);
     m.bodies.push_back(wheel);
 
-    cp::JointSpec joint;
-    joint.name = side == 0 ? "left_wheel_joint" : "right_wheel_joint";
-    joint.type = cp::JointType::kContinuous;
-    joint.parent_body = 0;
-    joint.child_body = static_cast<int>(m.bodies.size()) - 1;
-    joint.pose_in_parent = wheel_pose;
-    joint.axis = cp::Vec3(0, 1, 0);
-    m.joints.push_back(joint);
+    conde_physics_test::addJoint(m, side == 0 ? "left_wheel_joint" : "right_wheel_joint", cp::JointType::kContinuous, 0,
+                                 static_cast<int>(m.bodies.size()) - 1, wheel_pose);
   }
   return m;
 }
@@ -100,17 +95,10 @@ cp::ArticulatedModel makePendulum() {
   arm.inertial_frame.position = cp::Vec3(0.25, 0, 0);  // centre of mass off the axis: it swings
   arm.collisions.push_back(boxCollision({0.5, 0.05, 0.05}, cp::Pose(cp::Vec3(0.25, 0, 0), cp::Quat())));
   m.bodies.push_back(arm);
-  cp::JointSpec joint;
-  joint.name = "hinge";
-  joint.type = cp::JointType::kRevolute;
-  joint.parent_body = 0;
-  joint.child_body = 1;
-  joint.pose_in_parent = joint_pose;
-  joint.axis = cp::Vec3(0, 1, 0);
+  cp::JointSpec& joint = conde_physics_test::addJoint(m, "hinge", cp::JointType::kRevolute, 0, 1, joint_pose);
   joint.has_position_limits = true;
   joint.lower = -0.5;
   joint.upper = 0.5;
-  m.joints.push_back(joint);
   return m;
 }
 
@@ -302,13 +290,7 @@ TEST_P(EngineConformance, MeshShapesCollide) {
   // A tetrahedron-free check: a closed cube mesh (12 triangles) falls onto the ground.
   auto engine = makeEngine();
   cp::ArticulatedModel m = makeCube();
-  cp::Shape& mesh = m.bodies[0].collisions[0].shape;
-  mesh.type = cp::ShapeType::kMesh;
-  const double h = 0.1;
-  mesh.mesh_vertices_m = {{-h, -h, -h}, {h, -h, -h}, {h, h, -h}, {-h, h, -h},
-                          {-h, -h, h},  {h, -h, h},  {h, h, h},  {-h, h, h}};
-  mesh.mesh_triangles = {0, 2, 1, 0, 3, 2, 4, 5, 6, 4, 6, 7, 0, 1, 5, 0, 5, 4,
-                         1, 2, 6, 1, 6, 5, 2, 3, 7, 2, 7, 6, 3, 0, 4, 3, 4, 7};
+  m.bodies[0].collisions[0].shape = conde_physics_test::cubeMesh(0.1);
   const cp::ModelId id = engine->addModel(m, cp::Pose::fromXyzRpy(0, 0, 0.5, 0, 0, 0));
   stepFor(*engine, 2.0);
   EXPECT_NEAR(engine->bodyPose(id, 0).position.z, 0.1, 0.01);

@@ -9,6 +9,7 @@
 
 #include "conde_physics/physics_engine.h"
 #include "conde_physics/ray_caster.h"
+#include "test_models.h"
 
 namespace cp = conde_physics;
 
@@ -63,13 +64,7 @@ TEST(RayCaster, ExactDistanceToEachShape) {
   // Beyond the range: no hit.
   EXPECT_FALSE(cp::RayScene::hitShape(box(1, 1, 1), cp::Vec3(-3, 0, 0), cp::Vec3(1, 0, 0), 2.4, t));
   // A closed cube mesh (12 triangles) gives the box's distance.
-  cp::Shape mesh;
-  mesh.type = cp::ShapeType::kMesh;
-  const double h = 0.5;
-  mesh.mesh_vertices_m = {{-h, -h, -h}, {h, -h, -h}, {h, h, -h}, {-h, h, -h},
-                          {-h, -h, h},  {h, -h, h},  {h, h, h},  {-h, h, h}};
-  mesh.mesh_triangles = {0, 2, 1, 0, 3, 2, 4, 5, 6, 4, 6, 7, 0, 1, 5, 0, 5, 4,
-                         1, 2, 6, 1, 6, 5, 2, 3, 7, 2, 7, 6, 3, 0, 4, 3, 4, 7};
+  const cp::Shape mesh = conde_physics_test::cubeMesh(0.5);
   const cp::Vec3 d = cp::Vec3(1, 0.1, 0.05).normalized();
   double t_box = 0;
   ASSERT_TRUE(cp::RayScene::hitShape(box(1, 1, 1), cp::Vec3(-3, 0, 0), d, 10, t_box));

@@ -20,8 +20,10 @@
 #include "conde_physics/sdf_world.h"
 #include "conde_physics/urdf_model.h"
 #include "conde_physics/world_file.h"
+#include "test_models.h"
 
 namespace cp = conde_physics;
+using conde_physics_test::lookAt;
 
 namespace {
 
@@ -70,14 +72,6 @@ double castOne(const cp::PhysicsEngine& engine, const cp::Vec3& origin, const cp
   std::vector<cp::RayHit> hits;
   engine.castRays({origin}, {direction.normalized()}, 10.0, -1, hits);
   return hits[0].hit ? hits[0].distance_m : -1.0;
-}
-
-cp::Pose lookAt(const cp::Vec3& eye, const cp::Vec3& target, const cp::Vec3& up = {0, 0, 1}) {
-  const cp::Vec3 z = (target - eye).normalized();
-  const cp::Vec3 x = z.cross(up).normalized();
-  const cp::Vec3 y = z.cross(x);
-  const double m[3][3] = {{x.x, y.x, z.x}, {x.y, y.y, z.y}, {x.z, y.z, z.z}};
-  return cp::Pose(eye, cp::Quat::fromMatrix(m));
 }
 
 }  // namespace

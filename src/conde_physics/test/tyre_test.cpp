@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "conde_physics/tyre.h"
+#include "test_models.h"
 
 namespace cp = conde_physics;
 
@@ -30,14 +31,7 @@ cp::ArticulatedModel oneWheel() {
   tyre.pose_in_link = cp::Pose(cp::Vec3(), cp::Quat::fromRpy(-M_PI / 2, 0, 0));
   wheel.collisions.push_back(tyre);
   m.bodies = {chassis, wheel};
-  cp::JointSpec joint;
-  joint.name = "wheel_joint";
-  joint.type = cp::JointType::kContinuous;
-  joint.parent_body = 0;
-  joint.child_body = 1;
-  joint.pose_in_parent = joint_pose;
-  joint.axis = cp::Vec3(0, 1, 0);
-  m.joints.push_back(joint);
+  conde_physics_test::addJoint(m, "wheel_joint", cp::JointType::kContinuous, 0, 1, joint_pose);
   return m;
 }
 
