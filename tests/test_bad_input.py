@@ -5,6 +5,7 @@ import subprocess
 
 import pytest
 import rosgraph
+from conde_testing.ros_harness import fatal_error
 
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -29,63 +30,54 @@ def run_node(env, urdf=GOOD_URDF, **params):
     return proc.returncode, proc.stderr
 
 
-def error_line(stderr):
-    lines = [line for line in stderr.splitlines() if line.startswith("conde_sim: error: ")]
-    assert lines, f"no error line in:\n{stderr}"
-    return lines[-1][len("conde_sim: error: "):]
+def startup_error(env, urdf=GOOD_URDF, **params):
+    """The message of a start of conde_sim_node that must fail."""
+    return fatal_error(*run_node(env, urdf, **params), "conde_sim")
 
 
 def test_unknown_engine(master):
-    code, err = run_node(master, world_file=FLAT_WORLD, physics_engine="havok", max_sim_time_s=0.1)
-    assert code != 0
-    assert error_line(err) == ("parameter /conde_sim/physics_engine: unknown physics engine 'havok' "
-                               "(expected one of: ode, bullet)")
+    assert startup_error(master, world_file=FLAT_WORLD, physics_engine="havok", max_sim_time_s=0.1) == (
+        "parameter /conde_sim/physics_engine: unknown physics engine 'havok' "
+        "(expected one of: ode, bullet)")
 
 
 def test_missing_world_file_parameter(master):
-    code, err = run_node(master)
-    assert code != 0
-    assert error_line(err) == "parameter /conde_sim/world_file is required (path of a *.world.yaml)"
+    assert startup_error(master) == "parameter /conde_sim/world_file is required (path of a *.world.yaml)"
 
 
 def test_unknown_world_key(master):
     path = os.path.join(FIXTURES, "unknown_key.world.yaml")
-    code, err = run_node(master, world_file=path)
-    assert code != 0
-    assert error_line(err) == (f"{path}:5: ground: unknown key 'gravity' "
-                               "(expected one of: texture, x_range_m, y_range_m, color_rgb, friction)")
+    assert startup_error(master, world_file=path) == (
+        f"{path}:5: ground: unknown key 'gravity' "
+        "(expected one of: texture, x_range_m, y_range_m, color_rgb, friction)")
 
 
 def test_missing_texture(master):
     path = os.path.join(FIXTURES, "missing_texture.world.yaml")
-    code, err = run_node(master, world_file=path)
-    assert code != 0
-    assert error_line(err) == (f"{path}:4: ground.texture: cannot load image "
-                               f"'{os.path.join(FIXTURES, 'no_such_track.png')}': No such file or directory")
+    assert startup_error(master, world_file=path) == (
+        f"{path}:4: ground.texture: cannot load image "
+        f"'{os.path.join(FIXTURES, 'no_such_track.png')}': No such file or directory")
 
 
 def test_malformed_urdf(master):
-    code, err = run_node(master, urdf="<robot name='r'>\n<link name='a'>\n</robot>", world_file=FLAT_WORLD)
-    assert code != 0
-    assert error_line(err) == "/robot_description: malformed URDF: XML error at line 2: XML_ERROR_MISMATCHED_ELEMENT"
+    assert startup_error(master, urdf="<robot name='r'>\n<link name='a'>\n</robot>", world_file=FLAT_WORLD) == (
+        "/robot_description: malformed URDF: XML error at line 2: XML_ERROR_MISMATCHED_ELEMENT")
 
 
 def test_unknown_plugin(master):
     urdf = GOOD_URDF.replace("</robot>",
                              '<gazebo>\n<plugin name="p" filename="libgazebo_ros_teleport.so"/>\n</gazebo>\n</robot>')
-    code, err = run_node(master, urdf=urdf, world_file=FLAT_WORLD)
-    assert code != 0
-    assert error_line(err).startswith("/robot_description:5: plugin 'p' (libgazebo_ros_teleport.so): "
-                                      "unknown plugin 'libgazebo_ros_teleport.so' (known: ")
+    assert startup_error(master, urdf=urdf, world_file=FLAT_WORLD).startswith(
+        "/robot_description:5: plugin 'p' (libgazebo_ros_teleport.so): "
+        "unknown plugin 'libgazebo_ros_teleport.so' (known: ")
 
 
 def test_unknown_plugin_parameter(master):
     urdf = GOOD_URDF.replace("</robot>", '<gazebo>\n<plugin name="gt" filename="libgazebo_ros_p3d.so">'
                              "<bodyName>base</bodyName><topicName>gt</topicName>\n<bodyname>base</bodyname>"
                              "</plugin>\n</gazebo>\n</robot>")
-    code, err = run_node(master, urdf=urdf, world_file=FLAT_WORLD)
-    assert code != 0
-    assert error_line(err) == "/robot_description:6: plugin 'gt' (libgazebo_ros_p3d.so): unknown parameter <bodyname>"
+    assert startup_error(master, urdf=urdf, world_file=FLAT_WORLD) == (
+        "/robot_description:6: plugin 'gt' (libgazebo_ros_p3d.so): unknown parameter <bodyname>")
 
 
 def test_good_input_runs_to_max_sim_time(master):
@@ -114,15 +106,13 @@ def camera_urdf(camera_xml, plugin_xml="", sensor_type="camera"):
      "<camera><clip>: needs 0 < near < far (got near 0.5, far 0.1)"),
 ])
 def test_bad_camera(master, camera_xml, message):
-    code, err = run_node(master, urdf=camera_urdf(camera_xml), world_file=FLAT_WORLD)
-    assert code != 0
-    assert error_line(err) == f"/robot_description:6: sensor 'cam' (camera): {message}"
+    assert startup_error(master, urdf=camera_urdf(camera_xml), world_file=FLAT_WORLD) == (
+        f"/robot_description:6: sensor 'cam' (camera): {message}")
 
 
 def test_unknown_camera_element(master):
-    code, err = run_node(master, urdf=camera_urdf("<camera><lense>fisheye</lense></camera>"), world_file=FLAT_WORLD)
-    assert code != 0
-    assert error_line(err) == "/robot_description:6: sensor 'cam' (camera): unknown element <camera><lense>"
+    assert startup_error(master, urdf=camera_urdf("<camera><lense>fisheye</lense></camera>"), world_file=FLAT_WORLD) == (
+        "/robot_description:6: sensor 'cam' (camera): unknown element <camera><lense>")
 
 
 @pytest.mark.parametrize("sensor_type, camera_xml, message", [
@@ -146,9 +136,8 @@ def test_unknown_camera_element(master):
      "(got '0.5')"),
 ])
 def test_bad_wide_angle_camera(master, sensor_type, camera_xml, message):
-    code, err = run_node(master, urdf=camera_urdf(camera_xml, sensor_type=sensor_type), world_file=FLAT_WORLD)
-    assert code != 0
-    assert error_line(err) == f"/robot_description:6: sensor 'cam' ({sensor_type}): {message}"
+    assert startup_error(master, urdf=camera_urdf(camera_xml, sensor_type=sensor_type), world_file=FLAT_WORLD) == (
+        f"/robot_description:6: sensor 'cam' ({sensor_type}): {message}")
 
 
 def test_wide_angle_camera_runs_with_good_parameters(master):
@@ -193,9 +182,8 @@ def test_optical_link_written_with_rounded_pi_over_2_is_accepted(master, rpy):
 
 
 def test_a_link_that_is_not_the_optical_frame_is_refused(master):
-    code, err = run_node(master, urdf=optical_link_urdf("0 0 -1.5707963"), world_file=FLAT_WORLD)
-    assert code != 0
-    assert error_line(err) == ("/robot_description:9: plugin 'cam_controller' (libgazebo_ros_camera.so): "
-                               "<frameName>: link 'base_optical' is not the optical frame of the camera on link 'base' "
-                               "(REP 103: z forward, x right, y down; expected rpy -pi/2 0 -pi/2 from the camera link, "
-                               "within 0.5 degrees)")
+    assert startup_error(master, urdf=optical_link_urdf("0 0 -1.5707963"), world_file=FLAT_WORLD) == (
+        "/robot_description:9: plugin 'cam_controller' (libgazebo_ros_camera.so): "
+        "<frameName>: link 'base_optical' is not the optical frame of the camera on link 'base' "
+        "(REP 103: z forward, x right, y down; expected rpy -pi/2 0 -pi/2 from the camera link, "
+        "within 0.5 degrees)")

@@ -7,8 +7,9 @@ import subprocess
 
 import pytest
 import rosgraph
+from conde_testing.ros_harness import fatal_error
 
-from test_bad_input import FLAT_WORLD, error_line
+from test_bad_input import FLAT_WORLD
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 CAR_XACRO = os.path.join(HERE, "fixtures", "ackermann_car.urdf.xacro")
@@ -62,9 +63,7 @@ def run_node(env, urdf, controllers=None, **params):
 
 def startup_error(env, urdf, controllers=None):
     """The error line of a start of conde_sim_node that must fail."""
-    code, err = run_node(env, urdf, controllers)
-    assert code != 0
-    return error_line(err)
+    return fatal_error(*run_node(env, urdf, controllers), "conde_sim")
 
 
 # ---------------------------------------------------------------- Ackermann drive

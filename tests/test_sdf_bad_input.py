@@ -5,7 +5,7 @@ import os
 
 import rospkg
 
-from test_bad_input import error_line, run_node
+from test_bad_input import run_node, startup_error
 
 SDF_DIR = os.path.join(rospkg.RosPack().get_path("conde_physics"), "test", "data", "sdf")
 
@@ -17,33 +17,27 @@ MESH_URDF = """<robot name="mesh_bot">
 
 def test_sdf_syntax_error_names_file_and_line(master):
     path = os.path.join(SDF_DIR, "bad_syntax.world")
-    code, err = run_node(master, world_file=path)
-    assert code != 0
-    assert error_line(err) == (f"{path}:7: XML error: Error=XML_ERROR_MISMATCHED_ELEMENT ErrorID=14 (0xe) "
-                               "Line number=7: XMLElement name=collision")
+    assert startup_error(master, world_file=path) == (
+        f"{path}:7: XML error: Error=XML_ERROR_MISMATCHED_ELEMENT ErrorID=14 (0xe) "
+        "Line number=7: XMLElement name=collision")
 
 
 def test_sdf_missing_include(master):
     path = os.path.join(SDF_DIR, "missing_include.world")
-    code, err = run_node(master, world_file=path)
-    assert code != 0
-    assert error_line(err) == f"{path}:4: Unable to find uri[model://no_such_model]"
+    assert startup_error(master, world_file=path) == f"{path}:4: Unable to find uri[model://no_such_model]"
 
 
 def test_sdf_mesh_that_does_not_load(master):
     path = os.path.join(SDF_DIR, "bad_mesh.world")
-    code, err = run_node(master, world_file=path)
-    assert code != 0
     mesh = os.path.join(SDF_DIR, "models", "mesh_block", "meshes", "broken.stl")
-    assert error_line(err).startswith(f"{path}: link 'broken::link' collision 'collision': mesh file '{mesh}': ")
+    assert startup_error(master, world_file=path).startswith(
+        f"{path}: link 'broken::link' collision 'collision': mesh file '{mesh}': ")
 
 
 def test_urdf_mesh_that_does_not_load(master):
     mesh = os.path.join(SDF_DIR, "models", "mesh_block", "meshes", "broken.stl")
     world = os.path.join(SDF_DIR, "shapes.world")
-    code, err = run_node(master, urdf=MESH_URDF.format(mesh=mesh), world_file=world)
-    assert code != 0
-    assert f"mesh file '{mesh}': " in error_line(err)
+    assert f"mesh file '{mesh}': " in startup_error(master, urdf=MESH_URDF.format(mesh=mesh), world_file=world)
 
 
 def test_sdf_world_and_collada_robot_run(master):

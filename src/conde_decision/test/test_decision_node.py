@@ -9,7 +9,7 @@ import subprocess
 
 import pytest
 
-from conde_testing.ros_harness import Roscore, run_probe
+from conde_testing.ros_harness import Roscore, fatal_error, run_probe
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 FIXTURES = os.path.join(HERE, "fixtures")
@@ -30,10 +30,9 @@ def run_node(core, **params):
     return proc.returncode, proc.stderr
 
 
-def error_line(stderr):
-    lines = [line for line in stderr.splitlines() if line.startswith("conde_decision: error: ")]
-    assert lines, "no error line in:\n" + stderr
-    return lines[-1][len("conde_decision: error: "):]
+def startup_error(core, **params):
+    """The message of a start of conde_decision that must fail."""
+    return fatal_error(*run_node(core, **params), "conde_decision")
 
 
 def test_lane_and_signal_in_reference_and_state_out(core):
@@ -77,19 +76,13 @@ def test_lane_and_signal_in_reference_and_state_out(core):
 
 def test_unknown_state_exits_with_the_message(core):
     path = os.path.join(FIXTURES, "unknown_state.yaml")
-    code, err = run_node(core, state_machine=path)
-    assert code != 0
-    assert error_line(err) == f"{path}: states.follow_lane.on.signal_stop: unknown target state 'stoped'"
+    assert startup_error(core, state_machine=path) == f"{path}: states.follow_lane.on.signal_stop: unknown target state 'stoped'"
 
 
 def test_missing_state_machine_file_exits_with_the_message(core):
     path = os.path.join(FIXTURES, "no_such_states.yaml")
-    code, err = run_node(core, state_machine=path)
-    assert code != 0
-    assert error_line(err) == f"{path}: cannot read: No such file or directory"
+    assert startup_error(core, state_machine=path) == f"{path}: cannot read: No such file or directory"
 
 
 def test_bad_parameter_exits_with_the_message(core):
-    code, err = run_node(core, cruise_speed_mps=-1.0)
-    assert code != 0
-    assert error_line(err) == "parameter /conde_decision/cruise_speed_mps: must be > 0, got -1.0"
+    assert startup_error(core, cruise_speed_mps=-1.0) == "parameter /conde_decision/cruise_speed_mps: must be > 0, got -1.0"

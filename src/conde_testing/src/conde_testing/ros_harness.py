@@ -23,6 +23,16 @@ TIMEOUT_S = 60.0  # default wall-clock patience
 ROSCORE_PARAMS = ("/rosdistro", "/rosversion", "/run_id", "/roslaunch")  # what roscore itself sets
 
 
+def fatal_error(code, stderr, node):
+    """The message of a node that had to stop: asserts a non-zero exit `code` and returns the
+    <message> of the last "<node>: error: <message>" line of `stderr`."""
+    prefix = node + ": error: "
+    lines = [line for line in stderr.splitlines() if line.startswith(prefix)]
+    assert code != 0, f"{node} exited 0:\n{stderr}"
+    assert lines, f"no '{prefix}' line in:\n{stderr}"
+    return lines[-1][len(prefix):]
+
+
 def free_port():
     """A TCP port of 127.0.0.1 that is free now (another process may take it before it is used)."""
     with socket.socket() as s:
