@@ -111,7 +111,8 @@ def test_bad_camera(master, camera_xml, message):
 
 
 def test_unknown_camera_element(master):
-    assert startup_error(master, urdf=camera_urdf("<camera><lense>fisheye</lense></camera>"), world_file=FLAT_WORLD) == (
+    urdf = camera_urdf("<camera><lense>fisheye</lense></camera>")
+    assert startup_error(master, urdf=urdf, world_file=FLAT_WORLD) == (
         "/robot_description:6: sensor 'cam' (camera): unknown element <camera><lense>")
 
 

@@ -76,7 +76,8 @@ def test_lane_and_signal_in_reference_and_state_out(core):
 
 def test_unknown_state_exits_with_the_message(core):
     path = os.path.join(FIXTURES, "unknown_state.yaml")
-    assert startup_error(core, state_machine=path) == f"{path}: states.follow_lane.on.signal_stop: unknown target state 'stoped'"
+    assert startup_error(core, state_machine=path) == (
+        f"{path}: states.follow_lane.on.signal_stop: unknown target state 'stoped'")
 
 
 def test_missing_state_machine_file_exits_with_the_message(core):
@@ -85,4 +86,5 @@ def test_missing_state_machine_file_exits_with_the_message(core):
 
 
 def test_bad_parameter_exits_with_the_message(core):
-    assert startup_error(core, cruise_speed_mps=-1.0) == "parameter /conde_decision/cruise_speed_mps: must be > 0, got -1.0"
+    assert startup_error(core, cruise_speed_mps=-1.0) == (
+        "parameter /conde_decision/cruise_speed_mps: must be > 0, got -1.0")
