@@ -915,16 +915,23 @@ TEST(CameraRendererTest, ObjectsAreLitFromAbove) {
 
 // --- Noise ---------------------------------------------------------------------------------------
 
-TEST(CameraRendererTest, GaussianNoiseHasTheModelsStandardDeviation) {
-  cp::CameraModel model = cp::CameraModel::fromHorizontalFov(320, 240, 1.0);
+// A `width` x `height` camera (1 rad horizontal FOV, noise stddev 0.05) 1 m above a plain
+// `ground` under a plain `sky`, looking along +x; noise from `rng` (none when null).
+cp::RgbImage renderNoisyPlainView(int width, int height, const cp::Vec3& ground, const cp::Vec3& sky,
+                                  std::mt19937* rng) {
+  cp::CameraModel model = cp::CameraModel::fromHorizontalFov(width, height, 1.0);
   model.noise_stddev = 0.05;
-  const cp::CameraRenderer camera(model);
   cp::RenderScene scene;
-  scene.setGroundColor({0.5, 0.5, 0.5});
-  scene.setSkyColor({0.5, 0.5, 0.5});
-  std::mt19937 rng(42);
+  scene.setGroundColor(ground);
+  scene.setSkyColor(sky);
   cp::RgbImage image;
-  camera.render(scene, lookAt({0, 0, 1}, {1, 0, 1}), -1, &rng, image);
+  cp::CameraRenderer(model).render(scene, lookAt({0, 0, 1}, {1, 0, 1}), -1, rng, image);
+  return image;
+}
+
+TEST(CameraRendererTest, GaussianNoiseHasTheModelsStandardDeviation) {
+  std::mt19937 rng(42);
+  const cp::RgbImage image = renderNoisyPlainView(320, 240, {0.5, 0.5, 0.5}, {0.5, 0.5, 0.5}, &rng);
   for (int c = 0; c < 3; ++c) {
     double sum = 0.0, sum2 = 0.0;
     const int n = image.width * image.height;
@@ -943,20 +950,14 @@ TEST(CameraRendererTest, GaussianNoiseHasTheModelsStandardDeviation) {
   for (int i = 0; i < n; ++i) cov += (image.data[i * 3] - 128.0) * (image.data[i * 3 + 1] - 128.0);
   EXPECT_LT(std::abs(cov / n) / (12.75 * 12.75), 0.05);
   // No generator: no noise.
-  camera.render(scene, lookAt({0, 0, 1}, {1, 0, 1}), -1, nullptr, image);
-  for (std::uint8_t x : image.data) ASSERT_EQ(x, 128);
+  for (std::uint8_t x : renderNoisyPlainView(320, 240, {0.5, 0.5, 0.5}, {0.5, 0.5, 0.5}, nullptr).data) {
+    ASSERT_EQ(x, 128);
+  }
 }
 
 TEST(CameraRendererTest, NoiseIsClampedToTheByteRange) {
-  cp::CameraModel model = cp::CameraModel::fromHorizontalFov(160, 120, 1.0);
-  model.noise_stddev = 0.05;
-  const cp::CameraRenderer camera(model);
-  cp::RenderScene scene;
-  scene.setGroundColor({1, 1, 1});
-  scene.setSkyColor({0, 0, 0});
   std::mt19937 rng(1);
-  cp::RgbImage image;
-  camera.render(scene, lookAt({0, 0, 1}, {1, 0, 1}), -1, &rng, image);
+  const cp::RgbImage image = renderNoisyPlainView(160, 120, {1, 1, 1}, {0, 0, 0}, &rng);
   // White ground can only get darker, black sky only brighter: both ends saturate, nothing wraps
   // (noise of 12.75 levels wrapping past 0 or 255 would land near the other end).
   int sky_zero = 0, ground_full = 0;
