@@ -1,5 +1,6 @@
 """conde_common.config_files: the file and the line are named, with the caller's error type and words."""
 import pytest
+import yaml
 
 from conde_common.config_files import parse_yaml, read_text
 
@@ -29,3 +30,15 @@ def test_bad_yaml_names_the_line_and_the_problem():
     with pytest.raises(Bad) as info:
         parse_yaml("a: 1\nb: [1\n", "a.yaml", Bad, "invalid YAML")
     assert str(info.value) == "a.yaml:3: invalid YAML: expected ',' or ']', but got '<stream end>'"
+
+
+def test_parse_yaml_with_the_callers_loader():
+    class NoFloats(yaml.SafeLoader):  # a loader that refuses floats, with the node's position
+        def construct_yaml_float(self, node):
+            raise yaml.constructor.ConstructorError(None, None, "no floats here", node.start_mark)
+
+    NoFloats.add_constructor("tag:yaml.org,2002:float", NoFloats.construct_yaml_float)
+    assert parse_yaml("a: 1\n", "a.yaml", Bad, "bad", loader=NoFloats) == {"a": 1}
+    with pytest.raises(Bad) as info:
+        parse_yaml("a: 1\nb: 2.5\n", "a.yaml", Bad, "bad", loader=NoFloats)
+    assert str(info.value) == "a.yaml:2: bad: no floats here"

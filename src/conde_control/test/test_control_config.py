@@ -55,9 +55,9 @@ def test_bad_file_names_itself_and_the_problem(tmp_path, text, message):
 
 def test_missing_file(tmp_path):
     path = str(tmp_path / "nope.yaml")
-    assert error_of(path) == f"{path}: cannot read: No such file or directory"
+    assert error_of(path) == f"{path}: cannot read the control configuration: No such file or directory"
 
 
 def test_yaml_syntax_error(tmp_path):
     path = write(tmp_path, "max_linear_mps: [1\n")
-    assert error_of(path).startswith(f"{path}: YAML error: ")
+    assert error_of(path) == f"{path}:2: YAML error: expected ',' or ']', but got '<stream end>'"  # and the line

@@ -82,7 +82,8 @@ def test_unknown_state_exits_with_the_message(core):
 
 def test_missing_state_machine_file_exits_with_the_message(core):
     path = os.path.join(FIXTURES, "no_such_states.yaml")
-    assert startup_error(core, state_machine=path) == f"{path}: cannot read: No such file or directory"
+    assert startup_error(core, state_machine=path) == (
+        f"{path}: cannot read the state machine: No such file or directory")
 
 
 def test_bad_parameter_exits_with_the_message(core):

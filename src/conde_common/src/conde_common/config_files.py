@@ -13,11 +13,11 @@ def read_text(path, error_type, what):
         raise error_type("%s: cannot read %s: %s" % (path, what, error.strerror or error)) from None
 
 
-def parse_yaml(text, source, error_type, label):
-    """yaml.safe_load(text); error_type("<source>:<line>: <label>: <problem>") on bad YAML (without
-    ":<line>" when YAML gives no position)."""
+def parse_yaml(text, source, error_type, label, loader=yaml.SafeLoader):
+    """yaml.load(text, Loader=loader) (safe by default); error_type("<source>:<line>: <label>:
+    <problem>") on bad YAML (without ":<line>" when YAML gives no position)."""
     try:
-        return yaml.safe_load(text)
+        return yaml.load(text, Loader=loader)
     except yaml.YAMLError as error:
         mark = getattr(error, "problem_mark", None)
         where = ":%d" % (mark.line + 1) if mark is not None else ""

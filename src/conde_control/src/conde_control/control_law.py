@@ -36,7 +36,7 @@ import os
 from dataclasses import dataclass, fields
 from typing import Tuple
 
-import yaml
+from conde_common.config_files import parse_yaml, read_text
 from conde_common.rate_limit import approach, clip
 
 
@@ -64,13 +64,7 @@ def load_config(path: str) -> ControlConfig:
     """Reads a control YAML file strictly: unknown keys, non-numbers, negative gains and
     non-positive limits are errors naming the file and the key.  Missing keys keep their
     defaults."""
-    try:
-        with open(path, encoding="utf-8") as f:
-            data = yaml.safe_load(f)
-    except OSError as e:
-        raise ConfigError("%s: cannot read: %s" % (path, e.strerror or e)) from None
-    except yaml.YAMLError as e:
-        raise ConfigError("%s: YAML error: %s" % (path, " ".join(str(e).split()))) from None
+    data = parse_yaml(read_text(path, ConfigError, "the control configuration"), path, ConfigError, "YAML error")
     return config_from_dict(data if data is not None else {}, path)
 
 

@@ -35,6 +35,7 @@ from dataclasses import dataclass, field
 from typing import Dict, List, Optional, Tuple
 
 import yaml
+from conde_common.config_files import parse_yaml, read_text
 
 #: The events the decision logic (decision_logic.py) produces, with what makes each fire.
 EVENTS = OrderedDict([
@@ -129,13 +130,8 @@ _StrictLoader.add_constructor(yaml.resolver.BaseResolver.DEFAULT_MAPPING_TAG, _c
 
 def load_state_machine(path: str) -> StateMachineSpec:
     """Reads and validates a state-machine YAML file."""
-    try:
-        with open(path, encoding="utf-8") as f:
-            data = yaml.load(f, Loader=_StrictLoader)
-    except OSError as e:
-        raise StateMachineError("%s: cannot read: %s" % (path, e.strerror or e)) from None
-    except yaml.YAMLError as e:
-        raise StateMachineError("%s: YAML error: %s" % (path, " ".join(str(e).split()))) from None
+    text = read_text(path, StateMachineError, "the state machine")
+    data = parse_yaml(text, path, StateMachineError, "YAML error", loader=_StrictLoader)
     return parse_state_machine(data, path)
 
 
