@@ -15,6 +15,7 @@ from conde_humanoid.srv import WalkTo
 
 MODEL = 'nao'
 FALLEN_TORSO_HEIGHT_M = 0.2   # torso origin lower than this: fallen (walking height 0.30 m)
+DELIVERY_S = 0.3  # [s] wall clock for a message on loopback, as stepped_sim.send
 FALLEN_TILT_RAD = 0.7         # or torso tilted more than this from upright
 
 
@@ -55,6 +56,7 @@ class WalkTrials:
         self._walk = rospy.ServiceProxy('/nao_walk/walk_to', WalkTo)
         self.step_s = 0.001
         self.time_s = self._step(0).sim_time_s
+        time.sleep(DELIVERY_S)  # nao_walk's latched posture trajectory reaches the controller
 
     def step_to(self, time_s):
         steps = int(round((time_s - self.time_s) / self.step_s))
@@ -86,11 +88,13 @@ class WalkTrials:
         """Runs one walk starting at simulated `start_time_s` (> now); returns a Trial. Samples
         the torso every `sample_s` to detect a fall and unwrap the yaw."""
         wall0 = time.monotonic()
+        self.step_to(start_time_s - 0.05)  # the previous walk (or the move to the posture) is over
         self.wait_for_clock()
         answer = self._walk(distance_m=distance_m, angle_rad=angle_rad, speed_fraction=speed_fraction,
                             start_time_s=start_time_s)
         if not answer.accepted:
             raise RuntimeError('nao_walk refused the walk: ' + answer.message)
+        time.sleep(DELIVERY_S)  # its trajectory reaches the controller before the simulation steps on
         self.step_to(start_time_s)
         start = self.link('torso')
         yaw, last, fell = 0.0, start.yaw_rad, False
