@@ -69,9 +69,10 @@ def _stop(process):
         process.wait()
 
 
-def run_sequence(engine, specs, log_path=None, timeout_s=1800.0):
-    """Runs `specs` (strings) one after the other in a fresh simulation on `engine`; returns the
-    list of trial dicts (shorter than specs if the robot fell: the trial with the fall is last)."""
+def run_in_fresh_simulation(engine, command, log_path=None, timeout_s=1800.0, on_record=None):
+    """Starts nao.launch with nao_walk, paused, on `engine` with its own master on a free port,
+    runs `command` (argv) against it and returns the JSON records (lines starting with '{') it
+    printed, calling `on_record(record)` as each comes. The simulation is stopped at the end."""
     port = _free_port()
     env = dict(os.environ, ROS_MASTER_URI='http://127.0.0.1:%d' % port, PATH='/usr/bin:' + os.environ['PATH'])
     log = open(log_path, 'a') if log_path else subprocess.DEVNULL
@@ -79,37 +80,55 @@ def run_sequence(engine, specs, log_path=None, timeout_s=1800.0):
         ['roslaunch', '-p', str(port), 'conde_bringup', 'nao.launch', 'controllers:=trajectory', 'walk:=true',
          'walk_ready_time:=0.2', 'cameras:=false', 'real_time_factor:=0', 'paused:=true',
          'physics_engine:=' + engine], env=env, stdout=log, stderr=subprocess.STDOUT, start_new_session=True)
+    records = []
     try:
-        out = subprocess.run(['rosrun', 'conde_humanoid', 'walk_trial'] + list(specs), env=env, text=True,
-                             stdout=subprocess.PIPE, stderr=log, timeout=timeout_s)
+        run = subprocess.Popen(command, env=env, text=True, stdout=subprocess.PIPE, stderr=log)
+        deadline = time.monotonic() + timeout_s
+        for line in run.stdout:
+            if line.startswith('{'):
+                records.append(json.loads(line))
+                if on_record:
+                    on_record(records[-1])
+            if time.monotonic() > deadline:
+                run.kill()
+        status = run.wait()
     finally:
         _stop(launch)
         if log_path:
             log.close()
-    trials = [json.loads(line) for line in out.stdout.splitlines() if line.startswith('{')]
-    if out.returncode != 0 and not trials:
+    if status != 0 and not records:
         where = ', see ' + log_path if log_path else ''
-        raise RuntimeError('walk_trial on %s failed (exit %d)%s' % (engine, out.returncode, where))
-    return trials
+        raise RuntimeError('%s on %s failed (exit %d)%s' % (' '.join(command[:3]), engine, status, where))
+    return records
+
+
+def run_sequence(engine, specs, log_path=None, timeout_s=1800.0, on_trial=None):
+    """Runs `specs` (strings) one after the other in a fresh simulation on `engine`; returns the
+    list of trial dicts (shorter than specs if the robot fell: the trial with the fall is last).
+    `on_trial(trial)` is called as each trial ends."""
+    return run_in_fresh_simulation(engine, ['rosrun', 'conde_humanoid', 'walk_trial'] + list(specs), log_path,
+                                   timeout_s, on_trial)
 
 
 def run_repeats(engine, specs, repeats, progress=print, log_path=None):
-    """{spec: [trial per repeat]}; a sequence cut by a fall goes on in a fresh simulation."""
+    """{spec: [trial per repeat]}; a sequence cut by a fall goes on in a fresh simulation.
+    `progress(line)` gets one line per trial as it ends."""
     results = {s: [] for s in specs}
     for r in range(repeats):
+        def report(trial, r=r):
+            progress('%s repeat %d/%d %-14s x %+.3f m y %+.3f m turned %+7.1f deg%s (sim %.1f s, wall %.1f s)'
+                     % (engine, r + 1, repeats, trial['spec'], trial['x_m'], trial['y_m'],
+                        math.degrees(trial['turned_rad']), ' FELL' if trial['fell'] else '',
+                        trial['sim_s'], trial['wall_s']))
+
         todo = list(specs)
         while todo:
-            t0 = time.monotonic()
-            trials = run_sequence(engine, todo, log_path)
+            trials = run_sequence(engine, todo, log_path, on_trial=report)
+            if not trials:
+                raise RuntimeError('no trial ran on %s' % engine)
             for trial in trials:
                 results[trial['spec']].append(trial)
-                progress('%s repeat %d/%d %-14s x %+.3f m y %+.3f m turned %+7.1f deg%s (sim %.1f s, wall %.1f s)'
-                         % (engine, r + 1, repeats, trial['spec'], trial['x_m'], trial['y_m'],
-                            math.degrees(trial['turned_rad']), ' FELL' if trial['fell'] else '',
-                            trial['sim_s'], trial['wall_s']))
             done = {t['spec'] for t in trials}
-            if not trials:
-                raise RuntimeError('no trial ran on %s (%.0f s)' % (engine, time.monotonic() - t0))
             todo = [s for s in todo if s not in done]
     return results
 

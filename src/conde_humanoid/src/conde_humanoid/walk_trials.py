@@ -5,7 +5,7 @@ by the walking rostest and walk_report. No sleeping on the wall clock for simula
 
 import math
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import rospy
 from conde_msgs.srv import StepSimulation
@@ -37,7 +37,6 @@ class Trial:
     sim_s: float          # simulated time of the walk [s]
     wall_s: float         # wall-clock time it took [s]
     final: Pose = None
-    slip_m: list = field(default_factory=list)  # per landed support foot: ankle drift while it supported
 
 
 def _pose(state):
@@ -67,11 +66,24 @@ class WalkTrials:
             self.time_s = response.sim_time_s
         return self.time_s
 
+    def link_state(self, name):
+        """gazebo_msgs/GetLinkState response for the robot's link `name` in the world."""
+        return self._link(link_name='%s::%s' % (MODEL, name), reference_frame='world')
+
     def link(self, name):
-        state = self._link(link_name='%s::%s' % (MODEL, name), reference_frame='world')
+        state = self.link_state(name)
         if not state.success:
             raise RuntimeError('/gazebo/get_link_state %s: %s' % (name, state.status_message))
         return _pose(state)
+
+    def request_walk(self, distance_m, angle_rad, speed_fraction, start_time_s):
+        """Asks nao_walk for a walk starting at `start_time_s` (not stepping); its answer."""
+        answer = self._walk(distance_m=distance_m, angle_rad=angle_rad, speed_fraction=speed_fraction,
+                            start_time_s=start_time_s)
+        if not answer.accepted:
+            raise RuntimeError('nao_walk refused the walk: ' + answer.message)
+        time.sleep(DELIVERY_S)  # its trajectory reaches the controller before the simulation steps on
+        return answer
 
     def wait_for_clock(self, timeout_s=30.0):
         """Waits until nao_walk's clock has caught up with the paused simulator (it answers for
@@ -90,11 +102,7 @@ class WalkTrials:
         wall0 = time.monotonic()
         self.step_to(start_time_s - 0.05)  # the previous walk (or the move to the posture) is over
         self.wait_for_clock()
-        answer = self._walk(distance_m=distance_m, angle_rad=angle_rad, speed_fraction=speed_fraction,
-                            start_time_s=start_time_s)
-        if not answer.accepted:
-            raise RuntimeError('nao_walk refused the walk: ' + answer.message)
-        time.sleep(DELIVERY_S)  # its trajectory reaches the controller before the simulation steps on
+        answer = self.request_walk(distance_m, angle_rad, speed_fraction, start_time_s)
         self.step_to(start_time_s)
         start = self.link('torso')
         yaw, last, fell = 0.0, start.yaw_rad, False
