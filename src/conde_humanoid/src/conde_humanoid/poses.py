@@ -53,13 +53,19 @@ def pose_commands(pose, controllers, where='pose'):
     return commands
 
 
-def load_pose_commands(poses_file, pose_name, controllers_file):
-    """The commands of pose `pose_name` of `poses_file` for the controllers of `controllers_file`."""
+def load_pose(poses_file, pose_name):
+    """{joint: angle [rad]} of pose `pose_name` of `poses_file` (only the joints it names)."""
     poses = _load(poses_file)
     if pose_name not in poses:
         raise PoseError("%s: no pose '%s' (poses: %s)" % (poses_file, pose_name, ', '.join(sorted(poses))))
     pose = poses[pose_name] or {}
     if not isinstance(pose, dict):
         raise PoseError('%s: %s: expected {joint: angle}' % (poses_file, pose_name))
+    return pose
+
+
+def load_pose_commands(poses_file, pose_name, controllers_file):
+    """The commands of pose `pose_name` of `poses_file` for the controllers of `controllers_file`."""
+    pose = load_pose(poses_file, pose_name)
     controllers = position_controllers(_load(controllers_file), controllers_file)
     return pose_commands(pose, controllers, '%s: %s' % (poses_file, pose_name))
