@@ -1,11 +1,11 @@
 """conde_tournament end to end: a small tournament (fixtures/tournament/two_teams.yaml: the reference
 Conde stack, a weak team whose control drives straight, a team whose launch file does not exist;
-D1 with two seeds, ODE, 20 s of simulated time) run on this machine and on a two-node Ray cluster
+D1 with two seeds, ODE, 15 s of simulated time) run on this machine and on a two-node Ray cluster
 that the test starts on loopback; the same leaderboard both times, the weak team below the
 reference, the missing team's jobs failed with the reason and nobody else's. A job whose simulator
 is killed (SIGKILL) is reported with that reason while the other job finishes. A malformed
 tournament file stops the run with an error naming the file and the key.
-About 4 minutes on a busy 2-core machine (the Ray part needs scripts/install_dependencies.sh
+About 5 minutes on a busy 2-core machine (the Ray part needs scripts/install_dependencies.sh
 tournament: Ray in its virtualenv; the test says so and fails without it)."""
 import csv
 import json
@@ -95,7 +95,9 @@ class RayCluster:
 
     def __init__(self, env, temp_dir):
         self.ray = os.path.join(os.path.dirname(self.python()), "ray")
-        self.env = dict(env, RAY_USAGE_STATS_ENABLED="0")
+        # A cluster of this test only, on loopback: no token (a ~/.ray/auth_token left by another Ray
+        # session would switch token authentication on for the head but not for the second node).
+        self.env = dict(env, RAY_USAGE_STATS_ENABLED="0", RAY_AUTH_MODE="disabled")
         self.port = free_port()  # ephemeral range: outside Ray's worker ports (10002-19999)
         self.address = "127.0.0.1:%d" % self.port
         common = ["--block", "--node-ip-address=127.0.0.1", "--num-cpus=1", "--object-store-memory=100000000",
@@ -160,7 +162,7 @@ def test_ray_run_gives_the_same_leaderboard(env, local_run, tmp_path):
     cluster = RayCluster(env, str(tmp_path))
     try:
         out_dir = tmp_path / "ray"
-        run = run_tournament(env, "two_teams.yaml", out_dir, "--ray", cluster.address)
+        run = run_tournament(cluster.env, "two_teams.yaml", out_dir, "--ray", cluster.address)
     finally:
         cluster.close()
     assert run.returncode == 0, run.stdout[-4000:] + run.stderr[-4000:]

@@ -72,11 +72,12 @@ def classify(report, dead, over_wall_limit: bool, roslaunch_status: int):
 
 
 def _default_signals():
-    """In the job's roslaunch before exec: SIGINT and SIGTERM as by default. A Ray worker ignores
-    SIGINT, and an ignored signal stays ignored across exec: roslaunch would then not shut its
-    nodes down."""
+    """In the job's roslaunch before exec: SIGINT and SIGTERM handled by default and not blocked. A
+    Ray worker ignores SIGINT and its threads block signals; both survive exec, and roslaunch and
+    its nodes would then not shut down on SIGINT (the referee's report would be cut short)."""
     signal.signal(signal.SIGINT, signal.SIG_DFL)
     signal.signal(signal.SIGTERM, signal.SIG_DFL)
+    signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT, signal.SIGTERM})
 
 
 def job_processes(job_dir: str):
