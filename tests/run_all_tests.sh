@@ -29,6 +29,8 @@ if [ "$tier" = all ]; then
   # podman, debootstrap, chromium, hadolint for tests/test_container_images.py and test_novnc_rviz.py
   # (they skip, saying why, where no container runtime can start).
   scripts/install_dependencies.sh containers || echo "install_dependencies.sh containers failed: the container tests will skip"
+  # Ray (pinned, in its own virtualenv) for the tournament test's Ray cluster (tests/test_tournament.py).
+  scripts/install_dependencies.sh tournament || echo "install_dependencies.sh tournament failed: the tournament test's Ray part will fail"
 fi
 scripts/build.sh || exit 1
 set +u

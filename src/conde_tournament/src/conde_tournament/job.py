@@ -1,0 +1,216 @@
+"""One tournament job, isolated: its own ROS master on a free port, ROS_HOME and ROS_LOG_DIR in its
+own folder, its own process group (roslaunch, the master and every node), ended when the run is
+over or over its wall-clock limit. The simulated-time limit is the simulator's own
+(~max_sim_time_s): it stops there and roslaunch ends the job.
+
+Files of a job folder:
+    job.json        what ran (team, challenge, ..., port, command) while it runs
+    roslaunch.log   roslaunch's output
+    challenge/      generated world and the referee's referee.{json,md,png}
+    ros/log/        ROS logs
+    result.json     the outcome (written last: its presence marks the job finished; resume skips it)
+"""
+import json
+import os
+import shlex
+import signal
+import socket
+import subprocess
+import time
+
+from conde_eval import launch_log
+
+from conde_tournament.tournament_file import REFERENCE_NODES, Job, team_problem
+
+RESULT_FILE = "result.json"
+# The process whose death ends the run as the simulator's (not the team's) failure.
+SIMULATOR_NODES = ("conde_sim", "roscore", "rosmaster", "master")
+
+
+def free_port() -> int:
+    """A TCP port on loopback that nothing listens on now (the master binds it right after)."""
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def launch_command(job: Job, port: int, job_dir: str, sim_limit_s: float):
+    """The shell command of the job: the team's overlay (if any) sourced, then roslaunch."""
+    args = ["roslaunch", "-p", str(port), "conde_tournament", "team_run.launch",
+            "challenge:=" + job.challenge, "variant:=" + job.variant, "seed:=%d" % job.seed,
+            "physics_engine:=" + job.engine, "max_sim_time:=%g" % sim_limit_s,
+            "output_dir:=" + os.path.join(job_dir, "challenge")]
+    args += ["%s:=false" % node for node in REFERENCE_NODES if node in job.team.replaces]
+    if job.team.launch:
+        args.append("team_launch:=" + job.team.launch)
+    if job.team.lockstep_config:
+        args.append("lockstep_config:=" + job.team.lockstep_config)
+    command = " ".join(shlex.quote(a) for a in args)
+    if job.team.overlay:
+        command = "source %s && exec %s" % (shlex.quote(job.team.overlay), command)
+    return ["bash", "-c", command]
+
+
+def classify(report, dead, over_wall_limit: bool, roslaunch_status: int):
+    """(status, reason) of a job from what is known when it ended (pure).
+
+    report: the referee's report (dict) or None; dead: launch_log.DeadNode list (first = first to
+    die). Statuses: "ok" (the referee judged the run), "team_failed" (a team or reference node
+    died: scored as it ended), "wall_limit" (scored as it ended), "sim_failed" (the simulator or
+    master died: not the team's fault, no score), "no_report"."""
+    dead = [d for d in dead if d.exit_code != 0]  # the simulator ends with 0 at its simulated-time limit
+    first_sim = next((d for d in dead if d.name in SIMULATOR_NODES), None)
+    if first_sim is not None and (not dead or dead[0] is first_sim or report is None):
+        return "sim_failed", first_sim.describe()
+    if over_wall_limit:
+        return "wall_limit", "over the wall-clock limit; stopped"
+    if dead:
+        return "team_failed", "; ".join(d.describe() for d in dead)
+    if report is None:
+        return "no_report", "the referee wrote no report (roslaunch exit status %d)" % roslaunch_status
+    return "ok", "referee: %s" % report.get("end", "?")
+
+
+def _default_signals():
+    """In the job's roslaunch before exec: SIGINT and SIGTERM handled by default and not blocked. A
+    Ray worker ignores SIGINT and its threads block signals; both survive exec, and roslaunch and
+    its nodes would then not shut down on SIGINT (the referee's report would be cut short)."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
+    signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT, signal.SIGTERM})
+
+
+def job_processes(job_dir: str):
+    """Pids of the processes that run with this job's ROS_HOME: roslaunch starts each node in a
+    session of its own, so the job's process group does not hold them all."""
+    marker = ("ROS_HOME=" + os.path.join(job_dir, "ros")).encode()
+    pids = []
+    for entry in os.listdir("/proc"):
+        if not entry.isdigit() or int(entry) == os.getpid():
+            continue
+        try:
+            with open("/proc/%s/environ" % entry, "rb") as f:
+                if marker in f.read().split(b"\0"):
+                    pids.append(int(entry))
+        except OSError:  # gone, or not ours
+            continue
+    return pids
+
+
+def _kill_leftovers(job_dir: str):
+    """SIGKILL to whatever of the job outlived roslaunch (e.g. roslaunch killed before its nodes)."""
+    for pid in job_processes(job_dir):
+        try:
+            os.kill(pid, signal.SIGKILL)
+        except ProcessLookupError:
+            pass
+
+
+def _stop(process, grace_s: float):
+    """SIGINT to the job's process group (the referee writes its report on shutdown), then SIGKILL."""
+    for sig, wait_s in ((signal.SIGINT, grace_s), (signal.SIGKILL, 10.0)):
+        try:
+            os.killpg(process.pid, sig)
+        except ProcessLookupError:
+            return
+        try:
+            process.wait(timeout=wait_s)
+            if sig == signal.SIGKILL:
+                return
+        except subprocess.TimeoutExpired:
+            continue
+    # roslaunch may have gone while nodes of its group linger: end them too.
+    try:
+        os.killpg(process.pid, signal.SIGKILL)
+    except ProcessLookupError:
+        pass
+
+
+def _wait_for_file(path: str, timeout_s: float, settle_s: float = 1.0):
+    """Until `path` exists and its size has not changed for settle_s, or timeout_s has passed."""
+    deadline, last = time.monotonic() + timeout_s, None
+    while time.monotonic() < deadline:
+        size = os.path.getsize(path) if os.path.exists(path) else None
+        if size is not None and size == last:
+            return
+        last = size
+        time.sleep(settle_s)
+
+
+def run_job(job: Job, job_dir: str, sim_limit_s: float, wall_limit_s: float) -> dict:
+    """Runs one job into job_dir and returns its result (also written to job_dir/result.json)."""
+    os.makedirs(job_dir, exist_ok=True)
+    result = {"job_id": job.job_id, "team": job.team.name, "challenge": job.challenge, "variant": job.variant,
+              "seed": job.seed, "engine": job.engine, "repeat": job.repeat, "host": socket.gethostname()}
+    problem = team_problem(job.team)
+    started = time.monotonic()
+    if problem:
+        return failed_result(job, job_dir, problem, status="team_failed")
+    port = free_port()
+    env = dict(os.environ, ROS_MASTER_URI="http://127.0.0.1:%d" % port, ROS_IP="127.0.0.1",
+               ROS_HOME=os.path.join(job_dir, "ros"), ROS_LOG_DIR=os.path.join(job_dir, "ros", "log"))
+    env.pop("ROS_HOSTNAME", None)
+    command = launch_command(job, port, job_dir, sim_limit_s)
+    with open(os.path.join(job_dir, "job.json"), "w") as f:
+        json.dump(dict(result, port=port, command=command), f, indent=1)
+    report_path = os.path.join(job_dir, "challenge", "referee.json")
+    if os.path.exists(report_path):
+        os.remove(report_path)  # a report of an interrupted earlier attempt
+    log_path = os.path.join(job_dir, "roslaunch.log")
+    over_wall_limit = False
+    log_bytes = None  # what roslaunch wrote before the job was stopped (then nodes die on purpose)
+    with open(log_path, "w") as log:
+        process = subprocess.Popen(command, stdout=log, stderr=subprocess.STDOUT, env=env, cwd=job_dir,
+                                   start_new_session=True, preexec_fn=_default_signals)
+        try:
+            while process.poll() is None:
+                if os.path.exists(report_path):
+                    # The referee ended the run (end of trial, parked, disqualified, time limit);
+                    # its path plot is written last.
+                    _wait_for_file(report_path[:-len(".json")] + ".png", timeout_s=30.0)
+                    break
+                if time.monotonic() - started > wall_limit_s:
+                    over_wall_limit = True
+                    break
+                time.sleep(0.5)
+        finally:
+            log.flush()
+            log_bytes = os.path.getsize(log_path) if process.poll() is None else None
+            _stop(process, grace_s=15.0)
+            _kill_leftovers(job_dir)
+    with open(log_path, "rb") as f:
+        dead = launch_log.dead_nodes(f.read(log_bytes if log_bytes is not None else -1).decode(errors="replace"))
+    report = None
+    if os.path.exists(report_path):
+        with open(report_path) as f:
+            report = json.load(f)
+    status, reason = classify(report, dead, over_wall_limit, process.returncode)
+    result.update(status=status, reason=reason, report=report, wall_s=round(time.monotonic() - started, 1),
+                  port=port)
+    return _write_result(job_dir, result)
+
+
+def failed_result(job: Job, job_dir: str, reason: str, status: str = "sim_failed") -> dict:
+    """The result of a job that did not run (written to job_dir/result.json)."""
+    os.makedirs(job_dir, exist_ok=True)
+    return _write_result(job_dir, {"job_id": job.job_id, "team": job.team.name, "challenge": job.challenge,
+                                   "variant": job.variant, "seed": job.seed, "engine": job.engine,
+                                   "repeat": job.repeat, "host": socket.gethostname(), "status": status,
+                                   "reason": reason, "report": None, "wall_s": 0.0})
+
+
+def _write_result(job_dir: str, result: dict) -> dict:
+    tmp = os.path.join(job_dir, RESULT_FILE + ".tmp")
+    with open(tmp, "w") as f:
+        json.dump(result, f, indent=1, sort_keys=True)
+    os.replace(tmp, os.path.join(job_dir, RESULT_FILE))
+    return result
+
+
+def load_result(job_dir: str):
+    """The result of a finished job, or None (not run, or interrupted)."""
+    try:
+        with open(os.path.join(job_dir, RESULT_FILE)) as f:
+            return json.load(f)
+    except (OSError, ValueError):
+        return None

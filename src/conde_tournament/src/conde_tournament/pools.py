@@ -1,0 +1,81 @@
+"""Where jobs run: a local process pool (default) or a Ray cluster (--ray).
+
+Both hand back each job's result as it finishes. Locally a job writes into its folder under the
+output directory. On Ray a job runs in a temporary folder on whichever node Ray picks and its task
+returns the result and the folder (tar.gz), which the driver unpacks into the output directory:
+the nodes need the workspace at the same path and no shared file system.
+"""
+import io
+import os
+import shutil
+import tarfile
+import tempfile
+from concurrent.futures import ThreadPoolExecutor, as_completed
+
+from conde_tournament.job import failed_result, run_job
+
+# The Ray release that scripts/install_dependencies.sh tournament installs (it names the same
+# version; test_ray_version.py checks), in a virtualenv that sees Debian's Python packages.
+RAY_VERSION = "2.60.0"
+# A task whose worker process or node died is run again this often; an exception is not retried
+# (run_job returns the team's failures as results, it does not raise them).
+RAY_MAX_RETRIES = 2
+
+
+def ray_venv_python() -> str:
+    cache = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+    return os.path.join(cache, "conde_sim", "venv-ray-%s" % RAY_VERSION, "bin", "python")
+
+
+def run_local(jobs, out_dir, sim_limit_s, wall_limit_s, workers):
+    """Yields each job's result as it finishes, `workers` jobs at a time on this machine."""
+    with ThreadPoolExecutor(max_workers=workers) as pool:
+        futures = [pool.submit(run_job, job, os.path.join(out_dir, job.job_id), sim_limit_s, wall_limit_s)
+                   for job in jobs]
+        for future in as_completed(futures):
+            yield future.result()
+
+
+def run_job_packed(job, sim_limit_s, wall_limit_s):
+    """Runs `job` in a temporary folder; returns (result, the folder as tar.gz bytes)."""
+    work = tempfile.mkdtemp(prefix="conde_tournament_")
+    try:
+        job_dir = os.path.join(work, job.job_id)
+        result = run_job(job, job_dir, sim_limit_s, wall_limit_s)
+        buffer = io.BytesIO()
+        with tarfile.open(fileobj=buffer, mode="w:gz") as tar:
+            # Files and folders only (ROS's log/latest is a link).
+            tar.add(job_dir, arcname=job.job_id, filter=lambda info: info if info.isfile() or info.isdir() else None)
+        return result, buffer.getvalue()
+    finally:
+        shutil.rmtree(work, ignore_errors=True)
+
+
+def run_ray(jobs, out_dir, sim_limit_s, wall_limit_s, cpus_per_job, address):
+    """Yields each job's result as it finishes, one Ray task per job with `cpus_per_job` CPUs."""
+    import ray
+
+    ray.init(address=address, log_to_driver=False)
+    try:
+        task = ray.remote(num_cpus=cpus_per_job, max_retries=RAY_MAX_RETRIES, retry_exceptions=False)(run_job_packed)
+        job_of = {task.remote(job, sim_limit_s, wall_limit_s): job for job in jobs}
+        pending = list(job_of)
+        while pending:
+            done, pending = ray.wait(pending, num_returns=1)
+            job = job_of[done[0]]
+            job_dir = os.path.join(out_dir, job.job_id)
+            try:
+                result, packed = ray.get(done[0])
+            except ray.exceptions.RayError as error:  # its worker died more often than retried
+                yield failed_result(job, job_dir, "ray: %s" % str(error).splitlines()[0])
+                continue
+            shutil.rmtree(job_dir, ignore_errors=True)
+            with tarfile.open(fileobj=io.BytesIO(packed), mode="r:gz") as tar:
+                for member in tar.getmembers():  # only the job's own folder, no links out of it
+                    if not (member.isfile() or member.isdir()) or member.name.split("/")[0] != job.job_id \
+                            or ".." in member.name.split("/"):
+                        raise ValueError("ray: unexpected member %r in the files of job %s" % (member.name, job.job_id))
+                tar.extractall(out_dir)
+            yield result
+    finally:
+        ray.shutdown()

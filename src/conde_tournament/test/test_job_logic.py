@@ -1,0 +1,51 @@
+"""How a job's end is classified, and the command a job runs (no ROS run here)."""
+from conde_eval.launch_log import DeadNode
+
+from conde_tournament.job import classify, launch_command
+from conde_tournament.tournament_file import Job, Team
+
+REPORT = {"end": "stopped", "score": 0.0}
+
+
+def test_a_judged_run_is_ok():
+    assert classify(REPORT, [], False, 0) == ("ok", "referee: stopped")
+
+
+def test_the_simulator_stopping_at_its_time_limit_is_no_failure():
+    assert classify(REPORT, [DeadNode("conde_sim", 10, 0)], False, 0)[0] == "ok"
+
+
+def test_a_killed_simulator_is_not_the_teams_fault():
+    status, reason = classify(REPORT, [DeadNode("conde_sim", 10, -9)], False, 0)
+    assert status == "sim_failed" and reason == "conde_sim (pid 10) died: killed by SIGKILL"
+
+
+def test_a_team_node_that_dies_is_scored_as_it_ended():
+    dead = [DeadNode("conde_control", 11, 1), DeadNode("conde_sim", 10, 0)]
+    assert classify(REPORT, dead, False, 0) == ("team_failed", "conde_control (pid 11) died: exit status 1")
+    # The simulator going down after the team's node (roslaunch ends the run) stays the team's failure.
+    assert classify(REPORT, [DeadNode("conde_control", 11, 1), DeadNode("conde_sim", 10, -15)], False, 0)[0] \
+        == "team_failed"
+
+
+def test_wall_limit_and_missing_report():
+    assert classify(REPORT, [], True, 0)[0] == "wall_limit"
+    assert classify(None, [], False, 3) == ("no_report", "the referee wrote no report (roslaunch exit status 3)")
+
+
+def test_launch_command_switches_off_what_the_team_replaces():
+    team = Team("a", launch="/t/a.launch", replaces=("control", "tracking"))
+    command = launch_command(Job(team, "D1", "v1", 4, "bullet", 0), 12345, "/out/job", 30.0)
+    assert command[:2] == ["bash", "-c"]
+    text = command[2]
+    assert text.startswith("roslaunch -p 12345 conde_tournament team_run.launch challenge:=D1 variant:=v1 seed:=4 ")
+    for arg in ("physics_engine:=bullet", "max_sim_time:=30", "output_dir:=/out/job/challenge", "tracking:=false",
+                "control:=false", "team_launch:=/t/a.launch"):
+        assert " " + arg in text
+    assert "decision:=false" not in text and "semaphore:=false" not in text
+
+
+def test_an_overlay_is_sourced_first():
+    team = Team("b", overlay="/ws b/devel/setup.bash")
+    text = launch_command(Job(team, "D1", "v1", 0, "ode", 0), 1, "/o", 0.0)[2]
+    assert text.startswith("source '/ws b/devel/setup.bash' && exec roslaunch ")
