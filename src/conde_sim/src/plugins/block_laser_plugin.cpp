@@ -45,7 +45,8 @@ class BlockLaserPlugin : public SimPlugin {
     rays.noise_seed = ctx_.noiseSeed(params.sensorName());
     point_noise_ = GaussianNoise(rayPluginNoiseStddev(params), rays.noise_seed + 1);
     timer_ = UpdateTimer(rayPluginRateHz(params), ctx_.sim->stepS());
-    params.getDouble("hokuyoMinIntensity", 101);
+    params.getDouble("hokuyoMinIntensity", 101);  // checked, then unused (Gazebo only logs it)
+    params.ignore({"hokuyoMinIntensity"});
     const std::string topic = params.getString("topicName", "block_laser");
     msg_.header.frame_id = ctx_.frameParam(params, rays.link);
     params.ignore({"alwaysOn", "visualize"});

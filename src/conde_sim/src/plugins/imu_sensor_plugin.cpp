@@ -77,7 +77,8 @@ class ImuPlugin : public SimPlugin {
     timer_ = UpdateTimer(rate_hz, ctx_.sim->stepS());
     noise_stddev_ = params.getDouble("gaussianNoise", 0.0);
     if (noise_stddev_ < 0) throw params.error("gaussianNoise", "must not be negative");
-    params.getVec3("xyzOffset", cp::Vec3());
+    params.getVec3("xyzOffset", cp::Vec3());  // checked, then unused (as in Gazebo)
+    params.ignore({"xyzOffset"});
     const cp::Vec3 rpy = params.getVec3("rpyOffset", cp::Vec3());
     rpy_offset_ = cp::Quat::fromRpy(rpy.x, rpy.y, rpy.z);
     pub_ = nh.advertise<sensor_msgs::Imu>(topic, 10);
