@@ -85,7 +85,7 @@ class ImuPlugin : public SimPlugin {
     last_velocity_ = ctx_.sim->linkTwist(ctx_.robot, link_).linear_mps;
     ROS_INFO("%s: IMU (%s) on link %s publishing %s in frame %s at %.1f Hz, noise %.4f",
              ctx_.sim->robot(ctx_.robot).spec.name.c_str(), model_form_ ? "model plugin" : "sensor", link_.c_str(),
-             pub_.getTopic().c_str(), frame_.c_str(), rate_hz, noise_stddev_);
+             pub_.getTopic().c_str(), frame_.c_str(), timer_.rateHz(ctx_.sim->stepS()), noise_stddev_);
   }
 
   void reset() override { last_velocity_ = ctx_.sim->linkTwist(ctx_.robot, link_).linear_mps; }
