@@ -21,13 +21,24 @@ LaserScanner::LaserScanner(Simulation& sim, int robot, const LaserScanConfig& co
     throw std::invalid_argument("the laser's ranges need 0 <= min < max");
   }
   if (!(config.noise_stddev_m >= 0.0)) throw std::invalid_argument("the laser's noise stddev must not be negative");
+  if (config.vertical_count < 1) throw std::invalid_argument("a ray grid needs at least one row");
+  if (config.vertical_count > 1 && !(config.min_vertical_angle_rad < config.max_vertical_angle_rad)) {
+    throw std::invalid_argument("the ray grid's min vertical angle must be below its max vertical angle");
+  }
   sim.linkPose(robot, config.link);  // throws std::out_of_range for an unknown link
-  const int n = config.beam_count;
-  increment_rad_ = n > 1 ? (config.max_angle_rad - config.min_angle_rad) / (n - 1) : 0.0;
+  const int columns = config.beam_count, rows = config.vertical_count;
+  increment_rad_ = columns > 1 ? (config.max_angle_rad - config.min_angle_rad) / (columns - 1) : 0.0;
+  vertical_increment_rad_ =
+      rows > 1 ? (config.max_vertical_angle_rad - config.min_vertical_angle_rad) / (rows - 1) : 0.0;
+  const int n = columns * rows;
   directions_in_sensor_.resize(n);
-  for (int i = 0; i < n; ++i) {
-    const double a = config.min_angle_rad + i * increment_rad_;
-    directions_in_sensor_[i] = cp::Vec3(std::cos(a), std::sin(a), 0.0);
+  for (int j = 0; j < rows; ++j) {
+    const double pitch = config.min_vertical_angle_rad + j * vertical_increment_rad_;
+    for (int i = 0; i < columns; ++i) {
+      const double yaw = config.min_angle_rad + i * increment_rad_;
+      directions_in_sensor_[i + j * columns] =
+          cp::Vec3(std::cos(pitch) * std::cos(yaw), std::cos(pitch) * std::sin(yaw), std::sin(pitch));
+    }
   }
   origins_.resize(n);
   directions_.resize(n);
@@ -38,7 +49,7 @@ LaserScanner::LaserScanner(Simulation& sim, int robot, const LaserScanConfig& co
 const std::vector<float>& LaserScanner::scan() {
   const cp::Pose sensor = sim_.linkPose(robot_, config_.link) * config_.sensor_in_link;
   const double min_m = config_.min_range_m;
-  const int n = config_.beam_count;
+  const int n = static_cast<int>(directions_in_sensor_.size());
   for (int i = 0; i < n; ++i) {
     directions_[i] = sensor.orientation.rotate(directions_in_sensor_[i]);
     origins_[i] = sensor.position + directions_[i] * min_m;

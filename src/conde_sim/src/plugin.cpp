@@ -15,6 +15,16 @@ std::string PluginContext::frame(const std::string& name) const {
   return prefix.empty() ? name : prefix + "/" + name;
 }
 
+std::string PluginContext::frameParam(PluginParams& params, const std::string& fallback) const {
+  std::string name = params.getString("frameName", fallback);
+  if (name.size() > 1 && name[0] == '/') name = name.substr(1);
+  return frame(name);
+}
+
+std::uint32_t PluginContext::noiseSeed(const std::string& sensor_name) const {
+  return static_cast<std::uint32_t>(std::hash<std::string>()(sim->robot(robot).spec.name + "/" + sensor_name));
+}
+
 const std::map<std::string, PluginFactory>& pluginRegistry() {
   static const std::map<std::string, PluginFactory> registry = {
       {"libgazebo_ros_diff_drive.so", makeDiffDrivePlugin},
@@ -28,6 +38,9 @@ const std::map<std::string, PluginFactory>& pluginRegistry() {
       {"libgazebo_ros_control.so", makeRosControlPlugin},
       {"libconde_ackermann_drive.so", makeAckermannDrivePlugin},
       {"libgazebo_ros_bumper.so", makeBumperPlugin},
+      {"libgazebo_ros_imu.so", makeImuModelPlugin},
+      {"libgazebo_ros_range.so", makeRangePlugin},
+      {"libgazebo_ros_block_laser.so", makeBlockLaserPlugin},
   };
   return registry;
 }

@@ -1,5 +1,9 @@
 #include "conde_sim/plugin_loader.h"
 
+#include <ros/console.h>
+
+#include <set>
+
 namespace conde_sim {
 
 namespace {
@@ -8,6 +12,16 @@ std::string knownPluginNames() {
   std::string names;
   for (const auto& entry : pluginRegistry()) names += (names.empty() ? "" : ", ") + entry.first;
   return names;
+}
+
+// Keys Gazebo reads that have no effect here, at INFO, once per plugin file name and key.
+void logAcceptedWithoutEffect(const PluginParams& params) {
+  static std::set<std::string> logged;
+  std::string keys;
+  for (const std::string& key : params.acceptedWithoutEffect()) {
+    if (logged.insert(params.filename() + key).second) keys += (keys.empty() ? "" : ", ") + key;
+  }
+  if (!keys.empty()) ROS_INFO("%s: accepted without effect: %s", params.where().c_str(), keys.c_str());
 }
 
 }  // namespace
@@ -31,6 +45,7 @@ std::vector<std::unique_ptr<SimPlugin>> loadRobotPlugins(PluginContext& ctx) {
     std::unique_ptr<SimPlugin> p = it->second();
     p->load(ctx, params);
     params.checkAllUsed();
+    logAcceptedWithoutEffect(params);
     plugins.push_back(std::move(p));
   }
   return plugins;

@@ -256,7 +256,17 @@ void PluginParams::ignore(const std::vector<std::string>& keys) {
   for (const auto& k : keys) {
     used_.insert(k);
     sensor_used_.insert(k);
+    ignored_.push_back(k);
   }
+}
+
+std::vector<std::string> PluginParams::acceptedWithoutEffect() const {
+  std::vector<std::string> present;
+  for (const std::string& k : ignored_) {
+    if (has(k)) present.push_back("<" + k + ">");
+    if (sensor_ && sensorHas(k)) present.push_back("<sensor>" + xmlPath(k));
+  }
+  return present;
 }
 
 void PluginParams::checkAllUsed() const {

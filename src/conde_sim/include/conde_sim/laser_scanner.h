@@ -4,10 +4,13 @@
 //
 // Beam i (0 <= i < beamCount()) points at angle min_angle + i * angleIncrement() about the
 // sensor's z axis, counter-clockwise from its x axis (REP 103), as sensor_msgs/LaserScan
-// describes it. As Gazebo's ray sensor, each ray starts at min_range from the sensor (nothing
-// nearer is seen); a range is the distance from the sensor. Ranges follow REP 117: +inf when
-// nothing lies within max_range. Gaussian noise (if any) is added to hits only, and the result
-// is kept within [min_range, max_range].
+// describes it. With vertical_count > 1 the beams form a grid (Gazebo's ray sensor with
+// <vertical> samples): ray i + j * beamCount() has yaw as beam i and pitch (elevation, up
+// positive) min_vertical_angle + j * verticalIncrement(), direction
+// (cos pitch cos yaw, cos pitch sin yaw, sin pitch). As Gazebo's ray sensor, each ray starts at min_range from the
+// sensor (nothing nearer is seen); a range is the distance from the sensor. Ranges follow REP 117: +inf when nothing
+// lies within max_range. Gaussian noise (if any) is added to hits only, and the result is kept within [min_range,
+// max_range].
 #pragma once
 
 #include <cstdint>
@@ -23,11 +26,13 @@ namespace conde_sim {
 class Simulation;
 
 struct LaserScanConfig {
-  std::string link;                                 // link carrying the sensor
-  conde_physics::Pose sensor_in_link;               // SDF <sensor><pose>
-  int beam_count = 640;                             // >= 1 (Gazebo: samples x resolution)
-  double min_angle_rad = 0.0, max_angle_rad = 0.0;  // min < max, unless beam_count == 1
-  double min_range_m = 0.1, max_range_m = 10.0;     // 0 <= min < max
+  std::string link;                                                   // link carrying the sensor
+  conde_physics::Pose sensor_in_link;                                 // SDF <sensor><pose>
+  int beam_count = 640;                                               // >= 1 (Gazebo: samples x resolution)
+  double min_angle_rad = 0.0, max_angle_rad = 0.0;                    // min < max, unless beam_count == 1
+  int vertical_count = 1;                                             // rows of the grid, >= 1
+  double min_vertical_angle_rad = 0.0, max_vertical_angle_rad = 0.0;  // min < max, unless 1 row
+  double min_range_m = 0.1, max_range_m = 10.0;                       // 0 <= min < max
   double noise_mean_m = 0.0, noise_stddev_m = 0.0;
   std::uint32_t noise_seed = 0;  // deterministic noise: same seed, same scans
 };
@@ -37,12 +42,17 @@ class LaserScanner {
   // Throws std::invalid_argument for a config that breaks the limits above or an unknown link.
   LaserScanner(Simulation& sim, int robot, const LaserScanConfig& config);
 
-  int beamCount() const { return config_.beam_count; }
+  int beamCount() const { return config_.beam_count; }  // rays per row
+  int rowCount() const { return config_.vertical_count; }
   // (max - min) / (beams - 1), 0 for a single beam (as Gazebo's gazebo_ros_laser).
   double angleIncrement() const { return increment_rad_; }
+  double verticalIncrement() const { return vertical_increment_rad_; }
+  // Unit direction of ray `index` (i + j * beamCount()) in the sensor frame.
+  const conde_physics::Vec3& directionInSensor(int index) const { return directions_in_sensor_[index]; }
   const LaserScanConfig& config() const { return config_; }
 
-  // Casts every beam from the link's current pose; the result lives until the next scan().
+  // Casts every ray from the link's current pose; the result (beamCount() x rowCount() ranges,
+  // row by row) lives until the next scan().
   const std::vector<float>& scan();
   const std::vector<float>& ranges() const { return ranges_; }
 
@@ -50,7 +60,7 @@ class LaserScanner {
   Simulation& sim_;
   int robot_;
   LaserScanConfig config_;
-  double increment_rad_ = 0.0;
+  double increment_rad_ = 0.0, vertical_increment_rad_ = 0.0;
   std::vector<conde_physics::Vec3> directions_in_sensor_;
   std::vector<conde_physics::Vec3> origins_, directions_;
   std::vector<conde_physics::RayHit> hits_;

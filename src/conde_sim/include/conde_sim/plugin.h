@@ -13,6 +13,7 @@
 #include <tf2_ros/static_transform_broadcaster.h>
 #include <tf2_ros/transform_broadcaster.h>
 
+#include <cstdint>
 #include <functional>
 #include <map>
 #include <memory>
@@ -37,6 +38,11 @@ struct PluginContext {
   ros::NodeHandle nodeHandle(PluginParams& params) const;
   // Frame name with the robot's frame prefix.
   std::string frame(const std::string& name) const;
+  // <frameName> (else `fallback`) with the robot's frame prefix, without a leading '/' (tf2
+  // frames have none; Gazebo users often write "/base_link").
+  std::string frameParam(PluginParams& params, const std::string& fallback) const;
+  // Seed of a sensor's noise: its own per robot and sensor, the same in every run.
+  std::uint32_t noiseSeed(const std::string& sensor_name) const;
   ros::Time now() const { return ros::Time(sim->timeS()); }
 };
 
@@ -74,11 +80,14 @@ std::unique_ptr<SimPlugin> makeDiffDrivePlugin();
 std::unique_ptr<SimPlugin> makeJointStatePublisherPlugin();
 std::unique_ptr<SimPlugin> makeGroundTruthPlugin();
 std::unique_ptr<SimPlugin> makeImuSensorPlugin();
+std::unique_ptr<SimPlugin> makeImuModelPlugin();
 std::unique_ptr<SimPlugin> makeCameraPlugin();
 std::unique_ptr<SimPlugin> makeVideoPlugin();
 std::unique_ptr<SimPlugin> makeLaserPlugin();
 std::unique_ptr<SimPlugin> makeRosControlPlugin();
 std::unique_ptr<SimPlugin> makeAckermannDrivePlugin();
 std::unique_ptr<SimPlugin> makeBumperPlugin();
+std::unique_ptr<SimPlugin> makeRangePlugin();
+std::unique_ptr<SimPlugin> makeBlockLaserPlugin();
 
 }  // namespace conde_sim

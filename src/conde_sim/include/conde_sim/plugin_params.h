@@ -72,9 +72,12 @@ class PluginParams {
   std::string sensorType() const;
   std::string sensorName() const;
 
-  // Keys that Gazebo reads but that have no effect here; accepted silently (a sensor path
-  // accepts everything below it).
+  // Keys that Gazebo reads but that have no effect here; accepted (a sensor path accepts
+  // everything below it). Those present are listed by acceptedWithoutEffect().
   void ignore(const std::vector<std::string>& keys);
+  // The ignored keys this block really has: "<alwaysOn>", "<sensor><visualize>", in the order
+  // ignore() got them; the loader logs them once at INFO.
+  std::vector<std::string> acceptedWithoutEffect() const;
   // Throws PluginError for the first key of <plugin> (and, at any depth, of <sensor>) that was
   // never read.
   void checkAllUsed() const;
@@ -97,6 +100,7 @@ class PluginParams {
   const tinyxml2::XMLElement* sensor_;
   std::string source_, reference_link_, name_, filename_;
   std::set<std::string> used_, sensor_used_;
+  std::vector<std::string> ignored_;
 };
 
 }  // namespace conde_sim

@@ -1,4 +1,20 @@
-// libgazebo_ros_imu_sensor.so: sensor_msgs/Imu from an IMU sensor on a link.
+// libgazebo_ros_imu_sensor.so: sensor_msgs/Imu from an IMU sensor on a link; and
+// libgazebo_ros_imu.so, the older MODEL plugin form of the same measurement (TurtleBot3 and
+// others), which sits in a <gazebo> block without a sensor and names its link:
+//
+//   <gazebo><plugin name="imu_plugin" filename="libgazebo_ros_imu.so">
+//     <bodyName>imu_link</bodyName> <frameName>imu_link</frameName> <topicName>imu</topicName>
+//     <serviceName>imu_service</serviceName> <gaussianNoise>0.0</gaussianNoise> <updateRate>0</updateRate>
+//   </plugin></gazebo>
+//
+// Model form as Gazebo's gazebo_ros_imu: bodyName required, frameName defaults to bodyName,
+// topicName and serviceName to "default_imu" (the service, std_srvs/Empty, only answers: a
+// simulated IMU needs no calibration), updateRate 0 = every step. Gazebo's model plugin reports
+// the link's world-frame velocity change without gravity, rotated the wrong way; here both
+// forms publish the same measurement (specific force and rates in the link frame). Its <imu>
+// noise block and <alwaysOn> are accepted without effect (Gazebo ignores them too).
+//
+// Sensor form:
 //
 //   <gazebo reference="imu_link"><sensor name="imu" type="imu">
 //     <always_on>true</always_on> <update_rate>100</update_rate>
@@ -14,6 +30,7 @@
 // Acceleration is the velocity change over one update period, which smooths contact jitter.
 // As in Gazebo, xyzOffset is accepted and unused; <bodyName> (from gazebo_ros_imu) is ignored.
 #include <sensor_msgs/Imu.h>
+#include <std_srvs/Empty.h>
 
 #include <random>
 
@@ -24,29 +41,51 @@
 namespace conde_sim {
 namespace {
 
-class ImuSensorPlugin : public SimPlugin {
+class ImuPlugin : public SimPlugin {
  public:
+  explicit ImuPlugin(bool model_form) : model_form_(model_form) {}
+
   void configure(PluginParams& params, ros::NodeHandle& nh) override {
-    link_ = params.requireSensor({"imu"});
-    const std::string topic = params.getString("topicName", "imu_data");
-    frame_ = ctx_.frame(params.requireString("frameName"));
-    double rate_hz = params.getDouble("updateRateHZ", 1.0);
-    const double sensor_rate_hz = params.sensorDouble("update_rate", 0.0);
-    if (!params.has("updateRateHZ") && sensor_rate_hz > 0) rate_hz = sensor_rate_hz;
-    if (rate_hz < 0) throw params.error("updateRateHZ", "must not be negative");
+    std::string topic;
+    double rate_hz = 0.0;
+    if (model_form_) {
+      if (params.inSensor()) throw PluginError(params.where() + ": is a model plugin: it must not sit in a <sensor>");
+      link_ = params.requireString("bodyName");
+      int body = -1;
+      cp::Pose unused;
+      if (!ctx_.sim->robot(ctx_.robot).model.linkInBody(link_, body, unused)) {
+        throw params.error("bodyName",
+                           "robot '" + ctx_.sim->robot(ctx_.robot).spec.name + "' has no link '" + link_ + "'");
+      }
+      topic = params.getString("topicName", "default_imu");
+      frame_ = ctx_.frame(params.getString("frameName", link_));
+      rate_hz = params.getDouble("updateRate", 0.0);
+      if (rate_hz < 0) throw params.error("updateRate", "must not be negative");
+      calibrate_ = nh.advertiseService(params.getString("serviceName", "default_imu"), &ImuPlugin::calibrate, this);
+      params.ignore({"imu", "alwaysOn"});
+    } else {
+      link_ = params.requireSensor({"imu"});
+      topic = params.getString("topicName", "imu_data");
+      frame_ = ctx_.frame(params.requireString("frameName"));
+      rate_hz = params.getDouble("updateRateHZ", 1.0);
+      const double sensor_rate_hz = params.sensorDouble("update_rate", 0.0);
+      if (!params.has("updateRateHZ") && sensor_rate_hz > 0) rate_hz = sensor_rate_hz;
+      if (rate_hz < 0) throw params.error("updateRateHZ", "must not be negative");
+      params.sensorBool("always_on", true);
+      params.ignore({"visualize", "pose", "topic", "imu", "bodyName", "alwaysOn"});
+    }
     timer_ = UpdateTimer(rate_hz, ctx_.sim->stepS());
     noise_stddev_ = params.getDouble("gaussianNoise", 0.0);
     if (noise_stddev_ < 0) throw params.error("gaussianNoise", "must not be negative");
-    params.getVec3("xyzOffset", cp::Vec3());
+    params.getVec3("xyzOffset", cp::Vec3());  // checked, then unused (as in Gazebo)
+    params.ignore({"xyzOffset"});
     const cp::Vec3 rpy = params.getVec3("rpyOffset", cp::Vec3());
     rpy_offset_ = cp::Quat::fromRpy(rpy.x, rpy.y, rpy.z);
-    params.sensorBool("always_on", true);
-    params.ignore({"visualize", "pose", "topic", "imu", "bodyName", "alwaysOn"});
     pub_ = nh.advertise<sensor_msgs::Imu>(topic, 10);
     last_velocity_ = ctx_.sim->linkTwist(ctx_.robot, link_).linear_mps;
-    ROS_INFO("%s: IMU on link %s publishing %s in frame %s at %.1f Hz, noise %.4f",
-             ctx_.sim->robot(ctx_.robot).spec.name.c_str(), link_.c_str(), pub_.getTopic().c_str(), frame_.c_str(),
-             rate_hz, noise_stddev_);
+    ROS_INFO("%s: IMU (%s) on link %s publishing %s in frame %s at %.1f Hz, noise %.4f",
+             ctx_.sim->robot(ctx_.robot).spec.name.c_str(), model_form_ ? "model plugin" : "sensor", link_.c_str(),
+             pub_.getTopic().c_str(), frame_.c_str(), timer_.rateHz(ctx_.sim->stepS()), noise_stddev_);
   }
 
   void reset() override { last_velocity_ = ctx_.sim->linkTwist(ctx_.robot, link_).linear_mps; }
@@ -84,8 +123,10 @@ class ImuSensorPlugin : public SimPlugin {
   }
 
  private:
+  bool calibrate(std_srvs::Empty::Request&, std_srvs::Empty::Response&) { return true; }
   double noise() { return noise_stddev_ > 0 ? gauss_(rng_) * noise_stddev_ : 0.0; }
 
+  bool model_form_;
   std::string link_, frame_;
   cp::Quat rpy_offset_;
   cp::Vec3 last_velocity_;
@@ -94,10 +135,12 @@ class ImuSensorPlugin : public SimPlugin {
   std::mt19937 rng_{0};
   std::normal_distribution<double> gauss_{0.0, 1.0};
   ros::Publisher pub_;
+  ros::ServiceServer calibrate_;
 };
 
 }  // namespace
 
-std::unique_ptr<SimPlugin> makeImuSensorPlugin() { return std::make_unique<ImuSensorPlugin>(); }
+std::unique_ptr<SimPlugin> makeImuSensorPlugin() { return std::make_unique<ImuPlugin>(false); }
+std::unique_ptr<SimPlugin> makeImuModelPlugin() { return std::make_unique<ImuPlugin>(true); }
 
 }  // namespace conde_sim

@@ -29,6 +29,7 @@
 
 #include "conde_sim/laser_scanner.h"
 #include "conde_sim/plugin.h"
+#include "conde_sim/ray_sdf.h"
 #include "conde_sim/update_timer.h"
 
 namespace conde_sim {
@@ -37,60 +38,17 @@ namespace {
 class LaserPlugin : public SimPlugin {
  public:
   void configure(PluginParams& params, ros::NodeHandle& nh) override {
-    const std::string link = params.requireSensor({"ray", "gpu_ray"});
-    int body = -1;
-    cp::Pose unused;
-    if (!ctx_.sim->robot(ctx_.robot).model.linkInBody(link, body, unused)) {
-      throw PluginError(params.where() + ": <gazebo reference=\"" + link + "\"> must name a link to carry the sensor");
-    }
-    LaserScanConfig c;
-    c.link = link;
-    c.sensor_in_link = params.sensorPose();
+    LaserScanConfig c = rayFromSdf(params, ctx_.sim->robot(ctx_.robot).model, /*vertical_allowed=*/false);
+    const std::string& link = c.link;
     const double rate_hz = params.sensorDouble("update_rate", 0.0);
     if (rate_hz < 0) throw params.sensorError("update_rate", "must not be negative, got " + formatNumber(rate_hz));
     timer_ = UpdateTimer(rate_hz, ctx_.sim->stepS());
-    params.sensorBool("always_on", true);
-
-    const long samples = params.sensorInt("ray/scan/horizontal/samples", 640);
-    if (samples < 1)
-      throw params.sensorError("ray/scan/horizontal/samples", "must be at least 1, got " + std::to_string(samples));
-    const double resolution = params.sensorDouble("ray/scan/horizontal/resolution", 1.0);
-    if (!(resolution > 0)) {
-      throw params.sensorError("ray/scan/horizontal/resolution", "must be positive, got " + formatNumber(resolution));
-    }
-    c.beam_count = static_cast<int>(std::max(1.0, std::round(samples * resolution)));
-    c.min_angle_rad = params.sensorDouble("ray/scan/horizontal/min_angle", 0.0);
-    c.max_angle_rad = params.sensorDouble("ray/scan/horizontal/max_angle", 0.0);
-    if (c.beam_count > 1 && !(c.min_angle_rad < c.max_angle_rad)) {
-      throw params.sensorError("ray/scan/horizontal/max_angle", "must be greater than <min_angle> (" +
-                                                                    formatNumber(c.min_angle_rad) + "), got " +
-                                                                    formatNumber(c.max_angle_rad));
-    }
-    const long vertical = params.sensorInt("ray/scan/vertical/samples", 1);
-    if (vertical != 1) {
-      throw params.sensorError("ray/scan/vertical/samples",
-                               "only 2D scans are supported (1 sample), got " + std::to_string(vertical));
-    }
-    params.ignore({"ray/scan/vertical/resolution", "ray/scan/vertical/min_angle", "ray/scan/vertical/max_angle"});
-    c.min_range_m = params.sensorDouble("ray/range/min", 0.0);
-    c.max_range_m = params.sensorDouble("ray/range/max", 0.0);
-    if (c.min_range_m < 0)
-      throw params.sensorError("ray/range/min", "must not be negative, got " + formatNumber(c.min_range_m));
-    if (!(c.max_range_m > c.min_range_m)) {
-      throw params.sensorError("ray/range/max", "must be greater than <min> (" + formatNumber(c.min_range_m) +
-                                                    "), got " + formatNumber(c.max_range_m));
-    }
-    if (params.sensorDouble("ray/range/resolution", 0.0) < 0) {
-      throw params.sensorError("ray/range/resolution", "must not be negative");
-    }
-    readNoise(params, c);
-    // Each sensor its own noise, the same in every run.
-    c.noise_seed = static_cast<std::uint32_t>(
-        std::hash<std::string>()(ctx_.sim->robot(ctx_.robot).spec.name + "/" + params.sensorName()));
+    const double extra_noise_m = rayPluginNoiseStddev(params);
+    c.noise_stddev_m = std::hypot(c.noise_stddev_m, extra_noise_m);  // independent noises add in variance
+    c.noise_seed = ctx_.noiseSeed(params.sensorName());
 
     const std::string topic = params.getString("topicName", "scan");
-    frame_ = ctx_.frame(params.getString("frameName", link));
-    if (frame_.size() > 1 && frame_[0] == '/') frame_ = frame_.substr(1);  // tf2 frames have no leading slash
+    frame_ = ctx_.frameParam(params, link);
     params.ignore({"hokuyoMinIntensity", "updateRate", "alwaysOn", "visualize", "topic"});
     scanner_ = std::make_unique<LaserScanner>(*ctx_.sim, ctx_.robot, c);
 
@@ -121,17 +79,6 @@ class LaserPlugin : public SimPlugin {
   }
 
  private:
-  static void readNoise(PluginParams& params, LaserScanConfig& c) {
-    const PluginParams::SensorNoise noise = params.sensorNoise("ray/noise");
-    if (noise.gaussian) {
-      c.noise_mean_m = noise.mean;
-      c.noise_stddev_m = noise.stddev;
-    }
-    const double extra = params.getDouble("gaussianNoise", 0.0);
-    if (extra < 0) throw params.error("gaussianNoise", "must not be negative");
-    c.noise_stddev_m = std::hypot(c.noise_stddev_m, extra);  // independent noises add in variance
-  }
-
   std::unique_ptr<LaserScanner> scanner_;
   std::string frame_;
   UpdateTimer timer_;
