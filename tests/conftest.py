@@ -19,3 +19,18 @@ def master():
 
     with Roscore("conde_sim") as core:
         yield core.env
+
+
+@pytest.fixture(scope="module")
+def conde_master(master):
+    """`master` with Conde's URDF (xacro of conde_description) in /robot_description."""
+    import subprocess
+
+    import rosgraph
+
+    description = subprocess.run(["rospack", "find", "conde_description"], env=master, capture_output=True, text=True,
+                                 check=True).stdout.strip()
+    urdf = subprocess.run(["xacro", description + "/robots/conde.urdf.xacro"], env=master, capture_output=True,
+                          text=True, check=True).stdout
+    rosgraph.Master("/conde_master_fixture", master_uri=master["ROS_MASTER_URI"]).setParam("/robot_description", urdf)
+    return master

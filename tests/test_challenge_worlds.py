@@ -8,21 +8,11 @@ import os
 import subprocess
 
 import pytest
-import rosgraph
 from conde_worlds.challenge_objects import sign_order
 from conde_worlds.traffic_signs import FAMILY, SIGNS
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 CHECKS = os.path.join(HERE, "challenge_world_checks.py")
-
-
-@pytest.fixture(scope="module")
-def conde_master(master):
-    urdf = subprocess.run(["xacro", subprocess.run(["rospack", "find", "conde_description"], env=master,
-                                                   capture_output=True, text=True, check=True).stdout.strip()
-                           + "/robots/conde.urdf.xacro"], env=master, capture_output=True, text=True, check=True).stdout
-    rosgraph.Master("/challenge_worlds_test", master_uri=master["ROS_MASTER_URI"]).setParam("/robot_description", urdf)
-    return master
 
 
 @pytest.mark.parametrize("engine", ["ode", "bullet"])
