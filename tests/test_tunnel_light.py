@@ -1,24 +1,15 @@
 """The tunnel of D4 is darker: the generated world gives it a light region, and the left tracking
 camera of Conde standing under the roof sees the lane lines much darker than in the open part of
 the same loop (tunnel_light_checks.py, a paused conde_sim node stepped on each engine)."""
-import json
-import os
-import subprocess
-
 import pytest
 
 from conde_worlds.challenge_objects import TUNNEL_LIGHT
-
-HERE = os.path.dirname(os.path.abspath(__file__))
-CHECKS = os.path.join(HERE, "tunnel_light_checks.py")
+from conftest import run_checks
 
 
 @pytest.mark.parametrize("engine", ["ode", "bullet"])
 def test_tracking_camera_sees_the_tunnel_darker(conde_master, engine, tmp_path):
-    out = subprocess.run(["/usr/bin/python3", CHECKS, engine, str(tmp_path)], env=conde_master, capture_output=True,
-                         text=True, timeout=180)
-    assert out.returncode == 0, out.stdout[-3000:] + out.stderr[-3000:]
-    results = {r["place"]: r for r in (json.loads(line) for line in out.stdout.splitlines() if line.startswith("{"))}
+    results = {r["place"]: r for r in run_checks("tunnel_light_checks.py", engine, tmp_path, conde_master, 180)}
     print("brightness on %s: %s" % (engine, results))
     # In the open the white lines in front of the robot are white; under the roof every surface
     # the camera sees there lies in the light region: the lines are TUNNEL_LIGHT times as bright.

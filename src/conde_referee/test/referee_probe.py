@@ -3,7 +3,7 @@
 with Conde at the start pose, the panel played by this probe. Conde drives over the crosswalk
 while "stop" is shown, is then put with /conde_sim/set_start_pose on the straight's west line,
 and stands there when "end of trial" is shown. Prints one JSON line: the events the referee
-published, its report and the report files.
+published, its report, the report files and its last rviz markers.
 
 usage: referee_probe.py ENGINE OUTPUT_DIR   (against the ROS master of the environment)
 """
@@ -17,6 +17,7 @@ from conde_msgs.msg import PanelSignal
 from conde_msgs.srv import SetStartPose
 from geometry_msgs.msg import Twist
 from std_msgs.msg import String
+from visualization_msgs.msg import MarkerArray
 
 from conde_testing.ros_harness import stop_process
 from conde_worlds.challenge_world import write_challenge
@@ -41,6 +42,8 @@ def main():
     events, reports = [], []
     rospy.Subscriber("/conde_referee/events", String, lambda m: events.append(json.loads(m.data)), queue_size=50)
     rospy.Subscriber("/conde_referee/report", String, lambda m: reports.append(json.loads(m.data)), queue_size=1)
+    markers = []
+    rospy.Subscriber("/conde_referee/markers", MarkerArray, markers.append, queue_size=20)
     panel = rospy.Publisher("/signalling_panel/signal", PanelSignal, queue_size=10, latch=True)
     cmd_pub = rospy.Publisher("/cmd_vel", Twist, queue_size=1)
     try:
@@ -70,8 +73,13 @@ def main():
         stepped.step_until(lambda: any(e["kind"] == "line_touch" for e in events), "line_touch")
         show(PanelSignal.END_OF_TRIAL)
         stepped.step_until(lambda: reports, "the referee's report", steps=100)
+        stepped.step_until(lambda: markers and any(m.ns == "referee_score" and "end of trial" in m.text
+                                                   for m in markers[-1].markers), "the final markers", steps=100)
         result = {"engine": engine, "events": events, "report": reports[-1], "files": sorted(os.listdir(out_dir)),
-                  "referee_alive": referee.poll() is None}
+                  "referee_alive": referee.poll() is None,
+                  "markers": [{"ns": m.ns, "id": m.id, "type": m.type, "text": m.text, "frame": m.header.frame_id,
+                               "xy": [round(m.pose.position.x, 3), round(m.pose.position.y, 3)]}
+                              for m in markers[-1].markers]}
     finally:
         stop_process(referee)
         stop_process(sim)

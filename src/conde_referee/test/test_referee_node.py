@@ -41,6 +41,20 @@ def test_referee_judges_a_stepped_run(master, engine, tmp_path):
     assert report["score"] == -80  # no half lap driven
     assert {"referee.json", "referee.md", "referee.png"} <= set(result["files"])
     assert result["referee_alive"]
+    # rviz: the course (3 gates, 2 stop zones), a dot and a label per event where it happened,
+    # and the final score.
+    markers = result["markers"]
+    by_ns = {}
+    for m in markers:
+        by_ns.setdefault(m["ns"], []).append(m)
+    assert {ns: len(ms) for ns, ms in by_ns.items()} == {
+        "referee_gates": 3, "referee_zones": 2, "referee_events": 4, "referee_event_labels": 4, "referee_score": 1}
+    assert {m["frame"] for m in markers} == {"world"}
+    assert [m["text"] for m in by_ns["referee_event_labels"]] == [
+        "1 stop_not_respected -60", "2 line_touch -10", "3 stopped_outside_zone -10", "4 trial_end"]
+    for dot, event in zip(by_ns["referee_events"], result["events"]):
+        assert dot["xy"] == pytest.approx([event["x_m"], event["y_m"]], abs=1e-3)
+    assert by_ns["referee_score"][0]["text"] == "D1 score -80.0 | penalties 80 | 0 laps | end of trial"
 
 
 def test_robot_without_collision_geometry_stops_the_node(master, tmp_path):

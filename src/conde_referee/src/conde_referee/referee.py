@@ -58,6 +58,15 @@ ZONE_PAST_EDGE_M = 0.25
 FOOTPRINT_SPACING_M = 0.02
 
 
+def stop_zones(depth_m: float) -> dict:
+    """{lane: ((x_min, x_max), (y_min, y_max))} of the immobilisation zones [m]: the lane from
+    depth_m before the crosswalk to ZONE_PAST_EDGE_M into it (east lane northbound, west lane
+    southbound)."""
+    cw_near, cw_far = tg.CROSSWALK_Y
+    return {"east": ((tg.X_REF, tg.X_REF + tg.ROAD_HALF_WIDTH), (cw_near - depth_m, cw_near + ZONE_PAST_EDGE_M)),
+            "west": ((tg.X_REF - tg.ROAD_HALF_WIDTH, tg.X_REF), (cw_far - ZONE_PAST_EDGE_M, cw_far + depth_m))}
+
+
 @dataclass(frozen=True)
 class Event:
     n: int
@@ -282,13 +291,12 @@ class Referee:
                 self._give(t_s, "stopped_outside_zone", x, y, "stopped for the stop signal outside the zone")
 
     def _in_stop_zone(self, x, y):
-        depth = self.rules.judging["stop_zone_depth_m"]
         on_straight = abs(x - tg.X_REF) <= tg.ROAD_HALF_WIDTH
         cw_near, cw_far = tg.CROSSWALK_Y
         near = on_straight and cw_near - STOP_JUDGING_DISTANCE_M <= y <= cw_far + STOP_JUDGING_DISTANCE_M
-        north = x > tg.X_REF and cw_near - depth <= y <= cw_near + ZONE_PAST_EDGE_M
-        south = x < tg.X_REF and cw_far - ZONE_PAST_EDGE_M <= y <= cw_far + depth
-        return on_straight and (north or south), near
+        zones = stop_zones(self.rules.judging["stop_zone_depth_m"]).values()
+        in_zone = any(inside_box([(x, y)], box)[0] for box in zones)
+        return in_zone, near
 
     def _judge_parking(self, t_s, x, y, samples) -> bool:
         """True when the standstill was in a parking place (judged: the run ends)."""
@@ -334,6 +342,10 @@ class Referee:
             t_s = self.path[-1][0] if self.path else 0.0
         if not self.over:
             self.over = "stopped"
+        return self.report(t_s)
+
+    def report(self, t_s: float) -> dict:
+        """The report as it stands at t_s (the score so far while the run goes on)."""
         s = self.rules.scoring
         penalty = sum(e.penalty for e in self.events)
         target = 2 * int(s["laps"])
