@@ -1,5 +1,5 @@
-"""System test: the referee node judging a stepped simulator run (ODE and Bullet), and its
-refusal of a robot without collision geometry (exact message)."""
+"""System test: the referee node judging a stepped simulator run (ODE and Bullet) and its rviz
+markers, and its refusal of a robot without collision geometry (exact message)."""
 import json
 import os
 import subprocess
