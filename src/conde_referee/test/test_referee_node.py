@@ -1,5 +1,6 @@
 """System test: the referee node judging a stepped simulator run (ODE and Bullet) and its rviz
-markers, and its refusal of a robot without collision geometry (exact message)."""
+markers, following a box moved in the simulator, and its refusal of a robot without collision
+geometry (exact message)."""
 import json
 import os
 import subprocess
@@ -55,6 +56,21 @@ def test_referee_judges_a_stepped_run(master, engine, tmp_path):
     for dot, event in zip(by_ns["referee_events"], result["events"]):
         assert dot["xy"] == pytest.approx([event["x_m"], event["y_m"]], abs=1e-3)
     assert by_ns["referee_score"][0]["text"] == "D1 score -80.0 | penalties 80 | 0 laps | end of trial"
+
+
+@pytest.mark.parametrize("engine", ["ode", "bullet"])
+def test_a_moved_box_is_followed_from_the_model_states(master, engine, tmp_path):
+    # D3 v1: the north loop's box is moved 0.3 m along its lane (/gazebo/set_model_state) while
+    # the robot stands at its start; the referee reads it from /gazebo/model_states.
+    _set(master, "/robot_description", conde_urdf())
+    out = subprocess.run(["/usr/bin/python3", os.path.join(HERE, "referee_probe.py"), engine, str(tmp_path),
+                          "moved_box"], env=master, capture_output=True, text=True, timeout=240)
+    logs = sorted(tmp_path.glob("nodes_*.log"))
+    assert out.returncode == 0, out.stdout[-2000:] + out.stderr[-2000:] + (logs[0].read_text()[-3000:] if logs else "")
+    report = json.loads(out.stdout.strip().splitlines()[-1])["report"]
+    assert [(e["kind"], e["penalty"]) for e in report["events"]] == [("object_displaced", 0.0), ("trial_end", 0.0)]
+    assert report["events"][0]["detail"] == "obstacle_1 pushed 0.30 m"
+    assert report["objects_displaced_m"] == {"obstacle_1": pytest.approx(0.3, abs=0.01)}
 
 
 def test_robot_without_collision_geometry_stops_the_node(master, tmp_path):
