@@ -8,7 +8,9 @@ published, its report, the report files and its last rviz markers.
 Scenario moved_box (D3 v1): the north loop's box is moved 0.3 m with /gazebo/set_model_state while
 the robot stands at its start; the referee follows it from /gazebo/model_states.
 
-usage: referee_probe.py ENGINE OUTPUT_DIR [stop_run|moved_box]   (against the ROS master of the environment)
+Scenario push (D3 v1): Conde drives into that box and pushes it (real contacts).
+
+usage: referee_probe.py ENGINE OUTPUT_DIR [stop_run|moved_box|push]   (against the ROS master of the environment)
 """
 import json
 import math
@@ -24,6 +26,7 @@ from std_msgs.msg import String
 from visualization_msgs.msg import MarkerArray
 
 from conde_testing.ros_harness import stop_process
+from conde_worlds import challenge_objects as co
 from conde_worlds.challenge_world import layout, objects_of, write_challenge
 from conde_worlds.challenges import load_challenges
 from gazebo_msgs.msg import ModelState
@@ -76,7 +79,32 @@ def moved_box(stepped, show, events, cmd_pub):
     show(PanelSignal.END_OF_TRIAL)
 
 
-SCENARIOS = {"stop_run": ("D1", stop_run), "moved_box": ("D3", moved_box)}
+def push(stepped, show, events, cmd_pub):
+    """D3 v1: put 0.7 m before the north loop's box in its lane, facing its centre, the robot drives
+    0.5 m/s into it until the referee reports it displaced (PUSH_S at most); then end of trial."""
+    spec = layout(load_challenges(), "D3", "v1", 0)[3]["obstacles"][0]
+    lane_r = co.LANE_R[spec["lane"]]
+    x, y, _ = co.loop_point(spec["loop"], spec["angle_deg"] - math.degrees(0.7 / lane_r), lane_r)
+    box_x, box_y, _ = co.loop_point(spec["loop"], spec["angle_deg"], lane_r)
+    stepped.run(0.5, every_s=0.1, step_s=STEP_S)
+    show(PanelSignal.FORWARD)
+    rospy.wait_for_service("/conde_sim/set_start_pose")
+    answer = rospy.ServiceProxy("/conde_sim/set_start_pose", SetStartPose)("", x, y, math.atan2(box_y - y, box_x - x))
+    assert answer.success, answer.message
+    cmd = Twist()
+    cmd.linear.x = 0.5
+    connected(cmd_pub, "/cmd_vel")
+    for _ in range(int(PUSH_S / 0.1)):
+        stepped.run(0.1, every_s=0.05, before_chunk=lambda: cmd_pub.publish(cmd), step_s=STEP_S)
+        if any(e["kind"] == "object_displaced" for e in events):
+            break
+    cmd_pub.publish(Twist())
+    stepped.step_until(lambda: any(e["kind"] == "object_displaced" for e in events), "object_displaced")
+    show(PanelSignal.END_OF_TRIAL)
+
+
+PUSH_S = 6.0
+SCENARIOS = {"stop_run": ("D1", stop_run), "moved_box": ("D3", moved_box), "push": ("D3", push)}
 
 
 def main():

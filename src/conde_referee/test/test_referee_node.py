@@ -1,6 +1,6 @@
 """System test: the referee node judging a stepped simulator run (ODE and Bullet) and its rviz
-markers, following a box moved in the simulator, and its refusal of a robot without collision
-geometry (exact message)."""
+markers, following a box moved in the simulator and one the robot pushes, and its refusal of a
+robot without collision geometry (exact message)."""
 import json
 import os
 import subprocess
@@ -71,6 +71,24 @@ def test_a_moved_box_is_followed_from_the_model_states(master, engine, tmp_path)
     assert [(e["kind"], e["penalty"]) for e in report["events"]] == [("object_displaced", 0.0), ("trial_end", 0.0)]
     assert report["events"][0]["detail"] == "obstacle_1 pushed 0.30 m"
     assert report["objects_displaced_m"] == {"obstacle_1": pytest.approx(0.3, abs=0.01)}
+
+
+@pytest.mark.parametrize("engine", ["ode", "bullet"])
+def test_a_pushed_box_is_a_contact_and_is_followed(master, engine, tmp_path):
+    # D3 v1: Conde drives 0.5 m/s into the north loop's box (10 kg): a real contact, and the box's
+    # pose from /gazebo/model_states shows it pushed (the robot may turn onto a line meanwhile).
+    _set(master, "/robot_description", conde_urdf())
+    out = subprocess.run(["/usr/bin/python3", os.path.join(HERE, "referee_probe.py"), engine, str(tmp_path), "push"],
+                         env=master, capture_output=True, text=True, timeout=240)
+    logs = sorted(tmp_path.glob("nodes_*.log"))
+    assert out.returncode == 0, out.stdout[-2000:] + out.stderr[-2000:] + (logs[0].read_text()[-3000:] if logs else "")
+    report = json.loads(out.stdout.strip().splitlines()[-1])["report"]
+    kinds = [e["kind"] for e in report["events"]]
+    assert report["collision_source"] == "contacts"
+    assert kinds[0] == "collision" and report["events"][0]["detail"] == "obstacle_1", kinds
+    assert kinds.count("object_displaced") == 1, kinds
+    assert set(kinds) <= {"collision", "object_displaced", "line_touch", "stopped_outside_zone", "trial_end"}, kinds
+    assert 0.05 < report["objects_displaced_m"]["obstacle_1"] < 1.5, report["objects_displaced_m"]
 
 
 def test_robot_without_collision_geometry_stops_the_node(master, tmp_path):
