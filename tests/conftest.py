@@ -19,3 +19,30 @@ def master():
 
     with Roscore("conde_sim") as core:
         yield core.env
+
+
+@pytest.fixture(scope="module")
+def conde_master(master):
+    """`master` with Conde's URDF (xacro of conde_description) in /robot_description."""
+    import subprocess
+
+    import rosgraph
+
+    description = subprocess.run(["rospack", "find", "conde_description"], env=master, capture_output=True, text=True,
+                                 check=True).stdout.strip()
+    urdf = subprocess.run(["xacro", description + "/robots/conde.urdf.xacro"], env=master, capture_output=True,
+                          text=True, check=True).stdout
+    rosgraph.Master("/conde_master_fixture", master_uri=master["ROS_MASTER_URI"]).setParam("/robot_description", urdf)
+    return master
+
+
+def run_checks(script, engine, out_dir, env, timeout_s):
+    """Runs a checks script of this folder (`script ENGINE OUTPUT_DIR`, ROS master in `env`) and
+    returns the JSON objects it printed, one a line; fails with its output when it fails."""
+    import json
+    import subprocess
+
+    out = subprocess.run(["/usr/bin/python3", os.path.join(os.path.dirname(os.path.abspath(__file__)), script), engine,
+                          str(out_dir)], env=env, capture_output=True, text=True, timeout=timeout_s)
+    assert out.returncode == 0, out.stdout[-3000:] + out.stderr[-3000:]
+    return [json.loads(line) for line in out.stdout.splitlines() if line.startswith("{")]

@@ -48,3 +48,10 @@ def test_bad_seed_stops_roslaunch_with_the_message(master, tmp_path):
     out = roslaunch(master, tmp_path, "challenge:=D3", "seed:=-4")
     assert out.returncode != 0
     assert "generate_challenge: seed: expected an integer >= 0, got '-4'" in out.stdout + out.stderr
+
+
+def test_unknown_variant_stops_roslaunch_with_the_message(master, tmp_path):
+    out = roslaunch(master, tmp_path, "challenge:=D3", "variant:=v3")
+    assert out.returncode != 0
+    assert ("generate_challenge: challenges.yaml: challenges.D3: unknown variant 'v3' (expected one of: v1, v2)"
+            in out.stdout + out.stderr)

@@ -3,34 +3,16 @@ the simulator and runs a few simulated seconds on ODE and on Bullet with Conde s
 the start pose, then drives a short way; in V1 the signalling-panel camera sees the sign in front
 of it. One process per
 engine loads the worlds in turn (challenge_world_checks.py), stepping a paused node."""
-import json
-import os
-import subprocess
 
 import pytest
-import rosgraph
 from conde_worlds.challenge_objects import sign_order
 from conde_worlds.traffic_signs import FAMILY, SIGNS
-
-HERE = os.path.dirname(os.path.abspath(__file__))
-CHECKS = os.path.join(HERE, "challenge_world_checks.py")
-
-
-@pytest.fixture(scope="module")
-def conde_master(master):
-    urdf = subprocess.run(["xacro", subprocess.run(["rospack", "find", "conde_description"], env=master,
-                                                   capture_output=True, text=True, check=True).stdout.strip()
-                           + "/robots/conde.urdf.xacro"], env=master, capture_output=True, text=True, check=True).stdout
-    rosgraph.Master("/challenge_worlds_test", master_uri=master["ROS_MASTER_URI"]).setParam("/robot_description", urdf)
-    return master
+from conftest import run_checks
 
 
 @pytest.mark.parametrize("engine", ["ode", "bullet"])
 def test_every_challenge_world_loads_and_runs(conde_master, engine, tmp_path):
-    out = subprocess.run(["/usr/bin/python3", CHECKS, engine, str(tmp_path)], env=conde_master, capture_output=True,
-                         text=True, timeout=300)
-    assert out.returncode == 0, out.stdout[-3000:] + out.stderr[-3000:]
-    results = [json.loads(line) for line in out.stdout.splitlines() if line.startswith("{")]
+    results = run_checks("challenge_world_checks.py", engine, tmp_path, conde_master, 300)
     names = {(r["challenge"], r["variant"], r["seed"]) for r in results}
     assert {c for c, _, _ in names} == {"D1", "D2", "D3", "D4", "P1", "P2", "B1", "B2", "V1"}
     assert {("D3", "v1", 0), ("D3", "v2", 0), ("D4", "v1", 0), ("D4", "v2", 0), ("B2", "v1", 0),

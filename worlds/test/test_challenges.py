@@ -167,6 +167,34 @@ def test_tunnel_is_roofed_and_its_walls_stand_off_the_road(challenges):
         assert bottom == pytest.approx(co.TUNNEL_HEIGHT_M)
 
 
+def _inside(polygon, x, y):
+    inside = False
+    for (xi, yi), (xj, yj) in zip(polygon, polygon[-1:] + polygon[:-1]):
+        if (yi > y) != (yj > y) and x < xi + (y - yi) * (xj - xi) / (yj - yi):
+            inside = not inside
+    return inside
+
+
+def test_tunnel_has_a_darker_light_region_between_its_walls(challenges):
+    world, _, _ = challenge_world(challenges, "D4", "v1", 0)
+    [region] = world["light_regions"]
+    assert region["name"] == "tunnel_south" and region["light"] == co.TUNNEL_LIGHT < 1.0
+    assert region["z_range_m"] == [-0.01, co.TUNNEL_HEIGHT_M]
+    polygon = region["polygon_xy_m"]
+    # The lanes' centres under the roof (110..200 deg) are inside; before and after it, outside.
+    for lane in ("inner", "outer"):
+        for angle, expected in ((112, True), (155, True), (198, True), (100, False), (210, False)):
+            x, y, _ = co.loop_point("south", angle, co.LANE_R[lane])
+            assert _inside(polygon, x, y) == expected, (lane, angle)
+    # Outside the walls, and the north loop, stay lit.
+    x, y, _ = co.loop_point("south", 155, co.OUTER_LINE_R + 0.4)
+    assert not _inside(polygon, x, y)
+    x, y, _ = co.loop_point("north", 155, co.LANE_R["inner"])
+    assert not _inside(polygon, x, y)
+    for challenge in ("D1", "D3", "V1"):
+        assert "light_regions" not in challenge_world(challenges, challenge, None, 0)[0]
+
+
 def test_parallel_boxes_are_in_the_bay_with_the_gap(challenges):
     boxes = objects(challenges, "P2", prefix="parked_box_")
     (x0, x1), (y0, y1) = co.parallel_bay()

@@ -571,6 +571,28 @@ void CameraRenderer::render(const RenderScene& scene, const Pose& world_T_optica
         }
       }
     }
+    // Shade: each pixel that sees a surface (not the sky) in a light region is darkened.
+    if (scene.hasLightRegions()) {
+      for (int j = 0; j < tile.height; ++j) {
+        const Vec3* ray = &rays_optical_[static_cast<size_t>(tile.v0 + j) * w + tile.u0];
+        std::uint8_t* out = image.pixel(tile.u0, tile.v0 + j);
+        for (int i = 0; i < tile.width; ++i, out += 3) {
+          const double t = depth[j * kTileWidth + i];
+          if (!(t <= far_m)) continue;
+          const Vec3& r = ray[i];
+          const Vec3 point(
+              camera_world.x +
+                  t * (world_R_optical[0][0] * r.x + world_R_optical[0][1] * r.y + world_R_optical[0][2] * r.z),
+              camera_world.y +
+                  t * (world_R_optical[1][0] * r.x + world_R_optical[1][1] * r.y + world_R_optical[1][2] * r.z),
+              camera_world.z +
+                  t * (world_R_optical[2][0] * r.x + world_R_optical[2][1] * r.y + world_R_optical[2][2] * r.z));
+          const double light = scene.lightAt(point);
+          if (light < 1.0)
+            for (int c = 0; c < 3; ++c) out[c] = static_cast<std::uint8_t>(std::lround(out[c] * light));
+        }
+      }
+    }
   }
 
   for (int pixel : unseen_pixels_) std::memset(&image.data[static_cast<size_t>(pixel) * 3], 0, 3);

@@ -145,6 +145,45 @@ void RenderScene::setObjectImage(int index, const RgbImage& image) {
   objects_[index].face_image = image;
 }
 
+void RenderScene::addLightRegion(const LightRegion& region) {
+  const std::string what = "light region '" + region.name + "'";
+  if (region.polygon_xy_m.size() < 3)
+    throw std::invalid_argument(what + ": needs at least 3 corners (got " + std::to_string(region.polygon_xy_m.size()) +
+                                ")");
+  if (!(region.z_min_m < region.z_max_m))
+    throw std::invalid_argument(what + ": z range must have min < max (got " + text(region.z_min_m) + ", " +
+                                text(region.z_max_m) + " m)");
+  if (!(region.light >= 0.0 && region.light <= 1.0))
+    throw std::invalid_argument(what + ": light must be in 0..1 (got " + text(region.light) + ")");
+  ShadedRegion shaded{region, region.polygon_xy_m[0][0], region.polygon_xy_m[0][0], region.polygon_xy_m[0][1],
+                      region.polygon_xy_m[0][1]};
+  for (const auto& corner : region.polygon_xy_m) {
+    shaded.x_min_m = std::min(shaded.x_min_m, corner[0]);
+    shaded.x_max_m = std::max(shaded.x_max_m, corner[0]);
+    shaded.y_min_m = std::min(shaded.y_min_m, corner[1]);
+    shaded.y_max_m = std::max(shaded.y_max_m, corner[1]);
+  }
+  light_regions_.push_back(std::move(shaded));
+}
+
+double RenderScene::lightAt(const Vec3& p) const {
+  double light = 1.0;
+  for (const ShadedRegion& s : light_regions_) {
+    if (p.x < s.x_min_m || p.x > s.x_max_m || p.y < s.y_min_m || p.y > s.y_max_m || p.z < s.region.z_min_m ||
+        p.z > s.region.z_max_m || s.region.light >= light)
+      continue;
+    // Even-odd rule: count the polygon edges that a ray from p along +x crosses.
+    const auto& corners = s.region.polygon_xy_m;
+    bool inside = false;
+    for (size_t i = 0, j = corners.size() - 1; i < corners.size(); j = i++) {
+      const double xi = corners[i][0], yi = corners[i][1], xj = corners[j][0], yj = corners[j][1];
+      if ((yi > p.y) != (yj > p.y) && p.x < xi + (p.y - yi) * (xj - xi) / (yj - yi)) inside = !inside;
+    }
+    if (inside) light = s.region.light;
+  }
+  return light;
+}
+
 RenderScene renderSceneFromWorld(const WorldDescription& world) {
   RenderScene scene;
   const GroundSpec& g = world.ground;
@@ -174,6 +213,7 @@ RenderScene renderSceneFromWorld(const WorldDescription& world) {
     if (!w.texture_path.empty()) o.face_image = loadRgbImage(w.texture_path);
     scene.addObject(o);
   }
+  for (const LightRegion& region : world.light_regions) scene.addLightRegion(region);
   return scene;
 }
 

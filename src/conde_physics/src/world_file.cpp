@@ -424,6 +424,35 @@ class Loader {
     return out;
   }
 
+  // light_regions: [{name, polygon_xy_m: [[x, y], ...], z_range_m: [min, max], light: 0..1}]
+  std::vector<LightRegion> lightRegions(const Value& v) const {
+    std::vector<LightRegion> out;
+    for (const Value& item : v.node.IsNull() ? std::vector<Value>() : list(v)) {
+      Map m(*this, item);
+      m.allowOnly({"name", "polygon_xy_m", "z_range_m", "light"});
+      LightRegion r;
+      r.name = name(m.require("name"));
+      m.rename(item.where + " (" + r.name + ")");
+      for (const auto& other : out) {
+        if (other.name == r.name) fail(*m.find("name"), "duplicate light region name '" + r.name + "'");
+      }
+      const Value& polygon = m.require("polygon_xy_m");
+      const std::vector<Value> corners = list(polygon);
+      if (corners.size() < 3)
+        fail(polygon, "expected a list of at least 3 [x, y] corners, got " + std::to_string(corners.size()));
+      for (const Value& corner : corners) {
+        const auto xy = numbers(corner, 2);
+        r.polygon_xy_m.push_back({xy[0], xy[1]});
+      }
+      range(m.require("z_range_m"), r.z_min_m, r.z_max_m);
+      const Value& light = m.require("light");
+      r.light = number(light);
+      if (r.light < 0.0 || r.light > 1.0) fail(light, "must be in 0..1, got " + light.node.Scalar());
+      out.push_back(std::move(r));
+    }
+    return out;
+  }
+
   WorldDescription world(const YAML::Node& root) const {
     const Value top{root, root.IsNull() ? 1 : root.Mark().line + 1, ""};
     if (!root.IsMap()) fail(top, "expected a map with keys format, name, ..., got " + describe(root));
@@ -432,7 +461,7 @@ class Loader {
     const Value& format = m.require("format");
     if (!format.node.IsScalar() || format.node.Scalar() != kFormat)
       fail(format, std::string("expected '") + kFormat + "', got " + describe(format.node));
-    m.allowOnly({"format", "name", "physics", "ground", "objects", "spawn"});
+    m.allowOnly({"format", "name", "physics", "ground", "objects", "spawn", "light_regions"});
 
     WorldDescription w;
     w.name = name(m.require("name"));
@@ -455,6 +484,7 @@ class Loader {
       }
     }
     if (const Value* x = m.find("spawn")) w.spawns = spawns(*x);
+    if (const Value* x = m.find("light_regions")) w.light_regions = lightRegions(*x);
     return w;
   }
 

@@ -456,6 +456,53 @@ TEST(CameraRendererTest, GroundHidesWhatIsBelowIt) {
   }
 }
 
+TEST(CameraRendererTest, LightRegionDarkensWhatLiesInsideIt) {
+  // Looking down on grey ground with a red box; a light region (a triangle plus a square) covers
+  // the left half of the view and the box's lower part, not its top.
+  const cp::CameraModel model = cp::CameraModel::fromHorizontalFov(160, 120, 1.0);
+  const cp::CameraRenderer camera(model);
+  const cp::Pose looking_down = lookAt({0, 0, 3}, {0, 0, 0}, {1, 0, 0});
+  cp::RenderScene scene;
+  scene.setGroundColor({0.8, 0.8, 0.8});
+  scene.addObject(box({0.2, 0.2, 0.6}, cp::Pose::fromXyzRpy(0.5, 0.0, 0.3, 0, 0, 0), {1, 1, 1}));
+  cp::RgbImage lit;
+  camera.render(scene, looking_down, -1, nullptr, lit);
+  cp::LightRegion shade;
+  shade.name = "tunnel";
+  shade.polygon_xy_m = {{-5.0, 0.0}, {5.0, 0.0}, {5.0, 5.0}, {-5.0, 5.0}};  // y >= 0: half the view
+  shade.z_min_m = -0.01;
+  shade.z_max_m = 0.5;
+  shade.light = 0.25;
+  scene.addLightRegion(shade);
+  cp::LightRegion darker = shade;  // overlapping: the darker region wins
+  darker.name = "deeper";
+  darker.polygon_xy_m = {{-1.0, 0.5}, {-0.5, 1.0}, {-1.0, 1.0}};
+  darker.light = 0.1;
+  scene.addLightRegion(darker);
+  cp::RgbImage shaded;
+  camera.render(scene, looking_down, -1, nullptr, shaded);
+  const cp::Vec3 inside(-0.8, 0.3, 0.0), outside(-1.0, -1.0, 0.0), deeper(-0.9, 0.85, 0.0);
+  auto at = [&](const cp::RgbImage& image, const cp::Vec3& p) {
+    const cv::Point2d px = pixelOf(model, looking_down, p);
+    return image.pixel(static_cast<int>(std::lround(px.x)), static_cast<int>(std::lround(px.y)));
+  };
+  EXPECT_EQ(at(lit, inside)[0], 204);
+  EXPECT_EQ(at(shaded, inside)[0], 51);    // 204 * 0.25
+  EXPECT_EQ(at(shaded, outside)[0], 204);  // untouched
+  EXPECT_EQ(at(shaded, deeper)[0], 20);    // 204 * 0.1
+  EXPECT_EQ(scene.lightAt({-0.9, 0.85, 0.0}), 0.1);
+  EXPECT_EQ(scene.lightAt({0.0, 1.0, 0.6}), 1.0);  // above the region
+  // The box's top (z = 0.6) sticks out of the region: lit as before.
+  const cp::Vec3 box_top(0.5, 0.0, 0.6);
+  EXPECT_EQ(at(shaded, box_top)[1], at(lit, box_top)[1]);
+  int darker_px = 0;
+  for (size_t i = 0; i < lit.data.size(); ++i) darker_px += shaded.data[i] < lit.data[i];
+  EXPECT_GT(darker_px, 3 * 160 * 50);  // about half the image, three channels
+  cp::LightRegion bad = shade;
+  bad.light = -0.5;
+  EXPECT_THROW(scene.addLightRegion(bad), std::invalid_argument);
+}
+
 TEST(CameraRendererTest, HiddenObjectIsNotDrawn) {
   const cp::CameraModel model = cp::CameraModel::fromHorizontalFov(160, 120, 1.0);
   const cp::CameraRenderer camera(model);

@@ -247,7 +247,31 @@ TEST(WorldFile, MissingFormat) { expectError("missing_format", 1, "missing requi
 
 TEST(WorldFile, UnknownTopLevelKey) {
   expectError("unknown_top_key", 4,
-              "unknown key 'lights' (expected one of: format, name, physics, ground, objects, spawn)");
+              "unknown key 'lights' (expected one of: format, name, physics, ground, objects, spawn, "
+              "light_regions)");
+}
+
+TEST(WorldFile, LightRegions) {
+  const cp::WorldDescription w = load("light_regions");
+  ASSERT_EQ(w.light_regions.size(), 1u);
+  const cp::LightRegion& r = w.light_regions[0];
+  EXPECT_EQ(r.name, "tunnel");
+  ASSERT_EQ(r.polygon_xy_m.size(), 4u);
+  EXPECT_DOUBLE_EQ(r.polygon_xy_m[2][0], 2.0);
+  EXPECT_DOUBLE_EQ(r.polygon_xy_m[2][1], 1.0);
+  EXPECT_DOUBLE_EQ(r.z_min_m, -0.01);
+  EXPECT_DOUBLE_EQ(r.z_max_m, 1.0);
+  EXPECT_DOUBLE_EQ(r.light, 0.25);
+  EXPECT_TRUE(load("minimal").light_regions.empty());
+}
+
+TEST(WorldFile, LightOutOfRange) {
+  expectError("bad_light", 8, "light_regions[0] (tunnel).light: must be in 0..1, got 1.5");
+}
+
+TEST(WorldFile, LightRegionWithTwoCorners) {
+  expectError("bad_light_polygon", 6,
+              "light_regions[0] (tunnel).polygon_xy_m: expected a list of at least 3 [x, y] corners, got 2");
 }
 
 TEST(WorldFile, MissingGround) { expectError("missing_ground", 1, "missing required key 'ground'"); }

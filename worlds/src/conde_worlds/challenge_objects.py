@@ -37,6 +37,11 @@ TUNNEL_ROOF_M = 0.03
 TUNNEL_MARGIN_M = 0.15
 TUNNEL_SEGMENT_DEG = 10.0
 TUNNEL_GREY = [0.45, 0.45, 0.45]
+#: Under the tunnel's roof the cameras see the scene at this fraction of its brightness (our
+#: choice: dark enough that lane tracking must cope with it, bright enough to see the lines).
+TUNNEL_LIGHT = 0.35
+#: The light region's outline follows the walls' centre lines in steps of this many degrees.
+TUNNEL_LIGHT_STEP_DEG = 2.0
 SIGN_SIZE_M = 0.305
 SIGN_THICKNESS_M = 0.01
 SIGN_CENTRE_HEIGHT_M = 1.0
@@ -170,6 +175,21 @@ def tunnel(spec: dict) -> List[dict]:
         out.append(_obj("tunnel_roof_%d" % (k + 1), "box", (x, y, TUNNEL_HEIGHT_M + TUNNEL_ROOF_M / 2.0), heading,
                         TUNNEL_GREY, size_m=[_r(length), _r(r_out - r_in + TUNNEL_WALL_M), TUNNEL_ROOF_M]))
     return out
+
+
+def tunnel_light_region(spec: dict) -> dict:
+    """The world file's light region (docs/world_format.md) of a tunnel: the ground, the walls'
+    inner faces and the roof's underside between the walls' centre lines, from the floor up to the
+    roof, at TUNNEL_LIGHT."""
+    loop, a0, a1 = spec["loop"], spec["from_deg"], spec["to_deg"]
+    r_in = ISLAND_LINE_R - TUNNEL_MARGIN_M - TUNNEL_WALL_M / 2.0
+    r_out = OUTER_LINE_R + TUNNEL_MARGIN_M + TUNNEL_WALL_M / 2.0
+    n = max(1, int(math.ceil((a1 - a0) / TUNNEL_LIGHT_STEP_DEG)))
+    angles = [a0 + (a1 - a0) * k / n for k in range(n + 1)]
+    outline = ([loop_point(loop, a, r_out)[:2] for a in angles]
+               + [loop_point(loop, a, r_in)[:2] for a in reversed(angles)])
+    return {"name": "tunnel_%s" % loop, "polygon_xy_m": [[_r(x), _r(y)] for x, y in outline],
+            "z_range_m": [-0.01, TUNNEL_HEIGHT_M], "light": TUNNEL_LIGHT}
 
 
 def parallel_bay() -> Tuple[Tuple[float, float], Tuple[float, float]]:

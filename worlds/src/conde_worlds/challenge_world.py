@@ -84,6 +84,8 @@ def challenge_world(challenges: Challenges, challenge: str, variant: Optional[st
     objects, textures = objects_of(features, seed)
     world["objects"] = list(world.get("objects") or []) + objects
     world["spawn"] = {robot: {"xyz": pose["xyz"], "yaw": pose["yaw"]} for robot, pose in ch.start.items()}
+    if "tunnel" in features:
+        world["light_regions"] = [co.tunnel_light_region(features["tunnel"])]
     return world, textures, resolved
 
 

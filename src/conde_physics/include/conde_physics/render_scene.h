@@ -75,6 +75,13 @@ class RenderScene {
   void setObjectHidden(int index, bool hidden);
   void setObjectImage(int index, const RgbImage& image);  // kBox only; replaces the face image
   const RenderObject& object(int index) const { return objects_[index]; }
+
+  // Shade (a tunnel): what the cameras see at a surface point inside a light region has its
+  // colour scaled by the region's light (the darkest region wins where they overlap). Throws
+  // std::invalid_argument for fewer than 3 corners, z_min_m >= z_max_m or light outside 0..1.
+  void addLightRegion(const LightRegion& region);
+  bool hasLightRegions() const { return !light_regions_.empty(); }
+  double lightAt(const Vec3& point_world) const;  // 0..1; 1 outside every region
   int objectCount() const { return static_cast<int>(objects_.size()); }
 
   // The ground texture as a mipmap: level 0 is the image, level L + 1 averages 2x2 texels of
@@ -94,10 +101,15 @@ class RenderScene {
   Vec3 ground_rgb_{0.7, 0.7, 0.7};
   Vec3 sky_rgb_{0.7, 0.8, 0.9};
   std::vector<RenderObject> objects_;
+  struct ShadedRegion {
+    LightRegion region;
+    double x_min_m, x_max_m, y_min_m, y_max_m;  // bounding box of the polygon
+  };
+  std::vector<ShadedRegion> light_regions_;
 };
 
 // The ground and every object of a world file (textures loaded; display panels start with their
-// texture or their colour). Object i of the world is object i of the scene.
+// texture or their colour) and its light regions. Object i of the world is object i of the scene.
 RenderScene renderSceneFromWorld(const WorldDescription& world);
 
 }  // namespace conde_physics

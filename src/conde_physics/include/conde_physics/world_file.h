@@ -15,6 +15,7 @@
 //   "w.world.yaml:7: objects[1] (box_a): unknown key 'colour' (expected one of: name, ...)".
 #pragma once
 
+#include <array>
 #include <memory>
 #include <optional>
 #include <stdexcept>
@@ -65,6 +66,16 @@ struct WorldObject {
   std::string mesh_path;
 };
 
+// Where the cameras see less light (a tunnel under its roof): every surface point inside the
+// vertical prism over `polygon_xy_m` with z_min_m <= z <= z_max_m is drawn with its colour times
+// `light`. The scene has no light sources, so this is how shade is modelled.
+struct LightRegion {
+  std::string name;
+  std::vector<std::array<double, 2>> polygon_xy_m;  // world (x, y) corners, >= 3, either winding
+  double z_min_m = 0.0, z_max_m = 0.0;
+  double light = 1.0;  // 0..1
+};
+
 // A named start pose for a robot: root link at `pose` (position + yaw only).
 struct SpawnPose {
   std::string name;
@@ -76,8 +87,9 @@ struct WorldDescription {
   std::string source_path;  // absolute, normalised path of the world file
   PhysicsSettings physics;  // file values over PhysicsSettings defaults
   GroundSpec ground;
-  std::vector<WorldObject> objects;  // in file order
-  std::vector<SpawnPose> spawns;     // in file order
+  std::vector<WorldObject> objects;        // in file order
+  std::vector<SpawnPose> spawns;           // in file order
+  std::vector<LightRegion> light_regions;  // in file order
   // SDF <physics><real_time_factor>, when the file gives one (the node's parameter wins).
   std::optional<double> real_time_factor;
   // What the loader accepted but ignores, one line each (the node logs them as INFO).

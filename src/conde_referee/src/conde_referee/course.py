@@ -32,6 +32,17 @@ class Obstacle:
     name: str
     polygon: np.ndarray
     z_bottom_m: float
+    x_m: float = 0.0  # where the object stands in the layout: its centre [m] and yaw [rad]
+    y_m: float = 0.0
+    yaw_rad: float = 0.0
+    dynamic: bool = False  # can be pushed (has a mass)
+
+    def moved_to(self, x_m: float, y_m: float, yaw_rad: float) -> np.ndarray:
+        """The footprint with the object at (x_m, y_m, yaw_rad) instead of its layout pose."""
+        d = yaw_rad - self.yaw_rad
+        c, s = math.cos(d), math.sin(d)
+        rel = self.polygon - (self.x_m, self.y_m)
+        return np.column_stack([x_m + c * rel[:, 0] - s * rel[:, 1], y_m + s * rel[:, 0] + c * rel[:, 1]])
 
 
 def _box_polygon(obj) -> Tuple[np.ndarray, float]:
@@ -56,7 +67,8 @@ def obstacles_of(objects) -> List[Obstacle]:
             poly, z0 = np.column_stack([x + r * np.cos(a), y + r * np.sin(a)]), z - obj["length_m"] / 2.0
         else:
             continue
-        out.append(Obstacle(obj["name"], poly, z0))
+        (x, y, _), yaw = obj["pose"]["xyz"], obj["pose"].get("rpy", [0.0, 0.0, 0.0])[2]
+        out.append(Obstacle(obj["name"], poly, z0, x, y, yaw, not obj.get("static", True)))
     return out
 
 
@@ -123,6 +135,19 @@ class Course:
         (bx0, bx1), (by0, by1) = tg.BAY_AREA_X, tg.BAY_AREA_Y
         in_bays = (pts[:, 0] >= bx0) & (pts[:, 0] <= bx1) & (pts[:, 1] >= by0) & (pts[:, 1] <= by1)
         return self.track.on_road(pts) | self.track.in_parallel_parking(pts) | in_bays
+
+    def loop_position(self, x: float, y: float) -> Optional[Tuple[str, float, float]]:
+        """(loop, angle along its 270-degree arc [deg], radius [m]) of a point on a loop's road
+        (challenge_objects.loop_point's angles), or None off the loops' arcs."""
+        for loop in ("north", "south"):
+            cx, cy = co.loop_centre(loop)
+            r = math.hypot(x - cx, y - cy)
+            if abs(r - co.DIVIDER_R) > tg.ROAD_HALF_WIDTH:
+                continue
+            angle = math.degrees(math.atan2((y - cy) if loop == "north" else (cy - y), x - cx)) % 360.0
+            if angle <= 270.0:
+                return loop, angle, r
+        return None
 
     def free_bays(self) -> Dict[str, tuple]:
         """{name: ((x0, x1), (y0, y1))} of the places the robot may park in [m]."""

@@ -43,6 +43,7 @@ from typing import List, Optional
 
 import numpy as np
 
+from conde_worlds import challenge_objects as co
 from conde_worlds import track_geometry as tg
 
 from .course import START_LINE_Y_M, Course, inside_box, polygons_overlap
@@ -56,6 +57,26 @@ STOP_JUDGING_DISTANCE_M = 3.0
 #: The immobilisation zone reaches this far past the crosswalk's near edge (the start pose).
 ZONE_PAST_EDGE_M = 0.25
 FOOTPRINT_SPACING_M = 0.02
+#: An object whose centre is this far from where the layout put it has been displaced [m].
+OBJECT_DISPLACED_M = 0.05
+#: Wrong direction in a loop: this far driven in the lane of the opposite traffic [m] ...
+WRONG_WAY_MIN_M = 0.5
+#: ... between these loop angles [deg] (away from the forks), and not within OVERTAKE_M of arc of
+#: an obstacle in the loop nor in a working zone (TAPER_DEG around it), where the other lane is
+#: the way round.
+LOOP_JUDGED_DEG = (20.0, 250.0)
+OVERTAKE_M = 1.5
+#: A pose this far from the previous one is a jump (a robot put elsewhere), not driving [m].
+JUMP_M = 0.5
+
+
+def stop_zones(depth_m: float) -> dict:
+    """{lane: ((x_min, x_max), (y_min, y_max))} of the immobilisation zones [m]: the lane from
+    depth_m before the crosswalk to ZONE_PAST_EDGE_M into it (east lane northbound, west lane
+    southbound)."""
+    cw_near, cw_far = tg.CROSSWALK_Y
+    return {"east": ((tg.X_REF, tg.X_REF + tg.ROAD_HALF_WIDTH), (cw_near - depth_m, cw_near + ZONE_PAST_EDGE_M)),
+            "west": ((tg.X_REF - tg.ROAD_HALF_WIDTH, tg.X_REF), (cw_far - ZONE_PAST_EDGE_M, cw_far + depth_m))}
 
 
 @dataclass(frozen=True)
@@ -103,6 +124,11 @@ class Referee:
         self.over: Optional[str] = None
         self.disqualified = False
         self._last_given = {}
+        # Where the objects are: their layout footprints until on_object_poses says otherwise.
+        self.obstacle_polygons = {ob.name: ob.polygon for ob in course.obstacles}
+        self.displaced = {}            # object name: largest distance from its layout pose [m]
+        self.wrong_way_m = 0.0         # driven against the traffic of a loop lane, this stretch
+        self.wrong_way_given = False
 
     # --- inputs -------------------------------------------------------------------------------------
 
@@ -149,6 +175,26 @@ class Referee:
         self.colliding = now
         return self.events[before:]
 
+    def on_object_poses(self, t_s: float, poses) -> List[Event]:
+        """Where the world's objects are at t_s: {name: (x [m], y [m], yaw [rad])} (e.g. from
+        /gazebo/model_states; unknown names are ignored). The geometric collision check follows
+        them, and an object pushed more than OBJECT_DISPLACED_M from its layout pose is an event
+        (once per object, no penalty of its own: the collision that pushed it has one)."""
+        before = len(self.events)
+        x, y = (self.path[-1][1], self.path[-1][2]) if self.path else (0.0, 0.0)
+        for ob in self.course.obstacles:
+            if ob.name not in poses:
+                continue
+            ox, oy, oyaw = poses[ob.name]
+            self.obstacle_polygons[ob.name] = ob.moved_to(ox, oy, oyaw)
+            moved_m = math.hypot(ox - ob.x_m, oy - ob.y_m)
+            if moved_m <= OBJECT_DISPLACED_M:
+                continue
+            if ob.name not in self.displaced and not self.over:
+                self._give(t_s, "object_displaced", x, y, "%s pushed %.2f m" % (ob.name, moved_m), penalty=0.0)
+            self.displaced[ob.name] = max(moved_m, self.displaced.get(ob.name, 0.0))
+        return self.events[before:]
+
     def on_pose(self, t_s: float, x: float, y: float, yaw: float) -> List[Event]:
         if self.over:
             return []
@@ -173,6 +219,7 @@ class Referee:
             self._collisions(t_s, x, y, yaw)
         if prev is not None:
             self._gates(t_s, prev[1], prev[2], x, y)
+            self._loop_direction(t_s, prev[1], prev[2], x, y)
         self._standstill(t_s, x, y, samples)
         return self.events[before:]
 
@@ -209,7 +256,7 @@ class Referee:
         corners = self.footprint.corners(x, y, yaw)
         now = set()
         for ob in self.course.obstacles:
-            if ob.z_bottom_m < self.footprint.z_max_m and polygons_overlap(corners, ob.polygon):
+            if ob.z_bottom_m < self.footprint.z_max_m and polygons_overlap(corners, self.obstacle_polygons[ob.name]):
                 now.add(ob.name)
                 if ob.name not in self.colliding:
                     self._give(t_s, "collision", x, y, ob.name, key="collision:" + ob.name)
@@ -243,6 +290,46 @@ class Referee:
                     if self.half_laps == 2 * int(self.rules.scoring["laps"]) and self.laps_done_at is None:
                         self.laps_done_at = t_s
                         self._give(t_s, "laps_done", x, y, "%d laps" % self.rules.scoring["laps"], penalty=0.0)
+
+    def _loop_direction(self, t_s, px, py, x, y):
+        """Traffic keeps right: a loop driven counter-clockwise in its outer lane, clockwise in its
+        inner lane. WRONG_WAY_MIN_M the other way is one wrong_direction, until the robot is back
+        in a right lane."""
+        dx, dy = x - px, y - py
+        step_m = math.hypot(dx, dy)
+        if step_m > JUMP_M:
+            self.wrong_way_m = 0.0
+            return
+        if step_m < 1e-6:
+            return
+        where = self.course.loop_position(x, y)
+        if where is None or self._lane_change_allowed(*where):
+            self.wrong_way_m = 0.0
+            return
+        loop, angle_deg, radius_m = where
+        cx, cy = co.loop_centre(loop)
+        counter_clockwise = (x - cx) * dy - (y - cy) * dx > 0.0
+        if counter_clockwise == (radius_m > co.DIVIDER_R):  # the right lane
+            self.wrong_way_m, self.wrong_way_given = 0.0, False
+            return
+        self.wrong_way_m += step_m
+        if self.wrong_way_m >= WRONG_WAY_MIN_M and not self.wrong_way_given:
+            self.wrong_way_given = True
+            lane = "outer" if radius_m > co.DIVIDER_R else "inner"
+            self._give(t_s, "wrong_direction", x, y, "%s loop, %s lane, against its traffic (%.0f deg)"
+                       % (loop, lane, angle_deg), key="wrong_direction:loop")
+
+    def _lane_change_allowed(self, loop, angle_deg, radius_m) -> bool:
+        lo, hi = LOOP_JUDGED_DEG
+        if not lo <= angle_deg <= hi:
+            return True
+        zone = self.course.features.get("working_zone")
+        if zone and zone["loop"] == loop and (zone["from_deg"] - co.TAPER_DEG <= angle_deg
+                                              <= zone["to_deg"] + co.TAPER_DEG):
+            return True
+        margin_deg = math.degrees(OVERTAKE_M / co.DIVIDER_R)
+        return any(o["loop"] == loop and abs(o["angle_deg"] - angle_deg) <= margin_deg
+                   for o in self.course.features.get("obstacles", []))
 
     def _branch(self, t_s, gate, x, y, east):
         # Driving a loop clockwise (eastward at its far end) means the branch was taken at its fork.
@@ -282,13 +369,12 @@ class Referee:
                 self._give(t_s, "stopped_outside_zone", x, y, "stopped for the stop signal outside the zone")
 
     def _in_stop_zone(self, x, y):
-        depth = self.rules.judging["stop_zone_depth_m"]
         on_straight = abs(x - tg.X_REF) <= tg.ROAD_HALF_WIDTH
         cw_near, cw_far = tg.CROSSWALK_Y
         near = on_straight and cw_near - STOP_JUDGING_DISTANCE_M <= y <= cw_far + STOP_JUDGING_DISTANCE_M
-        north = x > tg.X_REF and cw_near - depth <= y <= cw_near + ZONE_PAST_EDGE_M
-        south = x < tg.X_REF and cw_far - ZONE_PAST_EDGE_M <= y <= cw_far + depth
-        return on_straight and (north or south), near
+        zones = stop_zones(self.rules.judging["stop_zone_depth_m"]).values()
+        in_zone = any(inside_box([(x, y)], box)[0] for box in zones)
+        return in_zone, near
 
     def _judge_parking(self, t_s, x, y, samples) -> bool:
         """True when the standstill was in a parking place (judged: the run ends)."""
@@ -335,6 +421,10 @@ class Referee:
             t_s = self.path[-1][0] if self.path else 0.0
         if not self.over:
             self.over = "stopped"
+        return self.report(t_s)
+
+    def report(self, t_s: float) -> dict:
+        """The report as it stands at t_s (the score so far while the run goes on)."""
         s = self.rules.scoring
         penalty = sum(e.penalty for e in self.events)
         target = 2 * int(s["laps"])
@@ -358,6 +448,7 @@ class Referee:
             "end": self.over, "laps": self.half_laps // 2, "half_laps": self.half_laps,
             "driving_time_s": None if driving_s is None else round(driving_s, 3),
             "parked": self.parked, "signs_right": self.signs_right,
+            "objects_displaced_m": {k: round(v, 3) for k, v in sorted(self.displaced.items())},
             "collision_source": "contacts" if self.contacts_seen else "geometric",
             "footprint_m": [self.footprint.x_min_m, self.footprint.x_max_m, self.footprint.y_min_m,
                             self.footprint.y_max_m],
