@@ -36,3 +36,37 @@ def test_the_graph_changes_when_a_node_adds_a_topic():
     assert startup.graph_of(expected, before) == startup.graph_of(expected, [[["/conde_lane", ["/tracking"]]], [], []])
     assert startup.graph_of(expected, before) != startup.graph_of(expected, after)
     assert startup.graph_of(expected, after) == {"/tracking": frozenset({"/conde_lane", "/image"})}
+
+
+LOCKSTEP_CONFIG = {"rules": [{"answer": "conde_lane", "inputs": ["camera/image_raw"]},
+                             {"answer": "cmd_vel", "inputs": ["conde_lane", "/clock"]}]}
+SIM = "/conde_sim"
+
+
+def graph(image_subscribers=("/tracking",)):
+    publishers = [["/camera/image_raw", [SIM]], ["/conde_lane", ["/tracking"]], ["/cmd_vel", ["/control"]],
+                  ["/clock", [SIM]]]
+    subscribers = [["/camera/image_raw", list(image_subscribers)], ["/conde_lane", [SIM, "/control"]],
+                   ["/cmd_vel", [SIM]]]
+    return publishers, subscribers, []
+
+
+def links(*rows):
+    return [[i, "peer", direction, "TCPROS", topic, True] for i, (direction, topic) in enumerate(rows)]
+
+
+def test_lockstep_links_complete_when_every_answer_and_input_is_connected():
+    bus = links(("o", "/camera/image_raw"), ("i", "/conde_lane"), ("i", "/cmd_vel"))
+    assert startup.lockstep_links_missing(LOCKSTEP_CONFIG, SIM, graph(), bus) == []
+
+
+def test_lockstep_links_name_a_camera_nobody_subscribes_to_yet_and_an_answer_not_connected():
+    bus = links(("i", "/conde_lane"))
+    assert startup.lockstep_links_missing(LOCKSTEP_CONFIG, SIM, graph(image_subscribers=()), bus) == [
+        "/camera/image_raw: no subscriber yet", "/cmd_vel: not connected to its publisher yet"]
+
+
+def test_lockstep_links_wait_for_the_connection_to_a_registered_subscriber():
+    bus = links(("i", "/conde_lane"), ("i", "/cmd_vel"))
+    assert startup.lockstep_links_missing(LOCKSTEP_CONFIG, SIM, graph(), bus) == [
+        "/camera/image_raw: not connected to its subscribers yet"]

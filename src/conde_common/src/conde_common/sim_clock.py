@@ -80,3 +80,17 @@ class Ticker:
                 return wait_for_time(lambda now: self.schedule.due(now.to_nsec()))
             except rospy.ROSTimeMovedBackwardsException:
                 self.schedule.last_ns = rospy.get_rostime().to_nsec()
+
+
+def message_owed(stamps_ns, up_to_ns: int) -> bool:
+    """True when a message of a regular stream stamped at or before up_to_ns [ns] may exist that has
+    not come yet. stamps_ns: the stamps of the last messages received, in the order they came (one
+    connection keeps the order): the next is due at the newest plus the smallest gap between them.
+    False with fewer than two. In lock-step the simulator steps past a stamp only once the answers
+    of that instant have come to it, but a node's receiving thread may not have run yet: a node
+    waits (bounded) while this holds, and then acts on the same messages in every run."""
+    stamps_ns = list(stamps_ns)
+    if len(stamps_ns) < 2:
+        return False
+    smallest_gap_ns = min(b - a for a, b in zip(stamps_ns, stamps_ns[1:]))
+    return stamps_ns[-1] + max(smallest_gap_ns, 1) <= up_to_ns
