@@ -34,7 +34,7 @@ def test_a_rate_that_is_not_positive_is_refused():
 
 
 def test_a_message_is_owed_when_the_next_one_at_the_smallest_gap_is_due():
-    camera_ns = [9733 * MS, 9767 * MS]  # frames 33 or 34 ms apart
+    camera_ns = [9700 * MS, 9733 * MS, 9767 * MS]  # frames 33 or 34 ms apart: the next at 9800 ms
     assert message_owed(camera_ns, 9800 * MS)
     assert not message_owed(camera_ns, 9799 * MS)
     assert not message_owed(camera_ns + [9800 * MS], 9800 * MS)
