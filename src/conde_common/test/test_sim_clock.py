@@ -1,7 +1,7 @@
 """conde_common.sim_clock.TickSchedule: rospy.Rate's deadlines from time 0, in nanoseconds."""
 import pytest
 
-from conde_common.sim_clock import TickSchedule
+from conde_common.sim_clock import TickSchedule, message_owed
 
 MS = 1_000_000  # [ns]
 
@@ -31,3 +31,14 @@ def test_time_that_goes_back_restarts_the_schedule_without_a_tick():
 def test_a_rate_that_is_not_positive_is_refused():
     with pytest.raises(ValueError, match="rate_hz must be > 0"):
         TickSchedule(0.0)
+
+
+def test_a_message_is_owed_when_the_next_one_at_the_smallest_gap_is_due():
+    camera_ns = [9700 * MS, 9733 * MS, 9767 * MS]  # frames 33 or 34 ms apart: the next at 9800 ms
+    assert message_owed(camera_ns, 9800 * MS)
+    assert not message_owed(camera_ns, 9799 * MS)
+    assert not message_owed(camera_ns + [9800 * MS], 9800 * MS)
+
+
+def test_nothing_is_owed_before_two_messages_have_come():
+    assert not message_owed([], 10**12) and not message_owed([0], 10**12)

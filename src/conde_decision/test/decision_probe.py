@@ -58,9 +58,14 @@ def main():
         now += step
         lane_step(now)
     count = len(states)
-    signal_pub.publish(PanelSignal(signal=PanelSignal.FORWARD, confidence=1.0))
+    # Stamped with the last measurement: the node applies it at the next one (its frame boundary).
+    go = PanelSignal(signal=PanelSignal.FORWARD, confidence=1.0)
+    go.header.stamp = now
+    signal_pub.publish(go)
+    now += step
+    lane_step(now)
     wait_for(lambda: len(states) > count, "the state after the go signal")
-    for _ in range(30):
+    for _ in range(29):
         now += step
         lane_step(now)
     # The state again at 1 Hz of ROS time: 3.5 s of clock without any input.

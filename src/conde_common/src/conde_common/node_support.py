@@ -96,3 +96,18 @@ def spin():
 
     while not rospy.core.is_shutdown():
         rospy.rostime.wallsleep(0.1)
+
+
+def synchronous_publisher(topic, data_class, **kwargs):
+    """A rospy.Publisher whose publish() writes to every subscriber before it returns (rospy's
+    queue_size=None), instead of handing the message to a thread per connection. In lock-step the
+    simulator steps on once it has an answer; a publisher thread can then still hold the copy for
+    another subscriber (the control node) while simulated time goes on, so that which messages it
+    has at a given simulated instant would depend on the machine's load."""
+    import warnings
+
+    import rospy
+
+    with warnings.catch_warnings():  # rospy warns about queue_size=None, which is the point here
+        warnings.simplefilter("ignore", SyntaxWarning)
+        return rospy.Publisher(topic, data_class, queue_size=None, **kwargs)

@@ -42,3 +42,50 @@ def graph_of(expected_nodes, system_state):
     """What the expected nodes have registered, comparable between two looks at the master."""
     topics_of = registrations(system_state)
     return {n: frozenset(topics_of.get(n, ())) for n in expected_nodes}
+
+
+def lockstep_links_missing(config, sim_name, system_state, bus_info):
+    """What the simulator (node sim_name) still lacks before a lock-step run can start the same way
+    every time: for each rule of the lock-step config ({rules: [{answer, inputs}]}, names relative to
+    the simulator's namespace), a connection from every publisher of the answer topic and to every
+    subscriber of each input (/clock aside: every node has it). bus_info: the simulator's
+    getBusInfo() rows [id, peer, direction 'i'|'o', transport, topic, ...]. Returns "topic: why"
+    strings, sorted; empty when every link is up. An input the simulator does not publish itself
+    (a chain: /conde_lane answers the cameras and is the input of the decision) needs a connection
+    from its publishers, as an answer. A node that subscribes to its camera only after
+    its start-up (conde_tracking waits for CameraInfo and TF) thus holds the start."""
+    namespace = sim_name.rsplit("/", 1)[0] + "/"
+    publishers, subscribers, _services = system_state
+    own = {topic for topic, nodes in publishers if sim_name in nodes}
+    pubs = {topic: set(nodes) - {sim_name} for topic, nodes in publishers}
+    subs = {topic: set(nodes) - {sim_name} for topic, nodes in subscribers}
+    links = {}
+    for row in bus_info:
+        if len(row) >= 5 and (len(row) < 6 or row[5]):
+            links[(row[2], row[4])] = links.get((row[2], row[4]), 0) + 1
+    missing = set()
+
+    def check_publishers(topic):
+        if not pubs.get(topic):
+            missing.add(f"{topic}: no publisher yet")
+        elif links.get(("i", topic), 0) < len(pubs[topic]):
+            missing.add(f"{topic}: not connected to its publisher yet")
+
+    for rule in config.get("rules", []):
+        check_publishers(resolve(rule["answer"], namespace))
+        for name in rule.get("inputs", []):
+            topic = resolve(name, namespace)
+            if topic == "/clock":
+                continue
+            if topic not in own:
+                check_publishers(topic)
+            elif not subs.get(topic):
+                missing.add(f"{topic}: no subscriber yet")
+            elif links.get(("o", topic), 0) < len(subs[topic]):
+                missing.add(f"{topic}: not connected to its subscribers yet")
+    return sorted(missing)
+
+
+def resolve(name, namespace):
+    """A topic name relative to namespace ('/' or '/robot1/'), made global."""
+    return name if name.startswith("/") else namespace + name

@@ -140,8 +140,12 @@ class CameraPlugin : public SimPlugin {
 
     ros::NodeHandle camera_nh(nh, camera_name);
     image_pub_ = camera_nh.advertise<sensor_msgs::Image>(image_topic, 2);
-    info_pub_ = camera_nh.advertise<sensor_msgs::CameraInfo>(info_topic, 2);
+    // Latched and published once at load (stamp 0): a node can read the intrinsics before the
+    // simulation runs (conde_tracking subscribes to its images only then; a lock-step run starts
+    // once it has, the same way every time).
+    info_pub_ = camera_nh.advertise<sensor_msgs::CameraInfo>(info_topic, 2, true);
     fillCameraInfo(model);
+    info_pub_.publish(info_);
     ROS_INFO(
         "%s: camera on link %s: %dx%d, %s lens, hfov %.4f rad (fx %.2f px), %s distortion, %.1f Hz, %s + %s in "
         "frame %s",
