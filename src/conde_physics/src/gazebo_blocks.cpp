@@ -80,7 +80,9 @@ void readReferenceBlock(const tinyxml2::XMLElement* g, const std::string& ref, c
       if (key == "kd") s.damping_nspm = v;
     } else if (key == "sensor") {
       blocks.plugins.push_back({e->FirstChildElement("plugin"), e, ref});
-    } else if (!kOtherReferenceKeys.count(key)) {
+    } else if (kOtherReferenceKeys.count(key)) {
+      blocks.without_effect.emplace(key, at(source, e) + ": <gazebo reference=\"" + ref + "\">");
+    } else {
       throw ModelError(at(source, e) + ": <gazebo reference=\"" + ref + "\">: unknown element <" + key + ">");
     }
   }
