@@ -24,6 +24,7 @@ class F3dPlugin : public SimPlugin {
     link_ = requireLink(ctx_, params, "bodyName", params.requireString("bodyName"));
     const std::string topic = params.requireString("topicName");
     frame_ = params.getString("frameName", "world");
+    params.ignore({"alwaysOn", "updateRate"});  // Gazebo publishes at every step whatever they say
     pub_ = nh.advertise<geometry_msgs::WrenchStamped>(topic, 10);
     ROS_INFO("%s: applied wrench of link %s on %s in frame %s", ctx_.sim->robot(ctx_.robot).spec.name.c_str(),
              link_.c_str(), pub_.getTopic().c_str(), frame_.c_str());

@@ -19,6 +19,7 @@ class ForcePlugin : public SimPlugin {
  public:
   void configure(PluginParams& params, ros::NodeHandle& nh) override {
     link_ = requireLink(ctx_, params, "bodyName", params.requireString("bodyName"));
+    params.ignore({"alwaysOn", "updateRate"});
     sub_ = nh.subscribe(params.requireString("topicName"), 1, &ForcePlugin::onWrench, this);
     ROS_INFO("%s: force on link %s from %s", ctx_.sim->robot(ctx_.robot).spec.name.c_str(), link_.c_str(),
              sub_.getTopic().c_str());

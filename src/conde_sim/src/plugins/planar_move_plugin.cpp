@@ -40,6 +40,7 @@ class PlanarMovePlugin : public SimPlugin {
     odom.odom_frame = ctx_.frame(params.getString("odometryFrame", "odom"));
     odom.base_frame = ctx_.frame(base_link_);
     odom.publish_world_to_odom_tf = false;  // the odom frame is the world, named odometryFrame
+    params.ignore({"alwaysOn"});
     cmd_sub_ = nh.subscribe(command_topic, 1, &PlanarMovePlugin::onCommand, this);
     odometry_ = OdometryPublisher(ctx_, odom);
     odometry_.advertise(nh, odometry_topic);

@@ -62,6 +62,9 @@ class SkidSteerDrivePlugin : public SimPlugin {
     if (odom.covariance_x < 0) throw params.error("covariance_x", "must not be negative");
     if (odom.covariance_y < 0) throw params.error("covariance_y", "must not be negative");
     if (odom.covariance_yaw < 0) throw params.error("covariance_yaw", "must not be negative");
+    // Written by many public robots (copied from the diff drive), read by no skid steer version.
+    params.ignore(
+        {"alwaysOn", "publishWheelTF", "publishWheelJointState", "publishOdom", "publishTf", "rosDebugLevel"});
 
     drive_ = std::make_unique<DiffDrive>(*ctx_.sim, ctx_.robot, c);
     cmd_sub_ = nh.subscribe(command_topic, 1, &SkidSteerDrivePlugin::onCommand, this);
