@@ -104,8 +104,10 @@ GazeboBlocks readGazeboBlocks(const std::string& urdf_xml, const std::string& so
       continue;
     }
     if (!has_link_or_joint(reference)) {
-      throw ModelError(at(source, g) + ": <gazebo reference=\"" + reference + "\">: no link or joint named '" +
-                       reference + "'");
+      // Gazebo skips such a block without a word (public robots have typos there): skip it too, but say so.
+      blocks.warnings.push_back(at(source, g) + ": <gazebo reference=\"" + reference + "\">: no link or joint named '" +
+                                reference + "': block ignored, as Gazebo ignores it");
+      continue;
     }
     readReferenceBlock(g, reference, source, blocks);
   }

@@ -114,8 +114,6 @@ TEST(UrdfModel, UrdfdomErrorsAreReported) {
 TEST(UrdfModel, UnknownGazeboReferenceElementIsAnError) {
   EXPECT_EQ(errorOf("<robot name=\"r\">\n<link name=\"a\"/>\n<gazebo reference=\"a\">\n<mu3>1</mu3></gazebo></robot>"),
             "bad.urdf:4: <gazebo reference=\"a\">: unknown element <mu3>");
-  EXPECT_EQ(errorOf("<robot name=\"r\">\n<link name=\"a\"/>\n<gazebo reference=\"b\"><mu1>1</mu1></gazebo></robot>"),
-            "bad.urdf:3: <gazebo reference=\"b\">: no link or joint named 'b'");
   EXPECT_EQ(errorOf("<robot name=\"r\">\n<link name=\"a\"/>\n<gazebo reference=\"a\"><mu1>lots</mu1></gazebo></robot>"),
             "bad.urdf:3: <gazebo reference=\"a\"> <mu1>: expected a number, got 'lots'");
 }
@@ -197,6 +195,19 @@ TEST(GazeboBlocks, KeysWithoutEffectAreListedOnce) {
   EXPECT_DOUBLE_EQ(blocks.surfaces.at("a").mu2, 0.8);
   EXPECT_DOUBLE_EQ(blocks.surfaces.at("a").stiffness_npm, 1e6);
   EXPECT_DOUBLE_EQ(blocks.surfaces.at("a").damping_nspm, 10);
+}
+
+// Gazebo ignores a block whose reference names no link or joint (a typo in a public robot): so do
+// we, with a warning.
+TEST(GazeboBlocks, ReferenceToNoLinkIsSkippedWithAWarning) {
+  cp::GazeboBlocks blocks;
+  cp::buildModelFromUrdf(
+      "<robot name=\"r\">\n<link name=\"a\"/>\n<gazebo reference=\"b\"><mu1>1</mu1><oops/></gazebo></robot>", "r.urdf",
+      nullptr, nullptr, &blocks);
+  EXPECT_EQ(blocks.warnings,
+            std::vector<std::string>{
+                "r.urdf:3: <gazebo reference=\"b\">: no link or joint named 'b': block ignored, as Gazebo ignores it"});
+  EXPECT_EQ(blocks.surfaces.count("b"), 0u);
 }
 
 TEST(GazeboBlocks, UnknownModelLevelElementIsNamed) {
