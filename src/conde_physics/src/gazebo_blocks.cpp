@@ -80,7 +80,9 @@ void readReferenceBlock(const tinyxml2::XMLElement* g, const std::string& ref, c
       if (key == "kd") s.damping_nspm = v;
     } else if (key == "sensor") {
       blocks.plugins.push_back({e->FirstChildElement("plugin"), e, ref});
-    } else if (!kOtherReferenceKeys.count(key)) {
+    } else if (kOtherReferenceKeys.count(key)) {
+      blocks.without_effect.emplace(key, at(source, e) + ": <gazebo reference=\"" + ref + "\">");
+    } else {
       throw ModelError(at(source, e) + ": <gazebo reference=\"" + ref + "\">: unknown element <" + key + ">");
     }
   }
@@ -102,8 +104,10 @@ GazeboBlocks readGazeboBlocks(const std::string& urdf_xml, const std::string& so
       continue;
     }
     if (!has_link_or_joint(reference)) {
-      throw ModelError(at(source, g) + ": <gazebo reference=\"" + reference + "\">: no link or joint named '" +
-                       reference + "'");
+      // Gazebo skips such a block without a word (public robots have typos there): skip it too, but say so.
+      blocks.warnings.push_back(at(source, g) + ": <gazebo reference=\"" + reference + "\">: no link or joint named '" +
+                                reference + "': block ignored, as Gazebo ignores it");
+      continue;
     }
     readReferenceBlock(g, reference, source, blocks);
   }

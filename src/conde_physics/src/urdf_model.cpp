@@ -111,6 +111,7 @@ ArticulatedModel buildModelFromUrdf(const std::string& urdf_xml, const std::stri
   GazeboBlocks blocks = readGazeboBlocks(urdf_xml, source, [&](const std::string& name) {
     return urdf->getLink(name) != nullptr || urdf->getJoint(name) != nullptr;
   });
+  if (warnings) warnings->insert(warnings->end(), blocks.warnings.begin(), blocks.warnings.end());
   const auto& surfaces = blocks.surfaces;
 
   ArticulatedModel model;

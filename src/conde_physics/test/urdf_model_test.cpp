@@ -1,5 +1,8 @@
 #include <gtest/gtest.h>
 
+#include <string>
+#include <vector>
+
 #include <tinyxml2.h>
 
 #include "conde_physics/urdf_model.h"
@@ -111,8 +114,6 @@ TEST(UrdfModel, UrdfdomErrorsAreReported) {
 TEST(UrdfModel, UnknownGazeboReferenceElementIsAnError) {
   EXPECT_EQ(errorOf("<robot name=\"r\">\n<link name=\"a\"/>\n<gazebo reference=\"a\">\n<mu3>1</mu3></gazebo></robot>"),
             "bad.urdf:4: <gazebo reference=\"a\">: unknown element <mu3>");
-  EXPECT_EQ(errorOf("<robot name=\"r\">\n<link name=\"a\"/>\n<gazebo reference=\"b\"><mu1>1</mu1></gazebo></robot>"),
-            "bad.urdf:3: <gazebo reference=\"b\">: no link or joint named 'b'");
   EXPECT_EQ(errorOf("<robot name=\"r\">\n<link name=\"a\"/>\n<gazebo reference=\"a\"><mu1>lots</mu1></gazebo></robot>"),
             "bad.urdf:3: <gazebo reference=\"a\"> <mu1>: expected a number, got 'lots'");
 }
@@ -166,6 +167,47 @@ TEST(GazeboBlocks, PluginsInDocumentOrderWithTheirSensorsAndLinks) {
   EXPECT_STREQ(blocks.plugins[3].plugin->Attribute("filename"), "libtruth.so");
   EXPECT_EQ(blocks.plugins[3].plugin->GetLineNum(), 5);
   EXPECT_DOUBLE_EQ(blocks.surfaces.at("a").mu, 0.4);
+}
+
+// Every <gazebo reference> key of Gazebo's URDF extension is accepted; those physics does not use
+// are listed once each, where first written, for the simulator's log.
+TEST(GazeboBlocks, KeysWithoutEffectAreListedOnce) {
+  const std::string urdf =
+      "<robot name=\"r\">\n<link name=\"a\"/>\n<link name=\"b\"/>\n"
+      "<joint name=\"j\" type=\"fixed\"><parent link=\"a\"/><child link=\"b\"/></joint>\n"
+      "<gazebo reference=\"a\"><mu1>0.9</mu1><mu2>0.8</mu2><kp>1e6</kp><kd>10</kd><material>Gazebo/Red</material>"
+      "<minDepth>0.001</minDepth><maxVel>0</maxVel><fdir1>1 0 0</fdir1><maxContacts>4</maxContacts>"
+      "<selfCollide>false</selfCollide><gravity>true</gravity><dampingFactor>0.01</dampingFactor>"
+      "<turnGravityOff>false</turnGravityOff></gazebo>\n"
+      "<gazebo reference=\"b\"><material>Gazebo/Blue</material></gazebo>\n"
+      "<gazebo reference=\"j\"><implicitSpringDamper>true</implicitSpringDamper>"
+      "<provideFeedback>true</provideFeedback><stopCfm>0.1</stopCfm><stopErp>0.2</stopErp></gazebo>\n</robot>";
+  cp::GazeboBlocks blocks;
+  cp::buildModelFromUrdf(urdf, "r.urdf", nullptr, nullptr, &blocks);
+  std::vector<std::string> keys;
+  for (const auto& [key, where] : blocks.without_effect) keys.push_back(key);
+  EXPECT_EQ(keys, (std::vector<std::string>{"dampingFactor", "fdir1", "gravity", "implicitSpringDamper", "material",
+                                            "maxContacts", "maxVel", "minDepth", "provideFeedback", "selfCollide",
+                                            "stopCfm", "stopErp", "turnGravityOff"}));
+  EXPECT_EQ(blocks.without_effect.at("material"), "r.urdf:5: <gazebo reference=\"a\">");
+  EXPECT_EQ(blocks.without_effect.at("stopErp"), "r.urdf:7: <gazebo reference=\"j\">");
+  EXPECT_DOUBLE_EQ(blocks.surfaces.at("a").mu, 0.9);
+  EXPECT_DOUBLE_EQ(blocks.surfaces.at("a").mu2, 0.8);
+  EXPECT_DOUBLE_EQ(blocks.surfaces.at("a").stiffness_npm, 1e6);
+  EXPECT_DOUBLE_EQ(blocks.surfaces.at("a").damping_nspm, 10);
+}
+
+// Gazebo ignores a block whose reference names no link or joint (a typo in a public robot): so do
+// we, with a warning.
+TEST(GazeboBlocks, ReferenceToNoLinkIsSkippedWithAWarning) {
+  cp::GazeboBlocks blocks;
+  cp::buildModelFromUrdf(
+      "<robot name=\"r\">\n<link name=\"a\"/>\n<gazebo reference=\"b\"><mu1>1</mu1><oops/></gazebo></robot>", "r.urdf",
+      nullptr, nullptr, &blocks);
+  EXPECT_EQ(blocks.warnings,
+            std::vector<std::string>{
+                "r.urdf:3: <gazebo reference=\"b\">: no link or joint named 'b': block ignored, as Gazebo ignores it"});
+  EXPECT_EQ(blocks.surfaces.count("b"), 0u);
 }
 
 TEST(GazeboBlocks, UnknownModelLevelElementIsNamed) {

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <utility>
 
 #include "conde_sim/drive_odometry.h"
 #include "conde_sim/simulation.h"
@@ -80,6 +81,13 @@ DiffDrive::DiffDrive(Simulation& sim, int robot, const Config& config)
   right_ = model.jointIndex(config.right_joint);
   if (left_ < 0) throw std::invalid_argument("no movable joint named '" + config.left_joint + "'");
   if (right_ < 0) throw std::invalid_argument("no movable joint named '" + config.right_joint + "'");
+  for (const auto& [names, indices] : {std::make_pair(&config.more_left_joints, &more_left_),
+                                       std::make_pair(&config.more_right_joints, &more_right_)}) {
+    for (const std::string& name : *names) {
+      indices->push_back(model.jointIndex(name));
+      if (indices->back() < 0) throw std::invalid_argument("no movable joint named '" + name + "'");
+    }
+  }
   int body = -1;
   cp::Pose unused;
   if (!model.linkInBody(config.base_link, body, unused)) {
@@ -112,6 +120,8 @@ void DiffDrive::beforeStep() {
   const cp::ModelId id = sim_.robot(robot_).id;
   sim_.engine().setJointVelocityMotor(id, left_, left_radps, config_.wheel_torque_nm);
   sim_.engine().setJointVelocityMotor(id, right_, right_radps, config_.wheel_torque_nm);
+  for (int j : more_left_) sim_.engine().setJointVelocityMotor(id, j, left_radps, config_.wheel_torque_nm);
+  for (int j : more_right_) sim_.engine().setJointVelocityMotor(id, j, right_radps, config_.wheel_torque_nm);
 }
 
 bool DiffDrive::afterStep() {

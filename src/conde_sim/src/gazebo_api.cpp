@@ -24,11 +24,9 @@ bool finite(const geometry_msgs::Pose& p) {
          std::isfinite(p.orientation.w);
 }
 
-bool finite(const geometry_msgs::Vector3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+using conde_sim::finite;  // the overloads below hide those of ros_conversions.h otherwise
+using conde_sim::fromMsg;
 bool finite(const geometry_msgs::Twist& t) { return finite(t.linear) && finite(t.angular); }
-
-cp::Vec3 fromMsg(const geometry_msgs::Vector3& v) { return cp::Vec3(v.x, v.y, v.z); }
-cp::Vec3 fromMsg(const geometry_msgs::Point& v) { return cp::Vec3(v.x, v.y, v.z); }
 
 // A quaternion of zeros (an unset field) is the identity, as Gazebo normalises it.
 cp::Pose fromMsg(const geometry_msgs::Pose& p) {

@@ -39,8 +39,8 @@ void OdometryPublisher::publish(const cp::Pose& base_in_odom, const cp::Twist& t
   odom.twist.twist.angular.x = twist_in_base.angular_radps.x;
   odom.twist.twist.angular.y = twist_in_base.angular_radps.y;
   odom.twist.twist.angular.z = twist_in_base.angular_radps.z;
-  // Same diagonal as gazebo_ros_diff_drive: planar motion, z/roll/pitch unknown.
-  const double cov[6] = {1e-5, 1e-5, 1e12, 1e12, 1e12, 1e-3};
+  // Planar motion: z, roll and pitch unknown.
+  const double cov[6] = {options_.covariance_x, options_.covariance_y, 1e12, 1e12, 1e12, options_.covariance_yaw};
   for (int i = 0; i < 6; ++i) {
     odom.pose.covariance[i * 7] = cov[i];
     odom.twist.covariance[i * 7] = cov[i];

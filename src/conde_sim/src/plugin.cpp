@@ -41,6 +41,10 @@ const std::map<std::string, PluginFactory>& pluginRegistry() {
       {"libgazebo_ros_imu.so", makeImuModelPlugin},
       {"libgazebo_ros_range.so", makeRangePlugin},
       {"libgazebo_ros_block_laser.so", makeBlockLaserPlugin},
+      {"libgazebo_ros_skid_steer_drive.so", makeSkidSteerDrivePlugin},
+      {"libgazebo_ros_planar_move.so", makePlanarMovePlugin},
+      {"libgazebo_ros_force.so", makeForcePlugin},
+      {"libgazebo_ros_f3d.so", makeF3dPlugin},
   };
   return registry;
 }
@@ -53,6 +57,16 @@ int requireJoint(const PluginContext& ctx, const PluginParams& params, const std
         key, "robot '" + ctx.sim->robot(ctx.robot).spec.name + "' has no movable joint named '" + joint_name + "'");
   }
   return index;
+}
+
+std::string requireLink(const PluginContext& ctx, const PluginParams& params, const std::string& key,
+                        const std::string& link_name) {
+  int body = -1;
+  conde_physics::Pose unused;
+  if (!ctx.sim->robot(ctx.robot).model.linkInBody(link_name, body, unused)) {
+    throw params.error(key, "robot has no link named '" + link_name + "'");
+  }
+  return link_name;
 }
 
 }  // namespace conde_sim

@@ -45,7 +45,9 @@
 #include <functional>
 #include <memory>
 #include <mutex>
+#include <set>
 #include <sstream>
+#include <string>
 #include <thread>
 
 #include "conde_sim/contacts.h"
@@ -145,6 +147,16 @@ cp::Pose parseSpawn(const std::string& spawn, const cp::WorldDescription& world,
   for (const auto& s : world.spawns) names += (names.empty() ? "" : ", ") + s.name;
   throw StartupError(where + ": '" + spawn + "' is neither a spawn pose of world '" + world.name + "' (" + names +
                      ") nor 'x y yaw'");
+}
+
+// <gazebo reference> keys that Gazebo knows and that have no effect here: one INFO line per key
+// for the node's life, where it was first seen.
+void logKeysWithoutEffect(const cp::GazeboBlocks& blocks) {
+  static std::set<std::string> logged;
+  for (const auto& [key, where] : blocks.without_effect) {
+    if (logged.insert(key).second)
+      ROS_INFO("%s <%s>: accepted, without effect in conde_sim", where.c_str(), key.c_str());
+  }
 }
 
 class SimNode : public SimHost {
@@ -258,6 +270,7 @@ class SimNode : public SimHost {
     std::vector<std::string> warnings;
     const int robot = sim_->addRobot(spec, &warnings);
     for (const auto& w : warnings) ROS_WARN("%s", w.c_str());
+    logKeysWithoutEffect(sim_->robot(robot).gazebo);
     try {
       for (auto& plugin : loadPlugins(robot)) plugins_.push_back(std::move(plugin));
     } catch (...) {
@@ -395,6 +408,7 @@ class SimNode : public SimHost {
     spec.name = name;  // "" = the URDF's robot name
     const int index = sim_->addRobot(spec, &warnings);
     for (const auto& w : warnings) ROS_WARN("%s", w.c_str());
+    logKeysWithoutEffect(sim_->robot(index).gazebo);
     ROS_INFO("conde_sim: robot '%s' from %s at (%.3f, %.3f) yaw %.3f rad%s%s", sim_->robot(index).spec.name.c_str(),
              description_param.c_str(), spawn.position.x, spawn.position.y, spawn.orientation.yaw(),
              ns.empty() ? "" : ", namespace ", ns.c_str());

@@ -55,7 +55,11 @@ int Simulation::addRobot(const RobotSpec& spec, std::vector<std::string>* warnin
   return robotCount() - 1;
 }
 
-void Simulation::resetWorld() { buildWorld(); }
+void Simulation::resetWorld() {
+  pending_wrenches_.clear();
+  last_wrenches_.clear();
+  buildWorld();
+}
 
 Simulation::ContactOwner Simulation::contactOwner(const cp::ContactSide& side) const {
   ContactOwner owner;
@@ -204,11 +208,33 @@ void Simulation::addLinkWrench(const ModelRef& model, const std::string& link, c
                                const cp::Vec3& torque_Nm, const cp::Vec3& point_world) {
   cp::Pose link_in_body;
   const int body = bodyOf(model, link, link_in_body);
-  engine_->addBodyWrench(engineId(model), body, force_N, torque_Nm, point_world);
+  const cp::ModelId id = engineId(model);
+  engine_->addBodyWrench(id, body, force_N, torque_Nm, point_world);
+  const cp::Vec3 com = (engine_->bodyPose(id, body) * articulatedModel(model).bodies[body].inertial_frame).position;
+  cp::Twist& sum = pending_wrenches_[{id, body}];
+  sum.linear_mps = sum.linear_mps + force_N;
+  sum.angular_radps = sum.angular_radps + torque_Nm + (point_world - com).cross(force_N);
+}
+
+void Simulation::addLinkWrenchAtCentreOfMass(const ModelRef& model, const std::string& link, const cp::Vec3& force_N,
+                                             const cp::Vec3& torque_Nm) {
+  cp::Pose link_in_body;
+  const int body = bodyOf(model, link, link_in_body);
+  const cp::Pose com = engine_->bodyPose(engineId(model), body) * articulatedModel(model).bodies[body].inertial_frame;
+  addLinkWrench(model, link, force_N, torque_Nm, com.position);
+}
+
+cp::Twist Simulation::lastAppliedWrench(const ModelRef& model, const std::string& link) const {
+  cp::Pose link_in_body;
+  const int body = bodyOf(model, link, link_in_body);
+  const auto it = last_wrenches_.find({engineId(model), body});
+  return it == last_wrenches_.end() ? cp::Twist() : it->second;
 }
 
 void Simulation::step() {
   engine_->step();
+  last_wrenches_.swap(pending_wrenches_);
+  pending_wrenches_.clear();
   ++step_count_;
 }
 

@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "conde_physics/math.h"
 #include "conde_sim/update_timer.h"
@@ -73,6 +74,9 @@ class DiffDrive {
   struct Config {
     DiffDriveParams params;
     std::string left_joint, right_joint;
+    // More wheels driven like the left or right one (skid steer's rear wheels); odometry reads
+    // only left_joint and right_joint.
+    std::vector<std::string> more_left_joints, more_right_joints;
     std::string base_link = "base_footprint";
     double wheel_torque_nm = 5.0;
     double update_rate_hz = 100.0;
@@ -102,6 +106,7 @@ class DiffDrive {
   int robot_;
   Config config_;
   int left_ = -1, right_ = -1;
+  std::vector<int> more_left_, more_right_;
   UpdateTimer timer_;
   std::uint64_t last_update_step_ = 0;
   DiffDriveController controller_;

@@ -33,6 +33,9 @@ class OdometryPublisher {
     std::string odom_frame, base_frame;    // with the robot's frame prefix
     bool publish_odom_tf = true;           // <publishOdomTF>
     bool publish_world_to_odom_tf = true;  // <publishWorldToOdomTF>; only with publish_odom_tf
+    // Diagonal of the pose and twist covariances (x, y, yaw; z, roll and pitch get 1e12), those
+    // of gazebo_ros_diff_drive and planar_move; skid steer reads <covariance_x> and friends.
+    double covariance_x = 1e-5, covariance_y = 1e-5, covariance_yaw = 1e-3;
   };
 
   OdometryPublisher() = default;

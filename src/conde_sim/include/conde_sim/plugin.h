@@ -75,6 +75,11 @@ const std::map<std::string, PluginFactory>& pluginRegistry();
 int requireJoint(const PluginContext& ctx, const PluginParams& params, const std::string& key,
                  const std::string& joint_name);
 
+// `link_name` (read from `key`) when the context's robot has that link (merged into a body or
+// not), else a PluginError naming `key`.
+std::string requireLink(const PluginContext& ctx, const PluginParams& params, const std::string& key,
+                        const std::string& link_name);
+
 // The individual plugins (defined in src/plugins/).
 std::unique_ptr<SimPlugin> makeDiffDrivePlugin();
 std::unique_ptr<SimPlugin> makeJointStatePublisherPlugin();
@@ -89,5 +94,9 @@ std::unique_ptr<SimPlugin> makeAckermannDrivePlugin();
 std::unique_ptr<SimPlugin> makeBumperPlugin();
 std::unique_ptr<SimPlugin> makeRangePlugin();
 std::unique_ptr<SimPlugin> makeBlockLaserPlugin();
+std::unique_ptr<SimPlugin> makeSkidSteerDrivePlugin();
+std::unique_ptr<SimPlugin> makePlanarMovePlugin();
+std::unique_ptr<SimPlugin> makeForcePlugin();
+std::unique_ptr<SimPlugin> makeF3dPlugin();
 
 }  // namespace conde_sim

@@ -1,4 +1,4 @@
-// conde_physics geometry -> ROS geometry messages, in one place for every plugin and publisher.
+// conde_physics geometry <-> ROS geometry messages, in one place for every plugin and publisher.
 #pragma once
 
 #include <geometry_msgs/Point.h>
@@ -8,6 +8,7 @@
 #include <geometry_msgs/Vector3.h>
 #include <ros/time.h>
 
+#include <cmath>
 #include <string>
 
 #include "conde_physics/math.h"
@@ -36,6 +37,12 @@ Msg toXyzMsg(const conde_physics::Vec3& v) {
 inline geometry_msgs::Point toPointMsg(const conde_physics::Vec3& v) { return toXyzMsg<geometry_msgs::Point>(v); }
 
 inline geometry_msgs::Vector3 toVector3Msg(const conde_physics::Vec3& v) { return toXyzMsg<geometry_msgs::Vector3>(v); }
+
+inline conde_physics::Vec3 fromMsg(const geometry_msgs::Vector3& v) { return conde_physics::Vec3(v.x, v.y, v.z); }
+inline conde_physics::Vec3 fromMsg(const geometry_msgs::Point& v) { return conde_physics::Vec3(v.x, v.y, v.z); }
+inline bool finite(const geometry_msgs::Vector3& v) {
+  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
 
 inline geometry_msgs::Pose toMsg(const conde_physics::Pose& p) {
   geometry_msgs::Pose m;

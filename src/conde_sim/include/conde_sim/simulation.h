@@ -4,8 +4,10 @@
 #pragma once
 
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "conde_physics/camera_renderer.h"
@@ -99,6 +101,13 @@ class Simulation {
   // Force [N] at `point_world` and torque [N m] on the body holding `link`, next step only.
   void addLinkWrench(const ModelRef& model, const std::string& link, const conde_physics::Vec3& force_N,
                      const conde_physics::Vec3& torque_Nm, const conde_physics::Vec3& point_world);
+  // The same at the centre of mass of that body (as Gazebo's Link::AddForce and AddTorque).
+  void addLinkWrenchAtCentreOfMass(const ModelRef& model, const std::string& link, const conde_physics::Vec3& force_N,
+                                   const conde_physics::Vec3& torque_Nm);
+  // What the wrench calls above applied to the body holding `link` during the last step: the sum
+  // of the forces [N] and the torque [N m] about the body's centre of mass, world coordinates
+  // (Gazebo's Link::WorldForce and WorldTorque: applied forces only, not gravity or contacts).
+  conde_physics::Twist lastAppliedWrench(const ModelRef& model, const std::string& link) const;
 
   // Who one side of a physics contact (PhysicsEngine::lastContacts()) is: a robot's body, a
   // world object (static or dynamic, index into world().objects), or the ground (neither).
@@ -140,6 +149,9 @@ class Simulation {
   std::vector<conde_physics::ArticulatedModel> object_models_;  // per world object; empty for static ones
   std::vector<int> static_shape_objects_;                       // world object of each static shape
   std::uint64_t step_count_ = 0;
+  // Wrenches applied per (engine model, body) for the coming step and during the last one
+  // (force in linear_mps, torque about the centre of mass in angular_radps).
+  std::map<std::pair<conde_physics::ModelId, int>, conde_physics::Twist> pending_wrenches_, last_wrenches_;
 
   std::unique_ptr<conde_physics::RenderScene> render_scene_;
   std::vector<RenderedShape> rendered_shapes_;  // those that move

@@ -49,13 +49,8 @@ class DiffDrivePlugin : public SimPlugin {
     const std::string odometry_topic = params.getString("odometryTopic", "odom");
     OdometryPublisher::Options odom;
     odom.odom_frame = ctx_.frame(params.getString("odometryFrame", "odom"));
-    c.base_link = params.getString("robotBaseFrame", "base_footprint");
+    c.base_link = requireLink(ctx_, params, "robotBaseFrame", params.getString("robotBaseFrame", "base_footprint"));
     odom.base_frame = ctx_.frame(c.base_link);
-    int body = -1;
-    cp::Pose unused;
-    if (!ctx_.sim->robot(ctx_.robot).model.linkInBody(c.base_link, body, unused)) {
-      throw params.error("robotBaseFrame", "robot has no link named '" + c.base_link + "'");
-    }
     c.encoder_odometry = readEncoderOdometry(params);
     odom.publish_odom_tf = params.getBool("publishOdomTF", true);
     // In gazebo_ros_diff_drive, publishTf=false silences odometry altogether (a quirk we keep).

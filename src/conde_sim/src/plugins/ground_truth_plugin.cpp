@@ -20,12 +20,7 @@ namespace {
 class GroundTruthPlugin : public SimPlugin {
  public:
   void configure(PluginParams& params, ros::NodeHandle& nh) override {
-    body_ = params.requireString("bodyName");
-    int body = -1;
-    cp::Pose unused;
-    if (!ctx_.sim->robot(ctx_.robot).model.linkInBody(body_, body, unused)) {
-      throw params.error("bodyName", "robot has no link named '" + body_ + "'");
-    }
+    body_ = requireLink(ctx_, params, "bodyName", params.requireString("bodyName"));
     const std::string topic = params.requireString("topicName");
     frame_ = params.getString("frameName", "world");
     if (frame_ != "world" && frame_ != "map" && frame_ != "/world" && frame_ != "/map") {
