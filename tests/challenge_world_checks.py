@@ -4,7 +4,9 @@ paused conde_sim node with the Conde robot on one engine, steps it RUN_S simulat
 prints one JSON line per world: the robot's ground-truth pose before and after (it must stand
 still at its start pose: no command is sent), for V1 what the signalling-panel camera sees of
 the sign in front of it (pixels of the sign families' red and blue), then how far it drives in
-DRIVE_S at DRIVE_MPS (nothing is in its way).
+DRIVE_S at DRIVE_MPS (nothing is in its way). Last, for D3 and D4, the robot is put in front of
+the first box (along its lane) and of the first cone: the pixels of the box's green and the cone's
+orange that the two tracking cameras (the ground cameras) see.
 
 usage: challenge_world_checks.py ENGINE OUTPUT_DIR   (against the ROS master of the environment)
 """
@@ -34,6 +36,10 @@ STEP_S = 0.001
 SIGN_X, SIGN_Y, _ = co.SIGN_POSES[0]
 SIGN_VIEW_SPAWN = "%g %g %g" % (SIGN_X, SIGN_Y - 1.0, math.pi / 2)
 EXTRA = [("D3", "v1", 7), ("D4", "v2", 11), ("B2", "v1", 3), ("V1", "v1", 5)]
+#: (challenge, object-name prefix): the robot's centre OBJECT_VIEW_M before the object, facing it.
+OBJECT_VIEWS = [("D3", "obstacle_"), ("D4", "cone_")]
+OBJECT_VIEW_M = 0.8
+TRACKING_TOPICS = ["/conde_camera_tracking_left/image_raw", "/conde_camera_tracking_right/image_raw"]
 
 
 def worlds():
@@ -48,6 +54,59 @@ def colour_counts(msg):
     red = int(np.sum((r > 150) & (g < 90) & (b < 90)))
     blue = int(np.sum((b > 120) & (r < 60) & (g > 60) & (g < 160)))
     return red, blue
+
+
+def object_colour_counts(msg):
+    """Pixels of the boxes' green (0, 1, 0) and of the cones' orange (1, 0.27, 0), lit or shaded."""
+    img = np.frombuffer(msg.data, np.uint8).reshape(msg.height, msg.width, 3).astype(int)
+    r, g, b = img[..., 0], img[..., 1], img[..., 2]
+    green = int(np.sum((g > 80) & (r < 0.3 * g) & (b < 0.3 * g)))
+    orange = int(np.sum((r > 80) & (g > 0.12 * r) & (g < 0.45 * r) & (b < 0.15 * r)))
+    return green, orange
+
+
+def object_view_spawn(world_path, prefix):
+    """'x y yaw' OBJECT_VIEW_M before the first object named prefix*, facing it: along the object's
+    heading (a box lies along its lane), or from the track's centre outwards for a round cone."""
+    import yaml
+    with open(world_path) as f:
+        objects = yaml.safe_load(f)["objects"]
+    obj = next(o for o in objects if o["name"].startswith(prefix))
+    x, y = obj["pose"]["xyz"][0], obj["pose"]["xyz"][1]
+    yaw = obj["pose"]["rpy"][2] if obj["shape"] == "box" else math.atan2(y, x)
+    return obj["name"], "%g %g %g" % (x - OBJECT_VIEW_M * math.cos(yaw), y - OBJECT_VIEW_M * math.sin(yaw), yaw)
+
+
+def check_object_view(engine, out_dir, challenge, prefix):
+    """Loads the challenge with the robot in front of an object; steps until both tracking cameras
+    have drawn a frame and returns what they see of the object's colour."""
+    paths = write_challenge(challenge, "v1", 0, os.path.join(out_dir, "%s_view" % challenge))
+    name, spawn = object_view_spawn(paths["world"], prefix)
+    log_path = os.path.join(paths["dir"], "conde_sim_view_%s.log" % engine)
+    log = open(log_path, "w")
+    node = subprocess.Popen(["rosrun", "conde_sim", "conde_sim_node", "_world_file:=" + paths["world"],
+                             "_physics_engine:=" + engine, "_paused:=true", "_real_time_factor:=0",
+                             "_spawn:=" + spawn], stdout=log, stderr=subprocess.STDOUT)
+    images = {topic: [] for topic in TRACKING_TOPICS}
+    subs = [rospy.Subscriber(topic, Image, images[topic].append, queue_size=5) for topic in TRACKING_TOPICS]
+    result = {"view": challenge, "object": name, "engine": engine}
+    try:
+        sim = SteppedSim()
+        sim.step_until(lambda: all(images.values()), "an image of each tracking camera", steps=50)
+        counts = [object_colour_counts(images[topic][-1]) for topic in TRACKING_TOPICS]
+        result["green_px"] = sum(c[0] for c in counts)
+        result["orange_px"] = sum(c[1] for c in counts)
+        if os.environ.get("CHALLENGE_CHECKS_SAVE_IMAGES"):
+            for topic in TRACKING_TOPICS:
+                save_image(images[topic][-1], os.path.join(paths["dir"], topic.split("/")[1] + ".png"))
+    finally:
+        for sub in subs:
+            sub.unregister()
+        stop_process(node)
+        log.close()
+        with open(log_path) as f:
+            result["node_output_tail"] = f.read()[-600:]
+    return result
 
 
 def save_image(msg, path):
@@ -109,6 +168,8 @@ def main():
     cmd_pub = rospy.Publisher("/cmd_vel", Twist, queue_size=1)
     for challenge, variant, seed in worlds():
         print(json.dumps(check_world(engine, out_dir, cmd_pub, challenge, variant, seed)), flush=True)
+    for challenge, prefix in OBJECT_VIEWS:
+        print(json.dumps(check_object_view(engine, out_dir, challenge, prefix)), flush=True)
 
 
 if __name__ == "__main__":

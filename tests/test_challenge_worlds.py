@@ -1,7 +1,7 @@
 """Every challenge world (conde_worlds' generator: each variant and a few random seeds) loads into
 the simulator and runs a few simulated seconds on ODE and on Bullet with Conde standing still at
 the start pose, then drives a short way; in V1 the signalling-panel camera sees the sign in front
-of it. One process per
+of it; in D3 and D4 the ground (tracking) cameras see a box and a cone in front. One process per
 engine loads the worlds in turn (challenge_world_checks.py), stepping a paused node."""
 
 import pytest
@@ -12,7 +12,15 @@ from conftest import run_checks
 
 @pytest.mark.parametrize("engine", ["ode", "bullet"])
 def test_every_challenge_world_loads_and_runs(conde_master, engine, tmp_path):
-    results = run_checks("challenge_world_checks.py", engine, tmp_path, conde_master, 300)
+    lines = run_checks("challenge_world_checks.py", engine, tmp_path, conde_master, 300)
+    results = [r for r in lines if "challenge" in r]
+    views = {r["view"]: r for r in lines if "view" in r}
+    # The ground cameras, 0.8 m before the box (0.6 m wide, 0.2 m tall) and the cone (0.23 m):
+    # thousands of the box's green pixels, about a thousand of the cones' orange (the first cone
+    # and the next ones of the row), none of the other colour.
+    assert set(views) == {"D3", "D4"}, views
+    assert views["D3"]["green_px"] > 2000 and views["D3"]["orange_px"] == 0, views["D3"]
+    assert views["D4"]["orange_px"] > 400 and views["D4"]["green_px"] == 0, views["D4"]
     names = {(r["challenge"], r["variant"], r["seed"]) for r in results}
     assert {c for c, _, _ in names} == {"D1", "D2", "D3", "D4", "P1", "P2", "B1", "B2", "V1"}
     assert {("D3", "v1", 0), ("D3", "v2", 0), ("D4", "v1", 0), ("D4", "v2", 0), ("B2", "v1", 0),
