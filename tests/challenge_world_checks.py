@@ -10,6 +10,7 @@ orange that the two tracking cameras (the ground cameras) see.
 
 usage: challenge_world_checks.py ENGINE OUTPUT_DIR   (against the ROS master of the environment)
 """
+import contextlib
 import json
 import math
 import os
@@ -77,20 +78,34 @@ def object_view_spawn(world_path, prefix):
     return obj["name"], "%g %g %g" % (x - OBJECT_VIEW_M * math.cos(yaw), y - OBJECT_VIEW_M * math.sin(yaw), yaw)
 
 
+@contextlib.contextmanager
+def challenge_node(paths, engine, spawn, log_name, subs, result):
+    """A paused conde_sim node on the challenge's world with the robot at `spawn`; on the way out
+    the subscribers `subs` are dropped, the node stopped and its output's tail put in `result`."""
+    log_path = os.path.join(paths["dir"], log_name)
+    with open(log_path, "w") as log:
+        node = subprocess.Popen(["rosrun", "conde_sim", "conde_sim_node", "_world_file:=" + paths["world"],
+                                 "_physics_engine:=" + engine, "_paused:=true", "_real_time_factor:=0",
+                                 "_spawn:=" + spawn], stdout=log, stderr=subprocess.STDOUT)
+        try:
+            yield node
+        finally:
+            for sub in subs:
+                sub.unregister()
+            stop_process(node)
+    with open(log_path) as f:
+        result["node_output_tail"] = f.read()[-600:]
+
+
 def check_object_view(engine, out_dir, challenge, prefix):
     """Loads the challenge with the robot in front of an object; steps until both tracking cameras
     have drawn a frame and returns what they see of the object's colour."""
     paths = write_challenge(challenge, "v1", 0, os.path.join(out_dir, "%s_view" % challenge))
     name, spawn = object_view_spawn(paths["world"], prefix)
-    log_path = os.path.join(paths["dir"], "conde_sim_view_%s.log" % engine)
-    log = open(log_path, "w")
-    node = subprocess.Popen(["rosrun", "conde_sim", "conde_sim_node", "_world_file:=" + paths["world"],
-                             "_physics_engine:=" + engine, "_paused:=true", "_real_time_factor:=0",
-                             "_spawn:=" + spawn], stdout=log, stderr=subprocess.STDOUT)
     images = {topic: [] for topic in TRACKING_TOPICS}
     subs = [rospy.Subscriber(topic, Image, images[topic].append, queue_size=5) for topic in TRACKING_TOPICS]
     result = {"view": challenge, "object": name, "engine": engine}
-    try:
+    with challenge_node(paths, engine, spawn, "conde_sim_view_%s.log" % engine, subs, result):
         sim = SteppedSim()
         sim.step_until(lambda: all(images.values()), "an image of each tracking camera", steps=50)
         counts = [object_colour_counts(images[topic][-1]) for topic in TRACKING_TOPICS]
@@ -99,13 +114,6 @@ def check_object_view(engine, out_dir, challenge, prefix):
         if os.environ.get("CHALLENGE_CHECKS_SAVE_IMAGES"):
             for topic in TRACKING_TOPICS:
                 save_image(images[topic][-1], os.path.join(paths["dir"], topic.split("/")[1] + ".png"))
-    finally:
-        for sub in subs:
-            sub.unregister()
-        stop_process(node)
-        log.close()
-        with open(log_path) as f:
-            result["node_output_tail"] = f.read()[-600:]
     return result
 
 
@@ -118,18 +126,13 @@ def save_image(msg, path):
 def check_world(engine, out_dir, cmd_pub, challenge, variant, seed):
     paths = write_challenge(challenge, variant, seed, os.path.join(out_dir, "%s_%s_%d" % (challenge, variant, seed)))
     spawn = SIGN_VIEW_SPAWN if challenge == "V1" else "conde"
-    log_path = os.path.join(paths["dir"], "conde_sim_%s.log" % engine)
-    log = open(log_path, "w")
-    node = subprocess.Popen(["rosrun", "conde_sim", "conde_sim_node", "_world_file:=" + paths["world"],
-                             "_physics_engine:=" + engine, "_paused:=true", "_real_time_factor:=0",
-                             "_spawn:=" + spawn], stdout=log, stderr=subprocess.STDOUT)
     odoms = []
     images = []
     subs = [rospy.Subscriber("/ground_truth/odom", Odometry, odoms.append, queue_size=200)]
     if challenge == "V1":
         subs.append(rospy.Subscriber("/conde_camera_signalling_panel/image_raw", Image, images.append, queue_size=5))
     result = {"challenge": challenge, "variant": variant, "seed": seed, "engine": engine}
-    try:
+    with challenge_node(paths, engine, spawn, "conde_sim_%s.log" % engine, subs, result) as node:
         sim = SteppedSim()
         sim.step_until(lambda: odoms, "the first ground-truth pose")
         first = odoms[-1].pose.pose.position
@@ -152,13 +155,6 @@ def check_world(engine, out_dir, cmd_pub, challenge, variant, seed):
         moved = odoms[-1].pose.pose.position
         result["driven_m"] = math.hypot(moved.x - start_drive.x, moved.y - start_drive.y)
         result["node_alive"] = node.poll() is None
-    finally:
-        for s in subs:
-            s.unregister()
-        stop_process(node)
-        log.close()
-        with open(log_path) as f:
-            result["node_output_tail"] = f.read()[-600:]
     return result
 
 
