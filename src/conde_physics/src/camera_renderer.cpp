@@ -9,6 +9,7 @@
 #include <atomic>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <stdexcept>
 
 #include "ground_pass.h"
@@ -420,8 +421,16 @@ bool CameraRenderer::wideVectorsAvailable() { return rd::haveAvx2(); }
 
 void CameraRenderer::render(const RenderScene& scene, const Pose& world_T_optical, int exclude_group,
                             std::mt19937* noise_rng, RgbImage& image) const {
+  render(scene, world_T_optical, exclude_group, noise_rng, image, nullptr);
+}
+
+void CameraRenderer::render(const RenderScene& scene, const Pose& world_T_optical, int exclude_group,
+                            std::mt19937* noise_rng, RgbImage& image, DepthImage* depth_out) const {
   const int w = model_.width_px, h = model_.height_px;
   if (image.width != w || image.height != h || image.data.size() != static_cast<size_t>(w) * h * 3) image.resize(w, h);
+  if (depth_out &&
+      (depth_out->width != w || depth_out->height != h || depth_out->depth_m.size() != static_cast<size_t>(w) * h))
+    depth_out->resize(w, h);
   const double near_m = model_.near_clip_m, far_m = model_.far_clip_m;
 
   double world_R_optical[3][3];
@@ -593,9 +602,23 @@ void CameraRenderer::render(const RenderScene& scene, const Pose& world_T_optica
         }
       }
     }
+    // Ray parameter t (|ray| = 1) to z-depth: t times the ray's optical z; no hit stays +inf.
+    if (depth_out) {
+      for (int j = 0; j < tile.height; ++j) {
+        const Vec3* ray = &rays_optical_[static_cast<size_t>(tile.v0 + j) * w + tile.u0];
+        float* out = &depth_out->depth_m[static_cast<size_t>(tile.v0 + j) * w + tile.u0];
+        for (int i = 0; i < tile.width; ++i) {
+          const float t = depth[j * kTileWidth + i];
+          out[i] = std::isfinite(t) ? static_cast<float>(t * ray[i].z) : std::numeric_limits<float>::infinity();
+        }
+      }
+    }
   }
 
-  for (int pixel : unseen_pixels_) std::memset(&image.data[static_cast<size_t>(pixel) * 3], 0, 3);
+  for (int pixel : unseen_pixels_) {
+    std::memset(&image.data[static_cast<size_t>(pixel) * 3], 0, 3);
+    if (depth_out) depth_out->depth_m[static_cast<size_t>(pixel)] = std::numeric_limits<float>::infinity();
+  }
   if (model_.noise_stddev > 0.0 && noise_rng) addNoise(model_.noise_stddev, *noise_rng, image);
 }
 

@@ -15,6 +15,7 @@
 #include <set>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "conde_physics/camera_renderer.h"
@@ -1183,4 +1184,60 @@ TEST(CameraRendererTest, EightAndFourLaneGroundPassesDrawTheSameImage) {
   }
   // Most of the 60 random poses look at the textured ground: the comparison covered the ground pass.
   EXPECT_GE(textured_images, 30);
+}
+
+// --- Depth image ---------------------------------------------------------------------------------
+
+// A level camera 1 m above the ground faces a box whose front face is 2.5 m ahead: the face has the
+// z-depth 2.5 m at every pixel (not the longer distance along the off-axis rays), the ground
+// row v the z-depth h fy / (v - cy) at every column, the sky +inf; the colour image is unchanged.
+TEST(CameraRendererTest, DepthImageIsZDepthOfBoxFaceAndGround) {
+  cp::CameraModel model = cp::CameraModel::fromHorizontalFov(160, 120, 1.0);
+  const cp::Pose pose = lookAt({0, 0, 1}, {5, 0, 1});
+  cp::RenderScene scene;
+  scene.setGroundColor({0.5, 0.5, 0.5});
+  scene.addObject(box({1, 1, 1}, cp::Pose::fromXyzRpy(3, 0, 1, 0, 0, 0), {1, 0, 0}));
+  const cp::CameraRenderer camera(model);
+  cp::RgbImage image, image_alone;
+  cp::DepthImage depth;
+  camera.render(scene, pose, -1, nullptr, image, &depth);
+  camera.render(scene, pose, -1, nullptr, image_alone);
+  ASSERT_EQ(depth.width, 160);
+  ASSERT_EQ(depth.height, 120);
+  EXPECT_EQ(image.data, image_alone.data) << "asking for depth changes the colour image";
+  // The face spans +-0.5 m at 2.5 m: about +-29 px around the centre.
+  for (const auto& [u, v] : std::vector<std::pair<int, int>>{{80, 60}, {79, 59}, {55, 40}, {105, 80}})
+    EXPECT_NEAR(depth.at(u, v), 2.5, 1e-4) << "box face at pixel (" << u << ", " << v << ")";
+  for (const int v : {100, 110, 119}) {
+    const double expected_m = 1.0 * model.fy_px / (v - model.cy_px);
+    for (const int u : {0, 10, 150, 159})
+      EXPECT_NEAR(depth.at(u, v), expected_m, 1e-3 * expected_m) << "ground at pixel (" << u << ", " << v << ")";
+  }
+  for (const int u : {0, 80, 159}) EXPECT_EQ(depth.at(u, 0), std::numeric_limits<float>::infinity()) << "sky";
+
+  // The far clip (2.55 m) applies along the ray: the face's centre (2.5 m away) keeps its depth,
+  // its corner pixel (2.56 m along the ray) and the ground behind are no return (+inf).
+  model.far_clip_m = 2.55;
+  const cp::CameraRenderer short_camera(model);
+  short_camera.render(scene, pose, -1, nullptr, image, &depth);
+  EXPECT_NEAR(depth.at(80, 60), 2.5, 1e-4);
+  EXPECT_EQ(depth.at(105, 80), std::numeric_limits<float>::infinity());
+  EXPECT_EQ(depth.at(10, 110), std::numeric_limits<float>::infinity());
+}
+
+// A camera looking straight down at 2 m sees the flat ground at the z-depth 2 m in every pixel, and
+// the top of a 0.6 m box at 1.4 m.
+TEST(CameraRendererTest, DepthImageLookingDownIsFlat) {
+  const cp::CameraModel model = cp::CameraModel::fromHorizontalFov(64, 48, 1.2);
+  const cp::CameraRenderer camera(model);
+  cp::RenderScene scene;
+  scene.setGroundColor({0.5, 0.5, 0.5});
+  scene.addObject(box({0.4, 0.4, 0.6}, cp::Pose::fromXyzRpy(0, 0, 0.3, 0, 0, 0), {1, 0, 0}));
+  cp::RgbImage image;
+  cp::DepthImage depth;
+  camera.render(scene, lookAt({0, 0, 2}, {0, 0, 0}, {1, 0, 0}), -1, nullptr, image, &depth);
+  for (const auto& [u, v] : std::vector<std::pair<int, int>>{{0, 0}, {63, 0}, {0, 47}, {63, 47}, {5, 24}})
+    EXPECT_NEAR(depth.at(u, v), 2.0, 1e-4) << "ground at pixel (" << u << ", " << v << ")";
+  EXPECT_NEAR(depth.at(32, 24), 1.4, 1e-4) << "box top";
+  EXPECT_TRUE(isRed(image.pixel(32, 24)));
 }

@@ -24,6 +24,20 @@
 
 namespace conde_physics {
 
+// Depth image of a frame (row-major, width x height): the z-depth of each pixel's nearest hit
+// along the optical axis in metres (the optical frame's z of the surface point, as a depth
+// camera's 32FC1 image), +infinity where the ray meets nothing between the clip distances.
+struct DepthImage {
+  int width = 0, height = 0;
+  std::vector<float> depth_m;
+  void resize(int w, int h) {
+    width = w;
+    height = h;
+    depth_m.assign(static_cast<size_t>(w) * h, 0.0f);
+  }
+  float at(int u, int v) const { return depth_m[static_cast<size_t>(v) * width + u]; }
+};
+
 class CameraRenderer {
  public:
   // Throws std::invalid_argument for a non-positive size or focal length, clip planes with
@@ -38,6 +52,11 @@ class CameraRenderer {
   // and a frame of the scene has been drawn on this thread.
   void render(const RenderScene& scene, const Pose& world_T_optical, int exclude_group, std::mt19937* noise_rng,
               RgbImage& image) const;
+  // The same, and the depth image of the same pass into `depth` (resized to the model's size)
+  // unless it is nullptr. The near and far clips apply to the distance along each ray. Pixels
+  // beyond a wide-angle lens's cut-off are +infinity. Noise is on the colour image only.
+  void render(const RenderScene& scene, const Pose& world_T_optical, int exclude_group, std::mt19937* noise_rng,
+              RgbImage& image, DepthImage* depth) const;
 
   // The ground pass uses AVX2 (eight lanes) where the CPU has it, else four lanes; both draw the
   // same pixels. false forces four lanes everywhere (tests and benchmarks compare the two).
