@@ -1,0 +1,89 @@
+"""Pure parts of benchmark_driving_stack: /proc/<pid>/stat CPU time and the one speed table.
+
+No ROS here; the process plumbing (running autonomous_run, polling /proc) is in the script.
+"""
+import re
+
+# Nodes listed first, in this order, when present; any other node of the run follows by name.
+NODE_ORDER = ("conde_sim_node", "robot_state_publisher", "signalling_panel_controller", "conde_semaphore",
+              "conde_tracking", "conde_decision", "conde_control", "conde_referee")
+OTHER_ROW = "(rest: roslaunch, rosmaster, autonomous_run, recorder)"
+
+SIM_WALL_ROW = re.compile(r"\| simulated / wall time \| ([\d.]+) s / ([\d.]+) s \(real-time factor ([\d.]+)\) \|")
+TIMEOUTS_ROW = re.compile(r"\| lock-step \| yes, (\d+) frames timed out \|")
+
+
+def stat_cpu_s(stat_text, clock_ticks_per_s):
+    """utime + stime [s] from the text of /proc/<pid>/stat (fields 14 and 15, counted from 1;
+    the command name in parentheses may hold spaces, so fields are counted after its last ')')."""
+    fields = stat_text.rsplit(")", 1)[1].split()  # fields[0] is field 3 (state)
+    return (int(fields[11]) + int(fields[12])) / float(clock_ticks_per_s)
+
+
+def parse_summary(text):
+    """{sim_s, wall_s, real_time_factor, timeouts} from autonomous_run's Markdown summary; None
+    where the row is missing."""
+    sim_wall = SIM_WALL_ROW.search(text)
+    timeouts = TIMEOUTS_ROW.search(text)
+    return {
+        "sim_s": float(sim_wall.group(1)) if sim_wall else None,
+        "wall_s": float(sim_wall.group(2)) if sim_wall else None,
+        "real_time_factor": float(sim_wall.group(3)) if sim_wall else None,
+        "timeouts": int(timeouts.group(1)) if timeouts else None,
+    }
+
+
+def ordered_nodes(runs):
+    """Rows of the table: the known nodes in NODE_ORDER, then the others by name."""
+    seen = set()
+    for run in runs.values():
+        seen.update(run["cpu_s"])
+    seen.discard(OTHER_ROW)
+    known = [n for n in NODE_ORDER if n in seen]
+    return known + sorted(seen - set(known)) + [OTHER_ROW]
+
+
+def _cpu_cell(cpu_s, sim_s):
+    if cpu_s is None or not sim_s:
+        return "-"
+    return f"{1000.0 * cpu_s / sim_s:.0f}"
+
+
+def speed_table(runs):
+    """Markdown table: per node and engine the CPU milliseconds per simulated second; then the
+    run's simulated/wall time, real-time factor, frames timed out, total CPU per simulated second
+    and the best real-time factor 2 cores allow at that CPU cost (2 / total), and the load average.
+
+    runs: {engine: {"cpu_s": {node: CPU seconds}, "summary": parse_summary(...),
+                    "load_avg": (mean, max) of the 1-minute load average during the run or None,
+                    "exit_status": int}}
+    """
+    engines = list(runs)
+    lines = ["| node | " + " | ".join(f"{e}: CPU [ms per simulated s]" for e in engines) + " |",
+             "|---|" + "---|" * len(engines)]
+    for node in ordered_nodes(runs):
+        cells = [_cpu_cell(runs[e]["cpu_s"].get(node), runs[e]["summary"]["sim_s"]) for e in engines]
+        lines.append(f"| {node} | " + " | ".join(cells) + " |")
+
+    def row(label, value_of):
+        lines.append(f"| {label} | " + " | ".join(value_of(runs[e]) for e in engines) + " |")
+
+    def total_s(run):
+        return sum(run["cpu_s"].values())
+
+    def sim(run):
+        return run["summary"]["sim_s"]
+
+    row("**total CPU [ms per simulated s]**", lambda r: _cpu_cell(total_s(r), sim(r)))
+    row("best RTF on 2 cores at this CPU (2 / total)",
+        lambda r: f"{2.0 * sim(r) / total_s(r):.2f}" if sim(r) and total_s(r) else "-")
+    row("simulated / wall time [s]",
+        lambda r: f"{sim(r):.1f} / {r['summary']['wall_s']:.1f}" if sim(r) is not None else "-")
+    row("real-time factor (wall time from launch)",
+        lambda r: f"{r['summary']['real_time_factor']:.2f}" if r["summary"]["real_time_factor"] is not None else "-")
+    row("lock-step frames timed out",
+        lambda r: str(r["summary"]["timeouts"]) if r["summary"]["timeouts"] is not None else "-")
+    row("load average (1 min) during the run: mean / max",
+        lambda r: f"{r['load_avg'][0]:.1f} / {r['load_avg'][1]:.1f}" if r["load_avg"] else "-")
+    row("autonomous_run exit status", lambda r: str(r["exit_status"]))
+    return "\n".join(lines)
