@@ -24,7 +24,7 @@ def test_parse_summary_reads_times_and_timeouts_and_marks_missing_rows():
 def test_speed_table_puts_engines_side_by_side_with_totals_and_best_rtf():
     summary = stack_benchmark.parse_summary(SUMMARY)
     runs = {
-        "ode": {"cpu_s": {"conde_tracking": 3.0, "conde_sim": 9.0, stack_benchmark.OTHER_ROW: 3.0},
+        "ode": {"cpu_s": {"conde_tracking": 3.0, "conde_sim": 9.0, "(other) roslaunch": 3.0},
                 "summary": summary, "load_avg": (9.5, 11.25), "exit_status": 1},
         "bullet": {"cpu_s": {"conde_sim": 12.0, "zeta_node": 0.3},
                    "summary": stack_benchmark.parse_summary(""), "load_avg": None, "exit_status": 0},
@@ -32,17 +32,26 @@ def test_speed_table_puts_engines_side_by_side_with_totals_and_best_rtf():
     lines = stack_benchmark.speed_table(runs).splitlines()
     assert lines[0] == "| node | ode: CPU [ms per simulated s] | bullet: CPU [ms per simulated s] |"
     rows = {line.split(" | ")[0][2:]: line.split(" | ")[1:] for line in lines[2:]}
-    # known nodes first in the fixed order, then others by name, then the rest
+    # known nodes first in the fixed order, then other nodes by name, then the other programs
     names = [line.split(" | ")[0][2:] for line in lines[2:6]]
-    assert names == ["conde_sim", "conde_tracking", "zeta_node", stack_benchmark.OTHER_ROW]
+    assert names == ["conde_sim", "conde_tracking", "zeta_node", "(other) roslaunch"]
     assert rows["conde_sim"] == ["300", "- |"]  # bullet has no simulated time: no per-second figure
     assert rows["conde_tracking"] == ["100", "- |"]
     assert rows["zeta_node"] == ["-", "- |"]
     assert rows["**total of the ROS nodes [ms per simulated s]**"] == ["400", "- |"]
-    assert rows["total with the rest [ms per simulated s]"] == ["500", "- |"]
+    assert rows["total with the other processes [ms per simulated s]"] == ["500", "- |"]
     assert rows["best RTF on 2 cores at the nodes' CPU (2 / nodes' total)"] == ["5.00", "- |"]
     assert rows["simulated / wall time [s]"] == ["30.0 / 15.0", "- |"]
     assert rows["real-time factor (wall time from launch)"] == ["2.00", "- |"]
     assert rows["lock-step frames timed out"] == ["2", "- |"]
     assert rows["load average (1 min) during the run: mean / max"] == ["9.5 / 11.2", "- |"]
     assert rows["autonomous_run exit status"] == ["1", "0 |"]
+
+
+def test_process_row_name_names_nodes_scripts_and_programs():
+    assert stack_benchmark.process_row_name(
+        ["/usr/bin/python3", "/x/conde_tracking", "__name:=conde_tracking", "__log:=/l", ""]) == "conde_tracking"
+    assert stack_benchmark.process_row_name(["/usr/bin/python3", "/usr/bin/roslaunch", "-p", "1"]) == \
+        "(other) roslaunch"
+    assert stack_benchmark.process_row_name(["/opt/bin/rosmaster", "--core"]) == "(other) rosmaster"
+    assert stack_benchmark.process_row_name([""]) == ""

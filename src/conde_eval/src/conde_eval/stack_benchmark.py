@@ -2,15 +2,29 @@
 
 No ROS here; the process plumbing (running autonomous_run, polling /proc) is in the script.
 """
+import os
 import re
 
 # Nodes listed first, in this order, when present; any other node of the run follows by name.
 NODE_ORDER = ("conde_sim", "robot_state_publisher", "signalling_panel_controller", "conde_semaphore",
               "conde_tracking", "conde_decision", "conde_control", "conde_referee")
-OTHER_ROW = "(rest: roslaunch, rosmaster, autonomous_run, recorder)"
-
+OTHER_PREFIX = "(other) "
 SIM_WALL_ROW = re.compile(r"\| simulated / wall time \| ([\d.]+) s / ([\d.]+) s \(real-time factor ([\d.]+)\) \|")
 TIMEOUTS_ROW = re.compile(r"\| lock-step \| yes, (\d+) frames timed out \|")
+
+
+def process_row_name(args):
+    """Row of a process from its command-line arguments: the node name of a ROS node (argument
+    __name:=<node>), else "(other) <program>" (the script an interpreter runs, else the executable),
+    "" for an empty command line (a zombie)."""
+    args = [a for a in args if a]
+    if not args:
+        return ""
+    for arg in args:
+        if arg.startswith("__name:="):
+            return arg[len("__name:="):]
+    program = args[1] if len(args) > 1 and os.path.basename(args[0]).startswith("python") else args[0]
+    return OTHER_PREFIX + os.path.basename(program)
 
 
 def stat_cpu_s(stat_text, clock_ticks_per_s):
@@ -38,9 +52,9 @@ def ordered_nodes(runs):
     seen = set()
     for run in runs.values():
         seen.update(run["cpu_s"])
-    seen.discard(OTHER_ROW)
+    others = sorted(n for n in seen if n.startswith(OTHER_PREFIX))
     known = [n for n in NODE_ORDER if n in seen]
-    return known + sorted(seen - set(known)) + [OTHER_ROW]
+    return known + sorted(seen - set(known) - set(others)) + others
 
 
 def _cpu_cell(cpu_s, sim_s):
@@ -51,7 +65,7 @@ def _cpu_cell(cpu_s, sim_s):
 
 def speed_table(runs):
     """Markdown table: per node and engine the CPU milliseconds per simulated second; then the
-    run's total CPU per simulated second of the ROS nodes and with the rest (start-up and
+    run's total CPU per simulated second of the ROS nodes and with the other processes (start-up and
     autonomous_run's evaluation included), the best real-time factor 2 cores allow at the nodes' CPU
     cost (2 / nodes' total), simulated/wall time, real-time factor, frames timed out and load average.
 
@@ -76,10 +90,10 @@ def speed_table(runs):
         return run["summary"]["sim_s"]
 
     def nodes_s(run):
-        return total_s(run) - run["cpu_s"].get(OTHER_ROW, 0.0)
+        return sum(v for k, v in run["cpu_s"].items() if not k.startswith(OTHER_PREFIX))
 
     row("**total of the ROS nodes [ms per simulated s]**", lambda r: _cpu_cell(nodes_s(r), sim(r)))
-    row("total with the rest [ms per simulated s]", lambda r: _cpu_cell(total_s(r), sim(r)))
+    row("total with the other processes [ms per simulated s]", lambda r: _cpu_cell(total_s(r), sim(r)))
     row("best RTF on 2 cores at the nodes' CPU (2 / nodes' total)",
         lambda r: f"{2.0 * sim(r) / nodes_s(r):.2f}" if sim(r) and nodes_s(r) else "-")
     row("simulated / wall time [s]",
