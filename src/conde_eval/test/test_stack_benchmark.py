@@ -6,6 +6,13 @@ SUMMARY = """| result | value |
 | simulated / wall time | 30.0 s / 15.0 s (real-time factor 2.00) |
 | lock-step | yes, 2 frames timed out |
 """
+LOG = """[INFO] [1.0, 10.0]: conde_tracking: timing: 10 frames, mean 9.00 ms, max 12.00 ms CPU per frame
+[INFO] [2.0, 30.0]: conde_tracking: timing: 600 frames, mean 2.50 ms, max 9.00 ms CPU per frame
+"""
+
+
+def test_parse_timing_keeps_each_nodes_last_line_as_cpu_seconds():
+    assert stack_benchmark.parse_timing(LOG) == {"conde_tracking": 1.5}
 
 
 def test_stat_cpu_s_counts_fields_after_a_command_name_with_spaces_and_parentheses():
@@ -25,7 +32,8 @@ def test_speed_table_puts_engines_side_by_side_with_totals_and_best_rtf():
     summary = stack_benchmark.parse_summary(SUMMARY)
     runs = {
         "ode": {"cpu_s": {"conde_tracking": 3.0, "conde_sim": 9.0, "(other) roslaunch": 3.0},
-                "summary": summary, "load_avg": (9.5, 11.25), "exit_status": 1},
+                "summary": summary, "load_avg": (9.5, 11.25), "exit_status": 1,
+                "callback_s": stack_benchmark.parse_timing(LOG)},
         "bullet": {"cpu_s": {"conde_sim": 12.0, "zeta_node": 0.3},
                    "summary": stack_benchmark.parse_summary(""), "load_avg": None, "exit_status": 0},
     }
@@ -38,6 +46,8 @@ def test_speed_table_puts_engines_side_by_side_with_totals_and_best_rtf():
     assert rows["conde_sim"] == ["300", "- |"]  # bullet has no simulated time: no per-second figure
     assert rows["conde_tracking"] == ["100", "- |"]
     assert rows["zeta_node"] == ["-", "- |"]
+    assert rows["conde_tracking: its callback alone (its timing line)"] == ["50", "- |"]
+    assert "conde_semaphore: its callback alone (its timing line)" not in rows
     assert rows["**total of the ROS nodes [ms per simulated s]**"] == ["400", "- |"]
     assert rows["total with the other processes [ms per simulated s]"] == ["500", "- |"]
     assert rows["best RTF on 2 cores at the nodes' CPU (2 / nodes' total)"] == ["5.00", "- |"]

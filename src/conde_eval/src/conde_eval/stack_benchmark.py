@@ -11,6 +11,7 @@ NODE_ORDER = ("conde_sim", "robot_state_publisher", "signalling_panel_controller
 OTHER_PREFIX = "(other) "
 SIM_WALL_ROW = re.compile(r"\| simulated / wall time \| ([\d.]+) s / ([\d.]+) s \(real-time factor ([\d.]+)\) \|")
 TIMEOUTS_ROW = re.compile(r"\| lock-step \| yes, (\d+) frames timed out \|")
+TIMING_LINE = re.compile(r"\b(conde_\w+): timing: (\d+) frames, mean (\d+\.\d+) ms, max (\d+\.\d+) ms CPU per frame")
 
 
 def process_row_name(args):
@@ -47,6 +48,15 @@ def parse_summary(text):
     }
 
 
+def parse_timing(log_text):
+    """{node: CPU seconds of its main callback} from the last line "<node>: timing: <N> frames, mean
+    <A> ms, ..." of each node in a roslaunch log (the nodes' own time.thread_time of the callback)."""
+    timing = {}
+    for match in TIMING_LINE.finditer(log_text):
+        timing[match.group(1)] = int(match.group(2)) * float(match.group(3)) * 1e-3
+    return timing
+
+
 def ordered_nodes(runs):
     """Rows of the table: the known nodes in NODE_ORDER, then the others by name."""
     seen = set()
@@ -69,7 +79,10 @@ def speed_table(runs):
     autonomous_run's evaluation included), the best real-time factor 2 cores allow at the nodes' CPU
     cost (2 / nodes' total), simulated/wall time, real-time factor, frames timed out and load average.
 
-    runs: {engine: {"cpu_s": {node: CPU seconds}, "summary": parse_summary(...),
+    Where a run has "callback_s" (parse_timing), rows with the CPU of those nodes' callbacks alone
+    follow the nodes (the difference to the node's row is its rospy plumbing).
+
+    runs: {engine: {"cpu_s": {node: CPU seconds}, "summary": parse_summary(...), ["callback_s": {node: s},]
                     "load_avg": (mean, max) of the 1-minute load average during the run or None,
                     "exit_status": int}}
     """
@@ -79,6 +92,11 @@ def speed_table(runs):
     for node in ordered_nodes(runs):
         cells = [_cpu_cell(runs[e]["cpu_s"].get(node), runs[e]["summary"]["sim_s"]) for e in engines]
         lines.append(f"| {node} | " + " | ".join(cells) + " |")
+
+    callback_nodes = [n for n in NODE_ORDER if any(n in runs[e].get("callback_s", {}) for e in engines)]
+    for node in callback_nodes:
+        cells = [_cpu_cell(runs[e].get("callback_s", {}).get(node), runs[e]["summary"]["sim_s"]) for e in engines]
+        lines.append(f"| {node}: its callback alone (its timing line) | " + " | ".join(cells) + " |")
 
     def row(label, value_of):
         lines.append(f"| {label} | " + " | ".join(value_of(runs[e]) for e in engines) + " |")
