@@ -6,7 +6,7 @@ import os
 
 import pytest
 
-from test_bad_input import FLAT_WORLD, error_line, run_node
+from test_bad_input import FLAT_WORLD, startup_error
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 with open(os.path.join(HERE, "fixtures", "ray_imu_bot.urdf"), encoding="utf-8") as f:
@@ -35,6 +35,5 @@ def line_of(urdf, text):
 def test_bad_gazebo_sensor(master, old, new, at, detail):
     assert BOT_URDF.count(old) == 1, f"expected '{old}' once in the fixture"
     urdf = BOT_URDF.replace(old, new)
-    code, err = run_node(master, urdf=urdf, world_file=FLAT_WORLD, max_sim_time_s=0.1)
-    assert code != 0
-    assert error_line(err) == f"/robot_description:{line_of(urdf, at)}: {detail}"
+    message = startup_error(master, urdf, world_file=FLAT_WORLD, max_sim_time_s=0.1)
+    assert message == f"/robot_description:{line_of(urdf, at)}: {detail}"
