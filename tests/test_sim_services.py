@@ -9,16 +9,26 @@ import rosgraph
 from test_bad_input import FLAT_WORLD, GOOD_URDF
 
 
+def service_uri(master_api):
+    """The server of /conde_sim/set_start_pose the master knows, None when none is registered."""
+    try:
+        return master_api.lookupService("/conde_sim/set_start_pose")
+    except rosgraph.MasterError:
+        return None
+
+
 @pytest.fixture
 def paused_sim(master):
     master_api = rosgraph.Master("/sim_services_test", master_uri=master["ROS_MASTER_URI"])
     master_api.setParam("/robot_description", GOOD_URDF)
+    stale_uri = service_uri(master_api)
     node = subprocess.Popen(["rosrun", "conde_sim", "conde_sim_node", f"_world_file:={FLAT_WORLD}", "_paused:=true",
                              "_real_time_factor:=0"], env=master, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
                             text=True)
     deadline = time.monotonic() + 60
-    while subprocess.run(["rosservice", "list"], env=master, capture_output=True, text=True).stdout.find(
-            "/conde_sim/set_start_pose") < 0:
+    # Wait for this node's service: the master may still list the one of an earlier test's node
+    # (seen on a loaded machine), and a call would then go to a server that is gone.
+    while service_uri(master_api) in (None, stale_uri):
         assert node.poll() is None, node.communicate()[0]
         assert time.monotonic() < deadline, "no /conde_sim/set_start_pose"
         time.sleep(0.1)
