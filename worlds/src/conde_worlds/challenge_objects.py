@@ -70,6 +70,7 @@ def island_line_radius(dims: TrackDimensions = NOMINAL) -> float:
 def outer_line_radius(dims: TrackDimensions = NOMINAL) -> float:
     return dims.loop_radius_m + dims.line_spacing_m
 
+
 #: The twelve sign positions of the original simulator's V1 world: (x, y) [m] and yaw [rad];
 #: the face points along Rz(yaw) * (0, -1, 0).  All are off the road of our track.
 SIGN_POSES = [
@@ -88,7 +89,8 @@ def loop_centre(loop: str, dims: TrackDimensions = NOMINAL) -> Tuple[float, floa
     return (dims.loop_centre_x_m, cy if loop == "north" else -cy)
 
 
-def loop_point(loop: str, angle_deg: float, radius_m: float, dims: TrackDimensions = NOMINAL) -> Tuple[float, float, float]:
+def loop_point(loop: str, angle_deg: float, radius_m: float,
+               dims: TrackDimensions = NOMINAL) -> Tuple[float, float, float]:
     """(x, y, heading of the loop arc's direction of progress [rad]) on a loop circle."""
     cx, cy = loop_centre(loop, dims)
     a = math.radians(angle_deg)
@@ -143,7 +145,8 @@ def working_zone(spec: dict, dims: TrackDimensions = NOMINAL) -> List[dict]:
     loop, lane = spec["loop"], spec["lane"]
     side = 1.0 if lane == "outer" else -1.0
     r_divider = dims.loop_radius_m + side * CONE_DIVIDER_CLEARANCE_M
-    r_edge = (outer_line_radius(dims) if lane == "outer" else island_line_radius(dims)) - side * CONE_DIVIDER_CLEARANCE_M
+    r_line = outer_line_radius(dims) if lane == "outer" else island_line_radius(dims)
+    r_edge = r_line - side * CONE_DIVIDER_CLEARANCE_M
     a0, a1 = spec["from_deg"], spec["to_deg"]
     taper = min(TAPER_DEG, (a1 - a0) / 3.0)
     step_deg = math.degrees(CONE_SPACING_M / r_divider)

@@ -340,8 +340,9 @@ class Track:
         self._add_path_strokes("central_east", east, dm.solid_width_m, east_iv, "solid+dashed")
         # Dashed centre: a gap, then dashes, outward from each end of the crosswalk.
         top, bottom = dm.crosswalk_y_m[1] - y0, dm.crosswalk_y_m[0] - y0
-        centre_iv = dash_intervals(top, L, phase=dm.dash_on_m, on=dm.dash_on_m, off=dm.dash_off_m)
-        centre_iv += [(L - b, L - a) for a, b in dash_intervals(L - bottom, L, phase=dm.dash_on_m, on=dm.dash_on_m, off=dm.dash_off_m)]
+        dashes = {"phase": dm.dash_on_m, "on": dm.dash_on_m, "off": dm.dash_off_m}
+        centre_iv = dash_intervals(top, L, **dashes)
+        centre_iv += [(L - b, L - a) for a, b in dash_intervals(L - bottom, L, **dashes)]
         centre_iv = _intersect(_merge(centre_iv), self._visible("central", central.path))
         self._add_path_strokes("central_centre", central.path, dm.dashed_width_m, centre_iv, "dashed")
 
@@ -366,8 +367,9 @@ class Track:
 
         # Round join at each island tip (where the straight's west line meets the island line).
         for name, sign in (("north_loop", 1.0), ("south_loop", -1.0)):
-            yt = dm.fork_y_m + math.sqrt((dm.fork_radius_m + dm.line_spacing_m) ** 2 - (dm.fork_radius_m - dm.line_spacing_m) ** 2)
-            self.dots.append(Dot("%s_island_tip" % name, (dm.x_ref_m - dm.line_spacing_m, sign * yt), dm.solid_width_m / 2.0))
+            fr, ls = dm.fork_radius_m, dm.line_spacing_m
+            yt = dm.fork_y_m + math.sqrt((fr + ls) ** 2 - (fr - ls) ** 2)
+            self.dots.append(Dot("%s_island_tip" % name, (dm.x_ref_m - ls, sign * yt), dm.solid_width_m / 2.0))
 
     # --- crosswalk -----------------------------------------------------------------------------
 
@@ -382,7 +384,8 @@ class Track:
         ya, yb = dm.crosswalk_stripe_y_m
         for k, xc in enumerate(dm.crosswalk_stripe_x_m):
             seg = Segment((xc, ya), (xc, yb))
-            self.strokes.append(Stroke("crosswalk_stripe_%d" % k, seg, dm.crosswalk_stripe_width_m, ((0.0, seg.length),)))
+            self.strokes.append(Stroke("crosswalk_stripe_%d" % k, seg, dm.crosswalk_stripe_width_m,
+                                       ((0.0, seg.length),)))
 
     # --- parallel parking ----------------------------------------------------------------------
 

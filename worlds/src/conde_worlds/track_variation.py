@@ -252,4 +252,3 @@ def varied_range(nominal: float) -> Tuple[float, float]:
 def pixel_noise_seed(d: TrackDimensions) -> int:
     """Seed of the texture's per-pixel noise (numpy), a function of the track seed."""
     return 1000003 * d.track_seed + 17
-
