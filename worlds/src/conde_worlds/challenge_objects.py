@@ -243,7 +243,7 @@ def parking_bays(dims: TrackDimensions = NOMINAL) -> Dict[str, tuple]:
 
 def sign_poses(dims: TrackDimensions = NOMINAL) -> List[Tuple[float, float, float]]:
     """SIGN_POSES carried over to the track dims (the same place relative to the lines near them)."""
-    return [dims.map_xy(x, y) + (yaw,) for x, y, yaw in SIGN_POSES]
+    return [dims.map_loop_xy(x, y) + (yaw,) for x, y, yaw in SIGN_POSES]
 
 
 def sign_object(index: int, sign: str, texture: str, dims: TrackDimensions = NOMINAL) -> dict:

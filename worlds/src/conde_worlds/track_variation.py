@@ -16,12 +16,14 @@ every machine):
   mat / line grey, noise  the mat's and the paint's grey levels and a per-pixel texture noise
 
 Positions of the layout that are not built from the measures (the crosswalk, the parking areas,
-the signs, the start poses, the panels) are carried over by :meth:`TrackDimensions.map_xy`: a
-separable piecewise-linear map through anchors on the varied lines (road edges, lane centres, loop
-centres and edges), so that a point keeps its place relative to the lines next to it.
+the start poses, the panels) are carried over by :meth:`TrackDimensions.map_xy`: a separable
+piecewise-linear map through anchors on the varied lines (road edges, lane centres, loop centres
+and outer edges), so that a point keeps its place relative to the lines next to it; the signs
+around the loops by :meth:`TrackDimensions.map_loop_xy` (the same distance to the loop's edge).
 """
 
 import bisect
+import math
 import random
 from dataclasses import dataclass
 from typing import Tuple
@@ -117,6 +119,25 @@ class TrackDimensions:
             return x, y
         return _piecewise(self._anchors_x, x, self.stretch_x), _piecewise(self._anchors_y, y, self.stretch_y)
 
+    def map_loop_xy(self, x: float, y: float) -> Tuple[float, float]:
+        """A point off the road near a loop (a sign) carried over in polar coordinates about the
+        nearest loop centre, keeping its distance to the loop's island edge (inside) or outer
+        edge (outside)."""
+        if self.is_nominal:
+            return x, y
+        cy0 = tg.LOOP_CENTRE_Y if y >= 0.0 else -tg.LOOP_CENTRE_Y
+        cx, cy = self.loop_centre_x_m, (self.loop_centre_y_m if y >= 0.0 else -self.loop_centre_y_m)
+        r, angle = math.hypot(x - tg.LOOP_CENTRE_X, y - cy0), math.atan2(y - cy0, x - tg.LOOP_CENTRE_X)
+        inner0, outer0 = tg.LOOP_RADIUS - tg.ROAD_HALF_WIDTH, tg.LOOP_RADIUS + tg.ROAD_HALF_WIDTH
+        inner, outer = self.loop_radius_m - self.road_half_width_m, self.loop_radius_m + self.road_half_width_m
+        if r <= inner0:
+            r_new = r + inner - inner0
+        elif r >= outer0:
+            r_new = r + outer - outer0
+        else:
+            r_new = inner + (r - inner0) * (outer - inner) / (outer0 - inner0)
+        return cx + r_new * math.cos(angle), cy + r_new * math.sin(angle)
+
     def summary(self) -> dict:
         """The varied values, for the challenge summary and reports (plain numbers, m)."""
         r = lambda v: round(float(v), 5)  # noqa: E731
@@ -180,7 +201,7 @@ def _anchors(d: TrackDimensions):
 
     def ys(t: TrackDimensions):
         lcy, r, rh = t.loop_centre_y_m, t.loop_radius_m, t.road_half_width_m
-        top = [lcy - r + rh, lcy, lcy + r + rh]  # island edge south of the loop centre, centre, outer edge
+        top = [lcy, lcy + r + rh]  # the loop centre, the loop's outer edge
         return [-v for v in reversed(top)] + [0.0] + top
 
     ax = tuple(zip(xs(NOMINAL), xs(d)))
