@@ -17,7 +17,7 @@ from conftest import run_checks
 
 @pytest.mark.parametrize("engine", ["ode", "bullet"])
 def test_every_challenge_world_loads_and_runs(conde_master, engine, tmp_path):
-    lines = run_checks("challenge_world_checks.py", engine, tmp_path, conde_master, 300)
+    lines = run_checks("challenge_world_checks.py", engine, tmp_path, conde_master, 360)
     results = [r for r in lines if "challenge" in r]
     views = {r["view"]: r for r in lines if "view" in r}
     # The ground cameras, 0.8 m before the box (0.6 m wide, 0.2 m tall) and the cone (0.23 m):
