@@ -9,7 +9,7 @@ import pytest
 
 from conde_decision.decision_logic import (END_OF_TRIAL, FORWARD, LEFT, NONE, PARKING, RIGHT, STOP, DecisionConfig,
                                            DecisionLogic)
-from conde_decision.state_machine import load_state_machine
+from conde_decision.state_machine import load_state_machine, parse_state_machine
 from road_model import DT_S, HALF_LAP_M, LOOP_RADIUS_M, LOOP_STRAIGHT_M, Lane, Road
 
 PACKAGE_DIR = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -301,18 +301,70 @@ def test_dead_reckoning_is_corrected_by_crosswalk_sightings():
 
 # --- parking --------------------------------------------------------------------------------------
 
-def test_parking_signal_drives_on_and_stops():
-    road = make()
+PARALLEL_STATES = ["go_to_parking", "park_drive", "park_creep", "park_swing_out", "park_swing_in", "parked"]
+
+
+def states_passed(road):
+    """The states of the outputs so far, each once, in order."""
+    out = []
+    for o in road.outputs:
+        if not out or out[-1] != o.state:
+            out.append(o.state)
+    return out
+
+
+def drive_to_parked(road, max_s=120.0):
+    for _ in range(int(max_s / DT_S)):
+        if road.step().state == "parked":
+            return
+    raise AssertionError("not parked within %g s (state %s)" % (max_s, road.logic.state))
+
+
+@pytest.mark.parametrize("place, states", [
+    ("parallel", PARALLEL_STATES),
+    ("bay_north", ["go_to_parking", "bay_drive_north", "bay_creep", "bay_turn_in", "bay_drive_in", "parked"]),
+    ("bay_south", ["go_to_parking", "bay_drive_south", "bay_creep", "bay_turn_in", "bay_drive_in", "parked"]),
+])
+def test_parking_order_drives_the_manoeuvre_of_the_place(place, states):
+    road = make(parking_place=place)
+    road.run(100 * DT_S)
     assert signal(road, PARKING) == [("wait_for_go", "signal_parking", "go_to_parking")]
-    out = road.until("distance_elapsed")
-    assert out.state == "parked"
-    distance_m = SPEC.states["go_to_parking"].command.distance_m
-    assert road.positions[-1] == pytest.approx(distance_m, abs=STEP_M)
-    road.run(2.0)
-    stand_s = road.stand_still_at(2.0)
-    # Stops within the braking distance of the speed ramp.
-    assert distance_m < stand_s <= distance_m + CRUISE ** 2 / (2 * CONFIG.speed_ramp_mps2) + STEP_M
+    drive_to_parked(road)
+    # go_to_parking leaves at once, in the first step, on the event of the place.
+    assert road.outputs[100].transitions == [("go_to_parking", "parking_" + place, states[1])]
+    assert states_passed(road) == ["wait_for_go"] + states[1:]
+    # Each manoeuvre state drives its distance (odometry path length) at its speed and curvature.
+    for state in states[1:-1]:
+        command = SPEC.states[state].command
+        outs = [(s, o) for s, o in zip(road.positions, road.outputs) if o.state == state]
+        driven_m = outs[-1][0] - outs[0][0]
+        assert driven_m == pytest.approx(command.distance_m, abs=STEP_M + 1e-9)
+        steady = [o for _, o in outs[len(outs) // 2:]]
+        want_mps = CRUISE if command.speed == "cruise" else CONFIG.park_speed_mps
+        assert steady[-1].linear_velocity_mps == pytest.approx(want_mps)
+        side = {"none": 0.0, "left": 1.0, "right": -1.0}[command.branch]
+        want_curvature = side / command.radius_m if command.radius_m else 0.0
+        assert all(o.path_curvature_per_m == pytest.approx(want_curvature) for o in steady)
+        if command.speed == "creep":  # blind: the lane measurement is not used
+            assert all(o.lateral_offset_m == o.lateral_offset_ref_m for o in steady)
+        else:
+            assert steady[-1].lateral_offset_m == 0.02
+    road.run(1.0)  # it brakes
+    road.stand_still_at(2.0)
     assert signal(road, FORWARD) == [] and road.logic.state == "parked"
+
+
+def test_parallel_parking_turns_right_and_back_through_the_s():
+    road = make(parking_place="parallel")
+    signal(road, PARKING)
+    yaws = []
+    while road.logic.state != "parked":
+        road.step()
+        yaws.append(road.yaw_rad)
+    # An S of two equal arcs: right by 92.2 deg (0.6437 m at radius 0.4 m), then left as much.
+    assert min(yaws) == pytest.approx(0.5 * math.pi - 0.6437 / 0.4, abs=0.02)
+    road.run(1.0)
+    assert road.yaw_rad == pytest.approx(0.5 * math.pi, abs=0.02)
 
 
 def test_parking_while_driving():
@@ -320,9 +372,35 @@ def test_parking_while_driving():
     signal(road, FORWARD)
     road.drive_m(5.0)
     assert signal(road, PARKING) == [("follow_lane", "signal_parking", "go_to_parking")]
-    start_s = road.s
-    road.until("distance_elapsed")
-    assert road.s - start_s == pytest.approx(2.5, abs=STEP_M)
+    out = road.until("parking_parallel")
+    assert out.transitions == [("go_to_parking", "parking_parallel", "park_drive")]
+
+
+def test_reverse_drives_backward_blind_and_counts_its_distance():
+    spec = parse_state_machine({"initial": "wait", "states": {
+        "wait": {"command": {"speed": "stop"}, "on": {"signal_parking": "back"}},
+        "back": {"command": {"speed": "reverse", "branch": "right", "radius_m": 0.5, "distance_m": 0.3},
+                 "on": {"distance_elapsed": "done"}},
+        "done": {"command": {"speed": "stop"}}}}, "inline")
+    logic = DecisionLogic(spec, CONFIG)
+    logic.on_signal(PARKING, 1.0)
+    outs, travelled = [], []
+    for k in range(200):  # dead-reckoned (no odometry)
+        outs.append(logic.on_lane(Lane(), 10.0 + k * DT_S))
+        travelled.append(logic.road.travelled_m)
+    back = [o for o in outs if o.state == "back"]
+    assert back[-1].linear_velocity_mps == pytest.approx(-CONFIG.park_speed_mps)
+    assert all(o.path_curvature_per_m == -2.0 for o in back)
+    assert all(o.lateral_offset_m == o.lateral_offset_ref_m for o in back)  # blind
+    done_at = next(k for k, o in enumerate(outs) if o.state == "done")
+    assert travelled[done_at] == pytest.approx(0.3, abs=CONFIG.park_speed_mps * DT_S)  # |distance| counted
+    assert outs[-1].state == "done" and outs[-1].linear_velocity_mps == 0.0
+
+
+def test_unknown_parking_place_is_an_error():
+    with pytest.raises(ValueError) as info:
+        DecisionLogic(SPEC, replace(CONFIG, parking_place="garage"))
+    assert str(info.value) == "parking_place: expected one of parallel, bay_north, bay_south, got 'garage'"
 
 
 # --- lane lost ------------------------------------------------------------------------------------
@@ -402,6 +480,12 @@ def reach(road, state):
     (where the state lets it move) driving along the road away from the crosswalk."""
     if state == "wait_for_go":
         return
+    if state.startswith(("park_", "bay_")):  # a parking manoeuvre: the parking order, then drive
+        signal(road, PARKING)
+        for _ in range(int(120.0 / DT_S)):
+            if road.logic.state == state:
+                return
+            road.step()
     if state == "go_to_parking":
         signal(road, PARKING)
         return
@@ -449,10 +533,20 @@ def reach_before_fork(road, state, side):
     assert road.logic.state == state
 
 
+def parking_place_for(source, event):
+    """The parking_place that leads through `source` and fires `event`."""
+    if event.startswith("parking_"):
+        return event[len("parking_"):]
+    if source == "bay_drive_north":
+        return "bay_north"
+    return "bay_south" if source.startswith("bay_") else "parallel"
+
+
 @pytest.mark.parametrize("source, event, target", SPEC.transitions(),
                          ids=["%s-%s" % (s, e) for s, e, _ in SPEC.transitions()])
 def test_every_transition_fires_from_inputs(source, event, target):
-    road = make(fork_forward=("straight", "straight")) if event == "merge_left" else make()
+    road = make(fork_forward=("straight", "straight")) if event == "merge_left" else make(
+        parking_place=parking_place_for(source, event))
     if event in ("fork_left", "fork_right"):
         reach_before_fork(road, source, event[len("fork_"):])
     elif event in ("merge_left", "merge_right"):

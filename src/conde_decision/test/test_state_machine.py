@@ -25,7 +25,7 @@ def path_to(spec, goal):
         if state == goal:
             return events
         for event, target in spec.states[state].transitions.items():
-            if target not in seen:
+            if target not in seen and target != "return":
                 seen.add(target)
                 queue.append((target, events + [event]))
     raise AssertionError("no path to %s" % goal)
@@ -34,10 +34,13 @@ def path_to(spec, goal):
 def test_default_description():
     assert SPEC.initial == "wait_for_go"
     assert list(SPEC.states) == ["wait_for_go", "follow_lane", "turn_left", "turn_right", "approach_stop", "stopped",
-                                 "approach_finish", "finished", "go_to_parking", "parked"]
+                                 "approach_finish", "finished", "go_to_parking", "parked", "park_drive", "park_creep",
+                                 "park_swing_out", "park_swing_in", "bay_drive_north", "bay_drive_south", "bay_creep",
+                                 "bay_turn_in", "bay_drive_in"]
     assert SPEC.states["turn_left"].command.branch == "left"
     assert SPEC.states["turn_right"].command.branch == "right"
-    assert SPEC.states["go_to_parking"].command.distance_m == 2.5
+    assert SPEC.states["go_to_parking"].command.distance_m is None  # leaves on the parking place's event
+    assert SPEC.states["park_swing_out"].command.speed == "creep" and SPEC.states["bay_turn_in"].command.radius_m == 0.5
     assert SPEC.states["finished"].transitions == {}  # stays stopped
     for state in ("wait_for_go", "stopped", "finished", "parked"):
         assert SPEC.states[state].command.speed == "stop"
@@ -119,7 +122,8 @@ MODIFIED = [
     ("unknown_command_key", in_command("stopped", lambda c: c.update(lane="left")),
      "states.stopped.command: unknown key 'lane' (expected one of: speed, branch, distance_m, radius_m)"),
     ("unknown_speed", in_command("follow_lane", lambda c: c.update(speed="fast")),
-     "states.follow_lane.command.speed: unknown speed 'fast' (expected one of: cruise, stop, stop_at_crosswalk)"),
+     "states.follow_lane.command.speed: unknown speed 'fast' (expected one of: cruise, stop, stop_at_crosswalk, "
+     "creep, reverse)"),
     ("missing_speed", in_command("follow_lane", lambda c: c.pop("speed")),
      "states.follow_lane.command: missing key 'speed'"),
     ("missing_command", lambda d: d["states"]["parked"].pop("command"), "states.parked: missing key 'command'"),

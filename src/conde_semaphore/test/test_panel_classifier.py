@@ -170,3 +170,20 @@ def test_integer_colour_classes_equal_the_ratio_definition_for_every_colour():
     for blue in range(0, 256, 1):
         image = np.column_stack([rg, np.full(len(rg), blue)]).astype(np.uint8).reshape(256, 256, 3)
         assert np.array_equal(colour_classes(image), _colour_classes_by_ratios(image)), f"blue {blue}"
+
+
+@pytest.mark.parametrize("name, signal, image", DATASET, ids=IDS)
+def test_a_green_box_on_the_ground_below_the_horizon_is_not_the_panel(name, signal, image):
+    """A box parked beside the road (B2's occupied bay) is seen by the top camera below its horizon
+    (0.69 of the image height for Conde), larger than the monitor: it must not hide the signal."""
+    seen = image.copy()
+    seen[int(0.72 * 240):int(0.95 * 240), 200:310] = (0, 200, 0)  # 25 x 110 px of saturated green
+    if signal not in ("forward", "left", "right"):  # (a green block may pass for an arrow)
+        assert classify_panel(seen)[0] != signal  # the whole image searched: the box wins
+    result, confidence = classify_panel(seen, ground_from_row_fraction=0.69)
+    assert result == signal and confidence >= 0.5
+
+
+def test_ground_from_row_fraction_out_of_range_is_an_error():
+    with pytest.raises(ValueError, match=r"ground_from_row_fraction: expected a value in \(0, 1\], got 0"):
+        classify_panel(DATASET[0][2], ground_from_row_fraction=0)

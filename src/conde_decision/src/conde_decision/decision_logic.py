@@ -55,9 +55,13 @@ Commands (the state's `command` in the YAML):
   branch_heading_rad.  The robot swerves toward the branch where it diverges and is back on its
   lane's centre when the state ends.  This is a simplification: it works if conde_tracking
   measures the robot against the lane it is in (the lane it leaves, then the branch);
-* distance_m: the event distance_elapsed fires after that distance in the state (used by the
-  turns and by go_to_parking, which simply drives on for its distance_m and then stops: a
-  stand-in for real parking).
+* speed ``creep`` / ``reverse``: forward / backward at park_speed_mps, blind (an arc with
+  branch and radius_m, else straight on): the parking manoeuvres (parking.py);
+* distance_m: the event distance_elapsed fires after that distance in the state (driven either
+  way: forward or backward).
+
+Parking: while the current state listens to it, the event of parking_place (parking.py) fires in
+every step; go_to_parking leaves on it toward the manoeuvre of that place.
 
 Safety: when the lane confidence is below min_lane_confidence the measured offset and heading
 are replaced by their references (the robot holds its course, e.g. over the crosswalk stripes);
@@ -72,6 +76,7 @@ from conde_common.panel_signals import NAMES_BY_CODE, SIGNAL_CODES
 from conde_decision.crosswalk import CrosswalkTracker
 from conde_decision.fork_navigator import ForkNavigator
 from conde_decision.lap_counter import LapCounter
+from conde_decision.parking import BLIND_SPEEDS, PARKING_PLACES, check_parking_place, parking_event
 from conde_decision.road_distance import RoadDistance
 from conde_decision.speed_profile import SpeedProfile
 from conde_decision.state_machine import StateMachine, StateMachineSpec
@@ -113,6 +118,8 @@ class DecisionConfig:
     min_lane_confidence: float = 0.3  # lane measurements below this confidence are not used
     lane_lost_timeout_s: float = 1.0  # stop after this long without a confident lane [s]
     max_step_s: float = 1.0  # longest time step dead-reckoned at once [s] (gaps in the input)
+    park_speed_mps: float = 0.2  # |speed| of the parking manoeuvres (speeds creep and reverse) [m/s]
+    parking_place: str = "parallel"  # where to park on the parking order: parallel | bay_north | bay_south
 
     def check(self) -> "DecisionConfig":
         """Returns self if every value is usable, else raises ValueError naming the field."""
@@ -133,6 +140,8 @@ class DecisionConfig:
                 need(f.name, isinstance(value, (list, tuple)) and len(value) == len(self.fork_sides)
                      and all(isinstance(v, (int, float)) and not isinstance(v, bool) and v > 0 for v in value),
                      "expected one radius > 0 per entry of fork_sides")
+            elif f.name == "parking_place":
+                need(f.name, value in PARKING_PLACES, "expected one of %s" % ", ".join(PARKING_PLACES))
             elif f.name == "crossings_per_lap":
                 need(f.name, isinstance(value, int) and not isinstance(value, bool) and value >= 1,
                      "expected an integer >= 1")
@@ -140,7 +149,7 @@ class DecisionConfig:
                 need(f.name, isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value),
                      "expected a finite number")
         for name in ("cruise_speed_mps", "speed_ramp_mps2", "brake_decel_mps2", "crosswalk_length_m",
-                     "lane_lost_timeout_s", "max_step_s"):
+                     "lane_lost_timeout_s", "max_step_s", "park_speed_mps"):
             need(name, getattr(self, name) > 0, "must be > 0")
         for name in ("stop_margin_m", "crosswalk_rearm_m", "fork_distance_m", "branch_offset_m", "loop_sweep_rad",
                      "loop_exit_tolerance_rad", "loop_exit_m"):
@@ -189,7 +198,8 @@ class DecisionLogic:
         self.lap_counter = LapCounter(config.crossings_per_lap)
         self.forks = ForkNavigator(config)
         self.speed = SpeedProfile(config.cruise_speed_mps, config.speed_ramp_mps2, config.brake_decel_mps2,
-                                  config.stop_margin_m)
+                                  config.stop_margin_m, config.park_speed_mps)
+        self.parking_event = parking_event(check_parking_place(config.parking_place))
         self.last_time_s: Optional[float] = None
         self.state_entry_m = 0.0  # travelled_m when the current state was entered
         self.distance_fired = False  # distance_elapsed already fired in this state
@@ -237,12 +247,14 @@ class DecisionLogic:
         self._transitions, self._events, self.notes = [], [], []
         dt_s = 0.0 if self.last_time_s is None else min(max(time_s - self.last_time_s, 0.0), c.max_step_s)
         self.last_time_s = time_s
-        self.crosswalk.advance(self.road.advance(self.speed.v_mps * dt_s))
+        self.crosswalk.advance(self.road.advance(abs(self.speed.v_mps) * dt_s))
         self.crosswalk.on_sighting(lane.crosswalk_seen, lane.crosswalk_distance_m)
         self._crosswalk_and_fork_events(time_s)
         merge = self.forks.loop_exit(self.road.yaw_rad, self.road.travelled_m)
         if merge is not None:
             self._fire(merge)
+        if self.parking_event in self.machine.spec.states[self.state].transitions:
+            self._fire(self.parking_event)
         command = self.machine.command
         if (command.distance_m is not None and not self.distance_fired
                 and self.road.travelled_m - self.state_entry_m >= command.distance_m - 1e-9):
@@ -250,7 +262,7 @@ class DecisionLogic:
             self._fire("distance_elapsed")
         command = self.machine.command
 
-        blind_arc = command.radius_m is not None
+        blind_arc = command.radius_m is not None or command.speed in BLIND_SPEEDS
         lane_ok = (math.isfinite(lane.lateral_offset_m) and math.isfinite(lane.heading_error_rad)
                    and lane.confidence >= c.min_lane_confidence)
         if lane_ok or blind_arc:
@@ -267,7 +279,7 @@ class DecisionLogic:
         curvature_per_m = 0.0
         if blind_arc:
             bias = 0.0
-            curvature_per_m = side / command.radius_m
+            curvature_per_m = side / command.radius_m if command.radius_m is not None else 0.0
         else:
             bias = side * self._branch_shape(command)
         offset_ref_m = bias * c.branch_offset_m

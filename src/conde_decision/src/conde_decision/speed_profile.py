@@ -2,7 +2,8 @@
 Pure Python, no ROS.
 
 ``cruise``: cruise_speed_mps; ``stop``: 0; ``stop_at_crosswalk``: cruise, braking at
-brake_decel_mps2 so as to stand stop_margin_m before the near edge of the crosswalk ahead.  The
+brake_decel_mps2 so as to stand stop_margin_m before the near edge of the crosswalk ahead;
+``creep`` / ``reverse`` (parking manoeuvres): +park_speed_mps / -park_speed_mps.  The
 speed approaches its target at ramp_mps2, conde_control's acceleration limit, so that the speed
 commanded is the speed the robot drives (the decision dead-reckons with it)."""
 
@@ -10,11 +11,14 @@ import math
 from typing import Optional
 
 from conde_common.rate_limit import RateLimiter
+from conde_decision.parking import manoeuvre_speed_mps
 
 
 class SpeedProfile:
-    def __init__(self, cruise_speed_mps: float, ramp_mps2: float, brake_decel_mps2: float, stop_margin_m: float):
+    def __init__(self, cruise_speed_mps: float, ramp_mps2: float, brake_decel_mps2: float, stop_margin_m: float,
+                 park_speed_mps: float = 0.2):
         self.cruise_speed_mps = cruise_speed_mps
+        self.park_speed_mps = park_speed_mps
         self.brake_decel_mps2 = brake_decel_mps2
         self.stop_margin_m = stop_margin_m
         self._ramp = RateLimiter(ramp_mps2)
@@ -40,6 +44,9 @@ class SpeedProfile:
             return 0.0
         if speed == "cruise":
             return self.cruise_speed_mps
+        manoeuvre_mps = manoeuvre_speed_mps(speed, self.park_speed_mps)
+        if manoeuvre_mps is not None:
+            return manoeuvre_mps
         # stop_at_crosswalk: a constant-deceleration profile ending stop_margin_m before the near
         # edge.  Once committed it holds even if dead reckoning overshoots the edge; a state that
         # begins with the robot already on the crosswalk drives on to the next one.

@@ -7,7 +7,9 @@ File format (see config/conde_states.yaml):
       follow_lane:
         description: free text         # optional
         command:                       # what the robot does in this state
-          speed: cruise                # cruise | stop | stop_at_crosswalk
+          speed: cruise                # cruise | stop | stop_at_crosswalk | creep | reverse
+                                       # (creep / reverse: slowly forward / backward, blind:
+                                       # an arc with branch and radius_m, else straight on)
           branch: none                 # none | left | right (optional, default none)
           distance_m: 2.2              # optional: the event distance_elapsed fires after
                                        # driving this far [m] in the state
@@ -57,9 +59,12 @@ EVENTS = OrderedDict([
     ("merge_right", "the loop driven after a fork_straight ends where its road joins the central road "
                     "with a right turn"),
     ("distance_elapsed", "the robot drove the state's command.distance_m since it entered the state"),
+    ("parking_parallel", "the parking place chosen is the parallel bay (fires in every step)"),
+    ("parking_bay_north", "the parking place chosen is the north bay of the bay-parking area (every step)"),
+    ("parking_bay_south", "the parking place chosen is the south bay of the bay-parking area (every step)"),
 ])
 
-SPEEDS = ("cruise", "stop", "stop_at_crosswalk")
+SPEEDS = ("cruise", "stop", "stop_at_crosswalk", "creep", "reverse")
 BRANCHES = ("none", "left", "right")
 TOP_KEYS = ("initial", "states")
 STATE_KEYS = ("description", "command", "on")

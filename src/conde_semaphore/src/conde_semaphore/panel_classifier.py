@@ -24,11 +24,20 @@ MIXED_MIN_FRACTION = 0.15  # the checkerboard has at least this much of both red
 YELLOW_MIN_FRACTION = 0.5  # the P is mostly yellow (red/green borders of the checkerboard are not)
 
 
-def classify_panel(image, bgr=False):
-    """(signal name, confidence 0..1) for an RGB uint8 image (H x W x 3); bgr=True for BGR."""
+def classify_panel(image, bgr=False, ground_from_row_fraction=None):
+    """(signal name, confidence 0..1) for an RGB uint8 image (H x W x 3); bgr=True for BGR.
+
+    ground_from_row_fraction: rows from this fraction of the image height down (the ground below
+    the camera's horizon, where objects lower than the camera appear, e.g. a green box parked in
+    a bay) are not searched for the panel; None searches the whole image."""
     image = np.asarray(image)
     if image.ndim != 3 or image.shape[2] != 3:
         raise ValueError("expected an H x W x 3 colour image, got shape %s" % (image.shape,))
+    if ground_from_row_fraction is not None:
+        if not 0.0 < ground_from_row_fraction <= 1.0:
+            raise ValueError("ground_from_row_fraction: expected a value in (0, 1], got %r"
+                             % (ground_from_row_fraction,))
+        image = image[:int(round(ground_from_row_fraction * image.shape[0]))]
     rgb = image[:, :, ::-1] if bgr else image
     blob = find_panel_blob(rgb)
     if blob is None:
