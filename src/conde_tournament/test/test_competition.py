@@ -43,6 +43,7 @@ def test_challenges_repeatable_or_listed_in_competition_order():
     (["--track-seed", "-1"], "--track-seed: expected an integer >= 0, got '-1'"),
     (["--track-seed", "x"], "--track-seed: expected an integer >= 0, got 'x'"),
     (["--wall-limit", "0"], "--wall-limit: expected a number of seconds > 0, got '0'"),
+    (["--sim-limit", "nan"], "--sim-limit: expected a number of seconds >= 0, got 'nan'"),
 ])
 def test_bad_options_name_the_option(argv, message):
     with pytest.raises(OptionError) as error:

@@ -31,6 +31,7 @@ class Options:
     rviz: bool = False
     output_dir: str = "results/competition"
     wall_limit_s: float = 600.0
+    sim_limit_s: float = 0.0   # 0 = each challenge's own end (its time limit)
 
     def launch_args(self) -> List[str]:
         """team_run.launch arguments of every job: the track and, with --rviz, rviz paced to the wall clock."""
@@ -54,6 +55,8 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument("--output-dir", default="results/competition", help="where the reports and the summary go")
     parser.add_argument("--wall-limit", default="600", metavar="S",
                         help="wall-clock limit of one challenge [s] (default 600); the run is scored as it ended")
+    parser.add_argument("--sim-limit", default="0", metavar="S",
+                        help="stop each run at this simulated time [s] (default 0: the challenge's own time limit)")
     parser.add_argument("--check", action="store_true", help=argparse.SUPPRESS)
     return parser
 
@@ -83,8 +86,14 @@ def parse_options(argv) -> Options:
         wall_limit_s = -1.0
     if not wall_limit_s > 0:
         raise OptionError("--wall-limit: expected a number of seconds > 0, got %r" % args.wall_limit)
+    try:
+        sim_limit_s = float(args.sim_limit)
+    except ValueError:
+        sim_limit_s = -1.0
+    if not sim_limit_s >= 0:
+        raise OptionError("--sim-limit: expected a number of seconds >= 0, got %r" % args.sim_limit)
     ordered = tuple(c for c in CHALLENGES if c in challenges) or CHALLENGES
-    return Options(ordered, args.engine, track_seed, args.rviz, args.output_dir, wall_limit_s)
+    return Options(ordered, args.engine, track_seed, args.rviz, args.output_dir, wall_limit_s, sim_limit_s)
 
 
 def outcome(report: Optional[dict], laps_required: int, signs_total: int) -> Tuple[bool, str]:
@@ -97,7 +106,8 @@ def outcome(report: Optional[dict], laps_required: int, signs_total: int) -> Tup
         return False, "FAIL (disqualified: %s)" % end
     kind = report.get("kind")
     if kind == "parking":
-        done, what = bool(report.get("parked")), "parked %s" % report["parked"] if report.get("parked") else "not parked"
+        done = bool(report.get("parked"))
+        what = "parked %s" % report["parked"] if done else "not parked"
     elif kind == "signs":
         right = int(report.get("signs_right", 0))
         done, what = right >= signs_total, "%d/%d signs" % (right, signs_total)
@@ -162,8 +172,8 @@ def summary_markdown(rows: List[dict], options: Options, title: str = "Conde com
               for cells in [_cells(r) for r in rows] + [_total_cells(rows)]]
     for r in rows:
         folder = r["folder"] + "/challenge"
-        lines += ["", "## %s" % r["challenge"], "", r["result"] + ("; penalties: " + ", ".join(r["events"])
-                                                                  if r["events"] else ""),
+        penalties = "; penalties: " + ", ".join(r["events"]) if r["events"] else ""
+        lines += ["", "## %s" % r["challenge"], "", r["result"] + penalties,
                   "", "![%s path](%s/referee.png)" % (r["challenge"], folder), "",
                   "[referee report](%s/referee.md) · [JSON](%s/referee.json)" % (folder, folder)]
     return "\n".join(lines) + "\n"
@@ -175,9 +185,8 @@ def summary_html(rows: List[dict], options: Options, title: str = "Conde competi
     head = "".join("<th>%s</th>" % e(c) for c in TABLE_COLUMNS)
     body = []
     for r in rows:
-        cells = _cells(r)
-        body.append('<tr class="%s">%s</tr>' % ("pass" if r["passed"] else "fail",
-                                               "".join("<td>%s</td>" % e(str(c)) for c in cells)))
+        cells = "".join("<td>%s</td>" % e(str(c)) for c in _cells(r))
+        body.append('<tr class="%s">%s</tr>' % ("pass" if r["passed"] else "fail", cells))
     body.append('<tr class="total">%s</tr>' % "".join("<td>%s</td>" % e(str(c)) for c in _total_cells(rows)))
     plots = []
     for r in rows:

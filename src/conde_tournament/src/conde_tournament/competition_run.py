@@ -64,8 +64,8 @@ def run(options: competition.Options) -> int:
             progress.start(index, len(options.challenges), name)
             job_dir = os.path.join(out_dir, name)
             shutil.rmtree(job_dir, ignore_errors=True)  # no report or plot of an earlier run stays
-            result = run_job(Job(team, name, "", 0, options.engine, 0), job_dir, 0.0, options.wall_limit_s,
-                             options.launch_args())
+            result = run_job(Job(team, name, "", 0, options.engine, 0), job_dir, options.sim_limit_s,
+                             options.wall_limit_s, options.launch_args())
             result["folder"] = name
             row = competition.row(result, LAPS_REQUIRED, signs_total)
             rows.append(row)
