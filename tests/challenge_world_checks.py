@@ -6,7 +6,8 @@ still at its start pose: no command is sent), for V1 what the signalling-panel c
 the sign in front of it (pixels of the sign families' red and blue), then how far it drives in
 DRIVE_S at DRIVE_MPS (nothing is in its way). Last, for D3 and D4, the robot is put in front of
 the first box (along its lane) and of the first cone: the pixels of the box's green and the cone's
-orange that the two tracking cameras (the ground cameras) see.
+orange that the two tracking cameras (the ground cameras) see. One world is on a varied track
+(track seed > 0).
 
 usage: challenge_world_checks.py ENGINE OUTPUT_DIR   (against the ROS master of the environment)
 """
@@ -19,6 +20,7 @@ import sys
 
 import numpy as np
 import rospy
+import yaml
 from geometry_msgs.msg import Twist
 from nav_msgs.msg import Odometry
 from sensor_msgs.msg import Image
@@ -36,7 +38,8 @@ STEP_S = 0.001
 #: The robot stands 1.0 m in front of sign position 0, facing it (the face points along -y).
 SIGN_X, SIGN_Y, _ = co.SIGN_POSES[0]
 SIGN_VIEW_SPAWN = "%g %g %g" % (SIGN_X, SIGN_Y - 1.0, math.pi / 2)
-EXTRA = [("D3", "v1", 7), ("D4", "v2", 11), ("B2", "v1", 3), ("V1", "v1", 5)]
+#: (challenge, variant, seed, track seed): the last on a varied track (conde_worlds track_variation).
+EXTRA = [("D3", "v1", 7, 0), ("D4", "v2", 11, 0), ("B2", "v1", 3, 0), ("V1", "v1", 5, 0), ("D3", "v1", 0, 5)]
 #: (challenge, object-name prefix): the robot's centre OBJECT_VIEW_M before the object, facing it.
 OBJECT_VIEWS = [("D3", "obstacle_"), ("D4", "cone_")]
 OBJECT_VIEW_M = 0.8
@@ -45,7 +48,7 @@ TRACKING_TOPICS = ["/conde_camera_tracking_left/image_raw", "/conde_camera_track
 
 def worlds():
     challenges = load_challenges()
-    out = [(c, v, 0) for c, ch in challenges.challenges.items() for v in ch.variants]
+    out = [(c, v, 0, 0) for c, ch in challenges.challenges.items() for v in ch.variants]
     return out + EXTRA
 
 
@@ -69,7 +72,6 @@ def object_colour_counts(msg):
 def object_view_spawn(world_path, prefix):
     """'x y yaw' OBJECT_VIEW_M before the first object named prefix*, facing it: along the object's
     heading (a box lies along its lane), or from the track's centre outwards for a round cone."""
-    import yaml
     with open(world_path) as f:
         objects = yaml.safe_load(f)["objects"]
     obj = next(o for o in objects if o["name"].startswith(prefix))
@@ -123,15 +125,18 @@ def save_image(msg, path):
     cv2.imwrite(path, cv2.cvtColor(img, cv2.COLOR_RGB2BGR))
 
 
-def check_world(engine, out_dir, cmd_pub, challenge, variant, seed):
-    paths = write_challenge(challenge, variant, seed, os.path.join(out_dir, "%s_%s_%d" % (challenge, variant, seed)))
+def check_world(engine, out_dir, cmd_pub, challenge, variant, seed, track_seed):
+    name = "%s_%s_%d_track%d" % (challenge, variant, seed, track_seed)
+    paths = write_challenge(challenge, variant, seed, os.path.join(out_dir, name), track_seed=track_seed)
     spawn = SIGN_VIEW_SPAWN if challenge == "V1" else "conde"
     odoms = []
     images = []
     subs = [rospy.Subscriber("/ground_truth/odom", Odometry, odoms.append, queue_size=200)]
     if challenge == "V1":
         subs.append(rospy.Subscriber("/conde_camera_signalling_panel/image_raw", Image, images.append, queue_size=5))
-    result = {"challenge": challenge, "variant": variant, "seed": seed, "engine": engine}
+    result = {"challenge": challenge, "variant": variant, "seed": seed, "track_seed": track_seed, "engine": engine}
+    with open(paths["world"]) as f:
+        result["spawn"] = yaml.safe_load(f)["spawn"]["conde"]
     with challenge_node(paths, engine, spawn, "conde_sim_%s.log" % engine, subs, result) as node:
         sim = SteppedSim()
         sim.step_until(lambda: odoms, "the first ground-truth pose")
@@ -162,8 +167,8 @@ def main():
     engine, out_dir = sys.argv[1], sys.argv[2]
     rospy.init_node("challenge_world_checks")
     cmd_pub = rospy.Publisher("/cmd_vel", Twist, queue_size=1)
-    for challenge, variant, seed in worlds():
-        print(json.dumps(check_world(engine, out_dir, cmd_pub, challenge, variant, seed)), flush=True)
+    for challenge, variant, seed, track_seed in worlds():
+        print(json.dumps(check_world(engine, out_dir, cmd_pub, challenge, variant, seed, track_seed)), flush=True)
     for challenge, prefix in OBJECT_VIEWS:
         print(json.dumps(check_object_view(engine, out_dir, challenge, prefix)), flush=True)
 

@@ -1,6 +1,7 @@
 """launch/challenge.launch (conde_bringup) as a user runs it: the generated world, the robot at the
 challenge's start pose, the panel controller with the challenge's schedule and the referee, for
-Conde and Major Alvega; a bad challenge stops roslaunch with the generator's message."""
+Conde and Major Alvega, on the nominal track and on a varied one (track_seed:=5); a bad challenge
+stops roslaunch with the generator's message."""
 import subprocess
 
 import pytest
@@ -13,26 +14,29 @@ def roslaunch(env, tmp_path, *args, timeout_s=120):
                           text=True, timeout=timeout_s)
 
 
-@pytest.mark.parametrize("challenge,variant,seed,robot,engine", [
-    ("D4", "v2", "3", "conde", "bullet"),
-    ("B2", "v1", "0", "major_alvega", "ode"),
+@pytest.mark.parametrize("challenge,variant,seed,robot,engine,track_seed", [
+    ("D4", "v2", "3", "conde", "bullet", "0"),
+    ("B2", "v1", "0", "major_alvega", "ode", "0"),
+    ("D3", "v1", "0", "conde", "ode", "5"),
 ])
 def test_challenge_launch_runs_the_world_with_the_robot_and_the_panel(master, tmp_path, challenge, variant, seed,
-                                                                      robot, engine):
+                                                                      robot, engine, track_seed):
     out = roslaunch(master, tmp_path, "challenge:=" + challenge, "variant:=" + variant, "seed:=" + seed,
-                    "robot:=" + robot, "physics_engine:=" + engine, "real_time_factor:=0", "max_sim_time:=2")
+                    "robot:=" + robot, "physics_engine:=" + engine, "real_time_factor:=0", "max_sim_time:=2",
+                    "track_seed:=" + track_seed)
     log = out.stdout + out.stderr
     assert out.returncode == 0, log[-4000:]
-    name = "challenge_%s_%s_seed%s" % (challenge, variant, seed)
+    name = "challenge_%s_%s_seed%s" % (challenge, variant, seed) + ("_track" + track_seed if track_seed != "0" else "")
     assert "conde_sim: world '%s'" % name in log and "engine %s" % engine in log, log[-4000:]
     assert "process[signalling_panel_controller" in log, log[-4000:]
     assert "process[conde_referee" in log, log[-4000:]
     assert "process has died" not in log, log[-4000:]  # the panel controller took the schedule
     if robot == "major_alvega":
         assert "process[ackermann_controller" in log, log[-4000:]
-    out_dir = tmp_path / "conde_challenges" / ("%s_%s_seed%s_track0" % (challenge, variant, seed))
+    out_dir = tmp_path / "conde_challenges" / ("%s_%s_seed%s_track%s" % (challenge, variant, seed, track_seed))
     summary = yaml.safe_load((out_dir / "challenge.yaml").read_text())
     assert summary["challenge"] == challenge and summary["seed"] == int(seed)
+    assert summary["track_seed"] == int(track_seed) and summary["track"]["track_seed"] == int(track_seed)
     world = yaml.safe_load((out_dir / "world.yaml").read_text())
     assert world["spawn"][robot] == summary["start"][robot]
 

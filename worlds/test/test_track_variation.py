@@ -14,7 +14,7 @@ from conde_worlds import track_render as tr
 from conde_worlds.challenge_world import challenge_world
 from conde_worlds.challenges import ChallengeError, load_challenges
 from conde_worlds.track_files import GEOMETRY_FILE, TEXTURE_FILE, geometry_yaml, write_track_files
-from conde_worlds.track_variation import (NOMINAL, SOLID_WIDTH_RANGE_M, TOLERANCE, TrackDimensions,
+from conde_worlds.track_variation import (NOMINAL, SOLID_WIDTH_RANGE_M, TOLERANCE, TrackDimensions, shading,
                                           track_dimensions)
 
 PACKAGE_DIR = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -61,6 +61,9 @@ def test_each_drawn_measure_stays_within_its_tolerance_over_200_seeds():
         assert within(d.bay_area_y_m[1] - d.bay_area_y_m[0], tg.BAY_AREA_Y[1] - tg.BAY_AREA_Y[0]), what
         # Slight grey levels: a dark mat, light paint, a few grey levels of noise.
         assert 0 <= d.mat_grey <= 30 and 215 <= d.line_grey <= 255 and 2 <= d.noise_grey <= 6, what
+        assert 2 <= d.shading_grey <= 8 and len(d.shading_waves) == 3, what
+        for kx, ky, _ in d.shading_waves:  # wavelengths 0.8 .. 4 m
+            assert 0.8 - 1e-9 <= 2 * math.pi / math.hypot(kx, ky) <= 4.0 + 1e-9, what
 
 
 def test_the_draws_cover_their_ranges():
@@ -143,9 +146,14 @@ def test_rendered_lines_are_as_wide_as_drawn(tracks, seed):
     y = -1.5  # on the straight, clear of the crosswalk and the parking areas' lines
     x_range = (d.x_ref_m - 1.2, d.x_ref_m + 1.2)
     image = tr.render_track(track, res, x_range, (y - 0.1, y + 0.1))
-    grey = image[:, :, 0].astype(float)
+    assert np.array_equal(image, tr.render_track(track, res, x_range, (y - 0.1, y + 0.1)))  # deterministic
     assert np.array_equal(image[:, :, 0], image[:, :, 1])
-    # The mat and the paint have the seed's grey levels (with its noise).
+    # The mat has the seed's grey level with its smooth shading and per-pixel noise ...
+    cols, rows = np.arange(image.shape[1]), np.arange(image.shape[0])
+    px, py = tr.pixel_centre(cols[None, :], rows[:, None], res, x_range, (y - 0.1, y + 0.1))
+    shade = shading(d, px, py)
+    assert np.abs(shade).max() <= d.shading_grey and np.abs(shade).max() > 0.05 * d.shading_grey
+    grey = image[:, :, 0].astype(float) - shade  # ... taken off to measure the paint
     mat = grey[:, : int(0.2 * res)]
     assert abs(mat.mean() - d.mat_grey) < 1.0 and abs(mat.std() - d.noise_grey) < 1.0
     mid = 0.5 * (d.mat_grey + d.line_grey)

@@ -17,7 +17,7 @@ from typing import Tuple
 import numpy as np
 
 from .track_geometry import Track, build_track
-from .track_variation import TrackDimensions, pixel_noise_seed
+from .track_variation import TrackDimensions, pixel_noise_seed, shading
 
 #: Default resolution and extent of the competition texture.  The extent is the original
 #: 6.95 x 16.7 m floor plus 0.5 m on the east side for the bay-parking picture.
@@ -114,8 +114,8 @@ def render_coverage(track: Track, resolution: float = RESOLUTION_PX_PER_M,
 def render_track(track: Track = None, resolution: float = RESOLUTION_PX_PER_M,
                  x_range=None, y_range=None) -> np.ndarray:
     """The texture as an (H, W, 3) uint8 RGB image: white paint on black for the nominal track;
-    a varied track (track.dims) has its mat and paint grey levels and a per-pixel grey noise
-    (normal, drawn with numpy from the track seed).  x_range, y_range default to
+    a varied track (track.dims) has its mat and paint grey levels, its smooth shading and a
+    per-pixel grey noise (normal, drawn with numpy from the track seed).  x_range, y_range default to
     texture_ranges(track.dims)."""
     if track is None:
         track = build_track()
@@ -127,6 +127,9 @@ def render_track(track: Track = None, resolution: float = RESOLUTION_PX_PER_M,
         grey = np.rint(cov * 255.0).astype(np.uint8)
     else:
         value = d.mat_grey + cov * (d.line_grey - d.mat_grey)
+        cols, rows = np.arange(cov.shape[1]), np.arange(cov.shape[0])
+        x, y = pixel_centre(cols[None, :], rows[:, None], resolution, x_range, y_range)
+        value += shading(d, x, y)
         value += np.random.default_rng(pixel_noise_seed(d)).normal(0.0, d.noise_grey, cov.shape)
         grey = np.rint(np.clip(value, 0.0, 255.0)).astype(np.uint8)
     return np.repeat(grey[:, :, None], 3, axis=2)

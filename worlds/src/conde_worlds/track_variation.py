@@ -13,7 +13,8 @@ every machine):
   stretch_y               1 +- TOLERANCE: the straight's length and every position along y
   stretch_x               1 +- TOLERANCE and within 1 +- TOLERANCE of stretch_y (the anisotropic
                           stretch): every position along x
-  mat / line grey, noise  the mat's and the paint's grey levels and a per-pixel texture noise
+  mat / line grey, noise  the mat's and the paint's grey levels, a per-pixel texture noise and a
+                          smooth shading (a few plane waves of 0.8 to 4 m wavelength)
 
 Positions of the layout that are not built from the measures (the crosswalk, the parking areas,
 the start poses, the panels) are carried over by :meth:`TrackDimensions.map_xy`: a separable
@@ -28,6 +29,8 @@ import random
 from dataclasses import dataclass
 from typing import Tuple
 
+import numpy as np
+
 from . import track_geometry as tg
 
 #: Every varied measure stays within this fraction of its nominal value.
@@ -38,6 +41,11 @@ SOLID_WIDTH_RANGE_M = (0.05, 0.10)
 MAT_GREY_RANGE = (0.0, 30.0)
 LINE_GREY_RANGE = (215.0, 255.0)
 NOISE_GREY_RANGE = (2.0, 6.0)
+#: Amplitude (grey levels) and wavelengths [m] of a varied track's smooth shading: the sum of
+#: SHADING_WAVES plane waves over the whole mat and paint (uneven print, wear, light).
+SHADING_GREY_RANGE = (2.0, 8.0)
+SHADING_WAVELENGTH_M = (0.8, 4.0)
+SHADING_WAVES = 3
 
 
 @dataclass(frozen=True)
@@ -72,6 +80,9 @@ class TrackDimensions:
     mat_grey: float = 0.0        # grey level 0..255 of the mat
     line_grey: float = 255.0     # grey level 0..255 of the paint
     noise_grey: float = 0.0      # std dev of the per-pixel grey noise
+    shading_grey: float = 0.0    # amplitude of the smooth shading (grey levels)
+    #: The shading's plane waves: (kx [rad/m], ky [rad/m], phase [rad]) each.
+    shading_waves: Tuple[Tuple[float, float, float], ...] = ()
     _anchors_x: Tuple[Tuple[float, float], ...] = ()
     _anchors_y: Tuple[Tuple[float, float], ...] = ()
 
@@ -157,6 +168,7 @@ class TrackDimensions:
             "mat_grey": r(self.mat_grey),
             "line_grey": r(self.line_grey),
             "noise_grey": r(self.noise_grey),
+            "shading_grey": r(self.shading_grey),
         }
 
 
@@ -236,6 +248,12 @@ def track_dimensions(track_seed: int) -> TrackDimensions:
     mat = rng.uniform(*MAT_GREY_RANGE)
     line = rng.uniform(*LINE_GREY_RANGE)
     noise = rng.uniform(*NOISE_GREY_RANGE)
+    shading = rng.uniform(*SHADING_GREY_RANGE)
+    waves = []
+    for _ in range(SHADING_WAVES):
+        k = 2.0 * math.pi / rng.uniform(*SHADING_WAVELENGTH_M)
+        direction = rng.uniform(0.0, math.pi)
+        waves.append((k * math.cos(direction), k * math.sin(direction), rng.uniform(0.0, 2.0 * math.pi)))
     # The lines first: the anchors of the layout map are on them.
     lines = TrackDimensions(
         track_seed=track_seed, x_ref_m=tg.X_REF * sx, line_spacing_m=dashed / 2.0 + lane + solid / 2.0,
@@ -245,7 +263,8 @@ def track_dimensions(track_seed: int) -> TrackDimensions:
         crosswalk_x_m=(), crosswalk_top_bar_y_m=(), crosswalk_bottom_bar_y_m=(), crosswalk_stripe_y_m=(),
         crosswalk_stripe_x_m=(), crosswalk_stripe_width_m=tg.CROSSWALK_STRIPE_WIDTH,
         bulge_line_x_m=0.0, bulge_line_width_m=tg.BULGE_LINE_WIDTH, bulge_straight_y_m=(), bulge_dashed_y_m=(),
-        bay_area_x_m=(), bay_area_y_m=(), bay_divider_y_m=(), mat_grey=mat, line_grey=line, noise_grey=noise)
+        bay_area_x_m=(), bay_area_y_m=(), bay_divider_y_m=(), mat_grey=mat, line_grey=line, noise_grey=noise,
+        shading_grey=shading, shading_waves=tuple(waves))
     ax, ay = _anchors(lines)
     probe = TrackDimensions(**{**lines.__dict__, "_anchors_x": ax, "_anchors_y": ay})
 
@@ -263,6 +282,15 @@ def track_dimensions(track_seed: int) -> TrackDimensions:
         "bulge_straight_y_m": my(tg.BULGE_STRAIGHT_Y), "bulge_dashed_y_m": my(tg.BULGE_DASHED_Y),
         "bay_area_x_m": mx(tg.BAY_AREA_X), "bay_area_y_m": my(tg.BAY_AREA_Y),
         "bay_divider_y_m": my(tg.BAY_DIVIDER_Y)})
+
+
+def shading(d: TrackDimensions, x, y):
+    """The smooth grey shading of track d at world points x, y [m] (arrays): within
+    +-shading_grey, 0 on the nominal track."""
+    out = np.zeros(np.broadcast(x, y).shape)
+    for kx, ky, phase in d.shading_waves:
+        out += np.sin(kx * x + ky * y + phase)
+    return out * (d.shading_grey / max(1, len(d.shading_waves)))
 
 
 def varied_range(nominal: float) -> Tuple[float, float]:
