@@ -34,8 +34,9 @@ def free_port() -> int:
         return s.getsockname()[1]
 
 
-def launch_command(job: Job, port: int, job_dir: str, sim_limit_s: float):
-    """The shell command of the job: the team's overlay (if any) sourced, then roslaunch."""
+def launch_command(job: Job, port: int, job_dir: str, sim_limit_s: float, launch_args=()):
+    """The shell command of the job: the team's overlay (if any) sourced, then roslaunch.
+    launch_args: more team_run.launch arguments ("name:=value"), e.g. track_seed:=3 rviz:=true."""
     args = ["roslaunch", "-p", str(port), "conde_tournament", "team_run.launch",
             "challenge:=" + job.challenge, "variant:=" + job.variant, "seed:=%d" % job.seed,
             "physics_engine:=" + job.engine, "max_sim_time:=%g" % sim_limit_s,
@@ -45,6 +46,7 @@ def launch_command(job: Job, port: int, job_dir: str, sim_limit_s: float):
         args.append("team_launch:=" + job.team.launch)
     if job.team.lockstep_config:
         args.append("lockstep_config:=" + job.team.lockstep_config)
+    args += list(launch_args)
     command = " ".join(shlex.quote(a) for a in args)
     if job.team.overlay:
         command = "source %s && exec %s" % (shlex.quote(job.team.overlay), command)
@@ -137,8 +139,9 @@ def _wait_for_file(path: str, timeout_s: float, settle_s: float = 1.0):
         time.sleep(settle_s)
 
 
-def run_job(job: Job, job_dir: str, sim_limit_s: float, wall_limit_s: float) -> dict:
-    """Runs one job into job_dir and returns its result (also written to job_dir/result.json)."""
+def run_job(job: Job, job_dir: str, sim_limit_s: float, wall_limit_s: float, launch_args=()) -> dict:
+    """Runs one job into job_dir and returns its result (also written to job_dir/result.json).
+    launch_args: more team_run.launch arguments (launch_command)."""
     os.makedirs(job_dir, exist_ok=True)
     result = {"job_id": job.job_id, "team": job.team.name, "challenge": job.challenge, "variant": job.variant,
               "seed": job.seed, "engine": job.engine, "repeat": job.repeat, "host": socket.gethostname()}
@@ -150,7 +153,7 @@ def run_job(job: Job, job_dir: str, sim_limit_s: float, wall_limit_s: float) -> 
     env = dict(os.environ, ROS_MASTER_URI="http://127.0.0.1:%d" % port, ROS_IP="127.0.0.1",
                ROS_HOME=os.path.join(job_dir, "ros"), ROS_LOG_DIR=os.path.join(job_dir, "ros", "log"))
     env.pop("ROS_HOSTNAME", None)
-    command = launch_command(job, port, job_dir, sim_limit_s)
+    command = launch_command(job, port, job_dir, sim_limit_s, launch_args)
     with open(os.path.join(job_dir, "job.json"), "w") as f:
         json.dump(dict(result, port=port, command=command), f, indent=1)
     report_path = os.path.join(job_dir, "challenge", "referee.json")
