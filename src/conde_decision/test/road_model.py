@@ -37,6 +37,8 @@ class Lane:
     crosswalk_seen: bool = False
     crosswalk_distance_m: float = 0.0
     confidence: float = 1.0
+    right_line_end_m: float = float("nan")  # no junction corner in view (the model has none)
+    left_line_end_m: float = float("nan")
 
 
 class Road:

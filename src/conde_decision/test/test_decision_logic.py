@@ -4,6 +4,7 @@ the track (road_model.py), and every transition of the default YAML fired from r
 import math
 import os
 from dataclasses import replace
+from types import SimpleNamespace
 
 import pytest
 
@@ -467,3 +468,24 @@ def test_every_transition_fires_from_inputs(source, event, target):
         fired = road.until(event).transitions
     assert fired[0] == (source, event, target if target != "return" else entered_from)
     assert road.logic.last_event == fired[-1][1]
+
+
+def test_a_right_turns_corner_is_kept_from_where_the_edge_line_ends_ahead():
+    """The edge line ends corner_line_offset_m beyond the corner: the corner is reached (less
+    corner_lead_m) after driving on, also when later measurements lose the line's end."""
+    c = CONFIG
+    logic = DecisionLogic(SPEC, c)
+    for end_m in (float("nan"), 0.0, 0.05, c.corner_sight_m + 0.05):  # no end, unset field, too near, too far
+        assert logic.corners_seen(Lane(right_line_end_m=end_m)) == ()
+    assert logic.corners_seen(SimpleNamespace(lateral_offset_m=0.0)) == ()  # a measurement without the field
+    assert logic.right_corner_at_m is None
+    logic.road.travelled_m = 10.0
+    assert logic.corners_seen(Lane(right_line_end_m=0.5)) == ()
+    corner_m = 10.0 + 0.5 - c.corner_line_offset_m
+    assert logic.right_corner_at_m == pytest.approx(corner_m)
+    logic.road.travelled_m = corner_m - c.corner_lead_m - 0.01
+    assert logic.corners_seen(Lane()) == ()
+    logic.road.travelled_m = corner_m - c.corner_lead_m
+    assert logic.corners_seen(Lane()) == ("right",)
+    logic.road.travelled_m = corner_m + c.corner_sight_m + 0.01  # long passed: forgotten
+    assert logic.corners_seen(Lane()) == () and logic.right_corner_at_m is None

@@ -13,6 +13,9 @@ import synthetic_views
 
 DATA = os.path.join(os.path.dirname(os.path.abspath(__file__)), "data")
 POSES = ["centred", "left_5cm", "right_5cm", "heading_left_10deg", "heading_right_10deg", "near_crosswalk"]
+JUNCTION_POSES = ["merge_right_corner_ahead", "fork_right_corner_ahead", "fork_left_corner_ahead"]
+CORNER_AHEAD_M = {"merge_right_corner_ahead": 0.5, "fork_right_corner_ahead": 0.5, "fork_left_corner_ahead": 0.6}
+EDGE_CORNER_RADIUS_M = 1.0 - 0.8065  # the edge line's corner: fork radius less the line's distance from the road centre
 CROSSWALK_NEAR_EDGE_Y_M = -0.340  # world y of the near (south) edge of the crosswalk's bottom bar
 
 
@@ -208,3 +211,39 @@ def test_the_line_separation_stays_within_its_limits():
         lm.measure([synthetic_views.render(f, lane, 0.0, 0.0) for f in fine])
     limit_m = lm.configured_separation_m * (1 + lm.config.max_separation_change)
     assert lm.line_separation_m <= limit_m + 1e-9
+
+
+# --- junctions ------------------------------------------------------------------------------------
+
+@pytest.mark.parametrize("name", JUNCTION_POSES)
+def test_the_lane_before_a_junction(name):
+    d, lm, images = load(name)
+    r = lm.measure(images)
+    assert r.confidence == 1.0
+    assert abs(r.lateral_offset_m - float(d["lateral_offset_m"])) < 0.01
+    assert abs(math.degrees(r.heading_error_rad - float(d["heading_error_rad"]))) < 3.0
+
+
+@pytest.mark.parametrize("name", ["merge_right_corner_ahead", "fork_right_corner_ahead"])
+def test_the_edge_line_turning_away_at_a_right_turns_corner(name):
+    """The right turn's arc begins at the corner (CORNER_AHEAD_M); the edge line leaves its band
+    about the corner's radius later."""
+    _, lm, images = load(name)
+    r = lm.measure(images)
+    expected_m = CORNER_AHEAD_M[name] + EDGE_CORNER_RADIUS_M
+    assert r.right_line_end_m == pytest.approx(expected_m, abs=0.03)
+
+
+def test_the_centre_line_ending_before_the_left_branch():
+    _, lm, images = load("fork_left_corner_ahead")
+    r = lm.measure(images)
+    assert math.isnan(r.right_line_end_m)  # the edge line on the right runs on past the fork
+    assert CORNER_AHEAD_M["fork_left_corner_ahead"] - 0.2 < r.left_line_end_m < CORNER_AHEAD_M["fork_left_corner_ahead"]
+
+
+@pytest.mark.parametrize("name", POSES)
+def test_no_line_ends_on_the_straight(name):
+    """The dashed line's gaps (0.148 m) are no end; lines running beyond the view have none."""
+    _, lm, images = load(name)
+    r = lm.measure(images)
+    assert math.isnan(r.right_line_end_m) and math.isnan(r.left_line_end_m)

@@ -2,18 +2,23 @@
 straight on from a fork joins the central road again.  Pure Python, no ROS.
 
 `config` is any object with the fields fork_distance_m, fork_sides, fork_forward,
-loop_lane_radii_m, loop_sweep_rad, loop_exit_tolerance_rad and loop_exit_m (DecisionConfig; their
-meaning is in the docstring of decision_logic).
+loop_lane_radii_m, loop_sweep_rad, loop_exit_tolerance_rad, loop_exit_m and junction_window_m
+(DecisionConfig; their meaning is in the docstring of decision_logic).
 
 The last direction signal before a fork chooses: the side the fork opens to gives fork_left /
 fork_right, the other side fork_straight (with a note: that order cannot be obeyed), "forward" what
 fork_forward says for that fork.  The order is used up at the fork.  Straight on, the loop beyond
 the fork turns toward the fork's side; once the heading has turned through the loop's sweep (less
 loop_exit_tolerance_rad) and the robot has driven loop_exit_m (plus the arc that the tolerance
-leaves at the loop's lane radius) further, merge_right / merge_left fires."""
+leaves at the loop's lane radius) further, merge_right / merge_left fires.
+
+What the cameras see comes first: a turn toward a side whose corner the cameras see (the caller
+passes the sides in `corners_seen`) fires as soon as it is seen within junction_window_m before
+the stored distance; the stored distances only arm the search, and are the fallback when the
+corner is not seen."""
 
 from dataclasses import dataclass
-from typing import Optional, Tuple
+from typing import Optional, Sequence, Tuple
 
 
 @dataclass
@@ -42,20 +47,31 @@ class ForkNavigator:
     def on_crosswalk_left(self) -> None:
         self.fork_pending = True
 
-    def at_fork(self, since_crosswalk_m: Optional[float], yaw_rad: Optional[float]) -> Tuple[Optional[str], str]:
-        """(event, note) once the robot is fork_distance_m past the crosswalk's far edge: the event
-        is fork_left, fork_right or fork_straight, the note says why an order was not obeyed ("" if
-        it was).  (None, "") before the fork."""
+    def _next_fork(self) -> Tuple[int, str, str]:
+        """(index in fork_sides, the side it opens to, the way the order takes there: a side or "forward")."""
         c = self.config
-        if not (self.fork_pending and since_crosswalk_m >= c.fork_distance_m):
-            return None, ""
-        self.fork_pending = False
         fork = self.forks_passed % len(c.fork_sides)
-        side = c.fork_sides[fork]
-        self.forks_passed += 1
-        order, self.direction_order = self.direction_order, "forward"
+        side, order = c.fork_sides[fork], self.direction_order
         if order == "forward" and c.fork_forward[fork] == "branch":
             order = side
+        return fork, side, order
+
+    def at_fork(self, since_crosswalk_m: Optional[float], yaw_rad: Optional[float],
+                corners_seen: Sequence[str] = ()) -> Tuple[Optional[str], str]:
+        """(event, note) once the robot is fork_distance_m past the crosswalk's far edge, or up to
+        junction_window_m earlier where the cameras see the corner of the branch it takes
+        (corners_seen: "left" / "right"): the event is fork_left, fork_right or fork_straight, the
+        note says why an order was not obeyed ("" if it was).  (None, "") before the fork."""
+        c = self.config
+        if not self.fork_pending or since_crosswalk_m is None:
+            return None, ""
+        fork, side, order = self._next_fork()
+        seen = order == side and side in corners_seen and since_crosswalk_m >= c.fork_distance_m - c.junction_window_m
+        if not (seen or since_crosswalk_m >= c.fork_distance_m):
+            return None, ""
+        self.fork_pending = False
+        self.forks_passed += 1
+        self.direction_order = "forward"
         if order == side:
             return "fork_" + side, ""
         note = ""
@@ -67,9 +83,10 @@ class ForkNavigator:
                              merge="right" if side == "left" else "left")
         return "fork_straight", note
 
-    def loop_exit(self, yaw_rad: Optional[float], travelled_m: float) -> Optional[str]:
+    def loop_exit(self, yaw_rad: Optional[float], travelled_m: float, corners_seen: Sequence[str] = ()) -> Optional[str]:
         """merge_left / merge_right where the loop driven after a fork_straight turns back onto the
-        central road, else None; yaw_rad: unwrapped heading [rad], travelled_m: distance [m]."""
+        central road (up to junction_window_m earlier where the cameras see that turn's corner,
+        corners_seen), else None; yaw_rad: unwrapped heading [rad], travelled_m: distance [m]."""
         c, loop = self.config, self.loop
         if loop is None or yaw_rad is None:
             return None
@@ -79,7 +96,10 @@ class ForkNavigator:
             if loop.sign * (yaw_rad - loop.yaw0_rad) >= c.loop_sweep_rad - c.loop_exit_tolerance_rad:
                 loop.exit_mark_m = travelled_m
             return None
-        if travelled_m - loop.exit_mark_m >= c.loop_exit_m + c.loop_exit_tolerance_rad * loop.radius_m:
+        exit_m = c.loop_exit_m + c.loop_exit_tolerance_rad * loop.radius_m
+        if loop.merge in corners_seen:
+            exit_m -= c.junction_window_m
+        if travelled_m - loop.exit_mark_m >= exit_m:
             self.loop = None
             return "merge_" + loop.merge
         return None

@@ -16,7 +16,10 @@ Pipeline per image pair:
      frames that see only one line;
   3. lateral offset = signed distance from base_footprint to the centre curve (+ = robot left
      of it), heading error = -atan(c1) (+ = robot points left of the lane);
-  4. crosswalk: along the lane, in its interior (between the lines), the share of white
+  4. line ends: where a line of the fit stops although the cameras see the ground of its band
+     for end_gap_m further (at a junction the edge line turns away, the centre line ends), its
+     distance ahead; the decision starts the junction's turns from it;
+  5. crosswalk: along the lane, in its interior (between the lines), the share of white
      pixels per distance bin: a bar across the whole lane (share >= bar_share) followed by
      the stripes (share >= stripe_share), with observed black lane before the bar, is a
      crosswalk; its distance is the near edge of the bar.
@@ -59,6 +62,8 @@ class LaneConfig:
     min_line_points: int = 25  # white pixels for a line to count as found
     min_line_extent_m: float = 0.15  # ... spread over at least this distance along x [m]
     search_points: int = 300  # points used by the coarse grid search (subsampled)
+    end_gap_m: float = 0.25  # a line ends where its band is seen this far beyond its last point without it [m] (> a dash gap)
+    min_end_gap_points: int = 40  # ground pixels in that stretch of the band for it to count as seen
     crosswalk_range_m: Sequence[float] = (0.0, 1.6)  # x range [m] searched for the crosswalk
     crosswalk_bin_m: float = 0.02
     crosswalk_half_width_m: float = 0.25  # half width of the lane interior used [m]
@@ -84,6 +89,8 @@ class LaneResult:
     confidence: float = 0.0
     crosswalk_seen: bool = False
     crosswalk_distance_m: float = float("nan")
+    right_line_end_m: float = float("nan")  # x [m] where the right (edge) line ends ahead; NaN: runs on beyond view
+    left_line_end_m: float = float("nan")  # ... the left (centre) line
     fit: Optional[LaneFit] = None
     right_points: np.ndarray = field(default_factory=lambda: np.zeros((0, 2)))
     left_points: np.ndarray = field(default_factory=lambda: np.zeros((0, 2)))
@@ -292,6 +299,21 @@ class LaneMeasurement:
             i = j
         return False, float("nan")
 
+    def line_end(self, coeffs, offset_m, line_pts, everything):
+        """x [m] of the last point of a line (offset_m from the centre curve) when its band is seen,
+        without the line, for end_gap_m beyond it; NaN when the line runs on beyond the view (or
+        the fit's range), or was not found."""
+        c = self.config
+        if not self._line_found(line_pts):
+            return float("nan")
+        end_m = float(line_pts[:, 0].max())
+        x = everything[:, 0]
+        beyond = (x > end_m + 0.02) & (x <= end_m + c.end_gap_m)
+        if end_m + c.end_gap_m > c.fit_range_m[1]:
+            return float("nan")
+        in_band = np.abs(everything[beyond, 1] - _line_positions(coeffs, x[beyond], offset_m)) < c.line_window_m
+        return end_m if np.count_nonzero(in_band) >= c.min_end_gap_points else float("nan")
+
     def measure(self, images, prior: Optional[np.ndarray] = None) -> LaneResult:
         """LaneResult from one image per ground map (same order), optionally starting from the
         previous fit's coefficients."""
@@ -304,4 +326,7 @@ class LaneMeasurement:
         lateral = -c0 * math.cos(heading)
         seen, dist = self.find_crosswalk(fit.coeffs, everything, flags)
         conf = 0.5 * fit.right_found + 0.5 * fit.left_found
-        return LaneResult(lateral, heading, conf, seen, dist, fit, rpts, lpts)
+        right_m, left_m = self.line_offsets(self.line_separation_m)
+        right_end = self.line_end(fit.coeffs, right_m, rpts, everything)
+        left_end = self.line_end(fit.coeffs, left_m, lpts, everything)
+        return LaneResult(lateral, heading, conf, seen, dist, right_end, left_end, fit, rpts, lpts)
