@@ -454,6 +454,7 @@ def reach_before_fork(road, state, side):
                          ids=["%s-%s" % (s, e) for s, e, _ in SPEC.transitions()])
 def test_every_transition_fires_from_inputs(source, event, target):
     road = make(fork_forward=("straight", "straight")) if event == "merge_left" else make()
+    road.new_lane_in_turns = event == "lane_aligned"
     if event in ("fork_left", "fork_right"):
         reach_before_fork(road, source, event[len("fork_"):])
     elif event in ("merge_left", "merge_right"):
@@ -489,3 +490,37 @@ def test_a_right_turns_corner_is_kept_from_where_the_edge_line_ends_ahead():
     assert logic.corners_seen(Lane()) == ("right",)
     logic.road.travelled_m = corner_m + c.corner_sight_m + 0.01  # long passed: forgotten
     assert logic.corners_seen(Lane()) == () and logic.right_corner_at_m is None
+
+
+def test_a_right_turn_ends_where_the_cameras_see_the_new_lane_ahead():
+    """With the new lane in view in the arc's second half, the turn ends when the robot heads along
+    it (lane_aligned_rad), before the arc's stored length; without it, after that length."""
+    road = make()
+    road.new_lane_in_turns = True
+    reach(road, "turn_right")
+    first, start_m = len(road.outputs), road.s
+    out = road.until("lane_aligned")
+    assert out.transitions == [("turn_right", "lane_aligned", "follow_lane")]
+    turn = SPEC.states["turn_right"].command
+    turned_rad = (road.s - start_m) / turn.radius_m  # the model drives the commanded arc
+    assert math.pi / 2 - CONFIG.lane_aligned_rad - 0.03 < turned_rad < math.pi / 2
+    assert road.s - start_m < turn.distance_m
+    assert_blind_arc(road.outputs[first:-1], "turn_right", -1.0 / turn.radius_m)
+
+
+@pytest.mark.parametrize("heading_rad, confidence", [(0.3, 1.0), (0.0, 0.5)])
+def test_no_lane_aligned_in_the_first_half_of_the_arc_nor_off_the_lane(heading_rad, confidence):
+    """The first half of the arc still sees the road it leaves (both lines, heading along it); in
+    the second half a lane seen with one line, or at an angle, is not the turn's end."""
+    road = make()
+    reach(road, "turn_right")
+    turn = SPEC.states["turn_right"].command
+    logic, entry_m = road.logic, road.logic.state_entry_m
+    while logic.road.travelled_m - entry_m < turn.distance_m - 0.05:
+        in_first_half = logic.road.travelled_m - entry_m < 0.5 * turn.distance_m - 0.02
+        lane = Lane(0.0, 0.0, False, 0.0, 1.0) if in_first_half else Lane(0.0, heading_rad, False, 0.0, confidence)
+        out = logic.on_lane(lane, road.t)
+        road.t += DT_S
+        logic.on_odometry(road.yaw_rad, logic.road.travelled_m + out.linear_velocity_mps * DT_S)
+        assert "lane_aligned" not in out.events
+        assert logic.state == "turn_right"

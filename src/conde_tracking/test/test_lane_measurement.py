@@ -166,8 +166,8 @@ VIEWS = [(0.0, 0.0), (0.05, 0.0), (-0.05, 0.0), (0.0, math.radians(10)), (0.03, 
 
 
 @pytest.mark.parametrize("lane_width_m", [0.709, 0.746, 0.783])  # nominal +- 5 %
-@pytest.mark.parametrize("right_width_m, left_width_m", [(0.05, 0.05), (0.10, 0.10), (0.085, 0.036), (0.05, 0.10),
-                                                        (0.10, 0.05)])
+@pytest.mark.parametrize("right_width_m, left_width_m",
+                         [(0.05, 0.05), (0.10, 0.10), (0.085, 0.036), (0.05, 0.10), (0.10, 0.05)])
 def test_lanes_drawn_within_the_rules(lane_width_m, right_width_m, left_width_m):
     """Line widths 5 to 10 cm, lane width +-5 %: the measured lane centre is the one between the
     lines' inner edges within 3 cm (the lines' widths are not measured: the configured midpoint

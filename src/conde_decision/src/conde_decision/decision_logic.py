@@ -65,6 +65,10 @@ Commands (the state's `command` in the YAML):
   branch_heading_rad.  The robot swerves toward the branch where it diverges and is back on its
   lane's centre when the state ends.  This is a simplification: it works if conde_tracking
   measures the robot against the lane it is in (the lane it leaves, then the branch);
+* lane_aligned: in such an arc, past half its distance_m, the cameras see the lane the turn leads
+  to with both lines and the robot heads along it within lane_aligned_rad: the turn can end there,
+  as the cameras see it, rather than after its stored length (the arc's radius is what the robot
+  drives, which lags: it ended about 10 deg past the new lane and 9 cm inside it);
 * distance_m: the event distance_elapsed fires after that distance in the state (used by the
   turns and by go_to_parking, which simply drives on for its distance_m and then stops: a
   stand-in for real parking).
@@ -117,13 +121,15 @@ class DecisionConfig:
     loop_exit_tolerance_rad: float = 0.087  # the loop counts as done this much before its full sweep [rad]
     loop_lane_radii_m: Tuple[float, ...] = (2.5685, 1.7865)  # lane radius of the loop after each fork of fork_sides [m]
     loop_exit_m: float = 1.1775  # end of the loop's arc to the start of the turn onto the central road [m]
-    junction_window_m: float = 0.6  # a turn's corner seen by the cameras counts from this far before the stored distance [m]
+    # a turn's corner seen by the cameras counts from this far before the stored distance [m]
+    junction_window_m: float = 0.6
     corner_sight_m: float = 0.6  # a right edge line ending within this distance ahead marks a corner [m]
     # ... the corner lies this much before the line's end: where the edge line, turning away with
     # the corner's radius (0.19 m on the competition track), leaves its band [m] (measured: 0.19-0.22)
     corner_line_offset_m: float = 0.21
     corner_lead_m: float = 0.05  # the turn begins this far before the corner: the robot follows its commands late [m]
     min_line_end_m: float = 0.1  # line ends nearer than this are no measurement (an unset field is 0) [m]
+    lane_aligned_rad: float = 0.1  # lane_aligned: heading error within this of the lane seen in an arc [rad]
     branch_offset_m: float = 0.2  # peak lateral offset reference while taking a branch [m] (+ = left branch)
     branch_heading_rad: float = 0.0  # peak heading reference while taking a branch [rad] (+ = left branch)
     min_signal_confidence: float = 0.5  # panel signals below this confidence are ignored
@@ -161,7 +167,7 @@ class DecisionConfig:
             need(name, getattr(self, name) > 0, "must be > 0")
         for name in ("stop_margin_m", "crosswalk_rearm_m", "fork_distance_m", "branch_offset_m", "loop_sweep_rad",
                      "loop_exit_tolerance_rad", "loop_exit_m", "junction_window_m", "corner_sight_m",
-                     "corner_line_offset_m", "corner_lead_m", "min_line_end_m"):
+                     "corner_line_offset_m", "corner_lead_m", "min_line_end_m", "lane_aligned_rad"):
             need(name, getattr(self, name) >= 0, "must be >= 0")
         for name in ("min_signal_confidence", "min_lane_confidence"):
             need(name, 0 <= getattr(self, name) <= 1, "must be in [0, 1]")
@@ -269,6 +275,9 @@ class DecisionLogic:
             self.distance_fired = True
             self._fire("distance_elapsed")
         command = self.machine.command
+        if self._lane_aligned_in_arc(lane, command):
+            self._fire("lane_aligned")
+        command = self.machine.command
 
         blind_arc = command.radius_m is not None
         lane_ok = (math.isfinite(lane.lateral_offset_m) and math.isfinite(lane.heading_error_rad)
@@ -338,6 +347,14 @@ class DecisionLogic:
             self.notes.append(note)
         if event is not None:
             self._fire(event)
+
+    def _lane_aligned_in_arc(self, lane, command) -> bool:
+        """In an arc driven blind, past half its distance: the cameras see the lane the turn leads
+        to (both lines) and the robot heads along it."""
+        if command.radius_m is None or command.distance_m is None:
+            return False
+        return (self.road.travelled_m - self.state_entry_m >= 0.5 * command.distance_m
+                and lane.confidence >= 1.0 and abs(lane.heading_error_rad) <= self.config.lane_aligned_rad)
 
     def _branch_shape(self, command) -> float:
         """0..1: trapezoid over the state's distance (rise 1/4, hold to 1/2, fall to the end)."""

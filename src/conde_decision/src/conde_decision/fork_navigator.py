@@ -83,7 +83,8 @@ class ForkNavigator:
                              merge="right" if side == "left" else "left")
         return "fork_straight", note
 
-    def loop_exit(self, yaw_rad: Optional[float], travelled_m: float, corners_seen: Sequence[str] = ()) -> Optional[str]:
+    def loop_exit(self, yaw_rad: Optional[float], travelled_m: float,
+                  corners_seen: Sequence[str] = ()) -> Optional[str]:
         """merge_left / merge_right where the loop driven after a fork_straight turns back onto the
         central road (up to junction_window_m earlier where the cameras see that turn's corner,
         corners_seen), else None; yaw_rad: unwrapped heading [rad], travelled_m: distance [m]."""

@@ -57,6 +57,8 @@ EVENTS = OrderedDict([
     ("merge_right", "the loop driven after a fork_straight ends where its road joins the central road "
                     "with a right turn"),
     ("distance_elapsed", "the robot drove the state's command.distance_m since it entered the state"),
+    ("lane_aligned", "in an arc driven blind (command.radius_m), past half its command.distance_m, the cameras see "
+                     "a lane with both lines and the robot heading along it (within lane_aligned_rad)"),
 ])
 
 SPEEDS = ("cruise", "stop", "stop_at_crosswalk")
@@ -181,6 +183,9 @@ def parse_state_machine(data, source: str) -> StateMachineSpec:
                      % (event, ", ".join(EVENTS)))
             if event == "distance_elapsed" and command.distance_m is None:
                 fail("%s.on.%s" % (where, event), "the state has no command.distance_m, so the event never fires")
+            if event == "lane_aligned" and (command.radius_m is None or command.distance_m is None):
+                fail("%s.on.%s" % (where, event),
+                     "the state has no command.radius_m and command.distance_m (an arc), so the event never fires")
         states[name] = State(name, command, dict(transitions), description)
 
     for name, state in states.items():

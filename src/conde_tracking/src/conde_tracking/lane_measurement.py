@@ -62,7 +62,8 @@ class LaneConfig:
     min_line_points: int = 25  # white pixels for a line to count as found
     min_line_extent_m: float = 0.15  # ... spread over at least this distance along x [m]
     search_points: int = 300  # points used by the coarse grid search (subsampled)
-    end_gap_m: float = 0.25  # a line ends where its band is seen this far beyond its last point without it [m] (> a dash gap)
+    # a line ends where its band is seen this far beyond its last point without it [m] (> a dash gap)
+    end_gap_m: float = 0.25
     min_end_gap_points: int = 40  # ground pixels in that stretch of the band for it to count as seen
     crosswalk_range_m: Sequence[float] = (0.0, 1.6)  # x range [m] searched for the crosswalk
     crosswalk_bin_m: float = 0.02
@@ -111,9 +112,9 @@ def line_mask(image, config):
     A white line under dimmer light is grey, but still much brighter than the black road next to
     it: a pixel counts when its darkest channel is >= white_threshold, or >= relative_white times
     the brightest darkest-channel value within local_window_px of it while that value is at least
-    min_contrast above the road's level within background_window_px (the darkest 5 x 5 mean).  Uniform road (also grey-level
-    noise on it) has no such contrast; the wide background window reaches the road beside a wide
-    line seen up close."""
+    min_contrast above the road's level within background_window_px (the darkest 5 x 5 mean).
+    Uniform road (also grey-level noise on it) has no such contrast; the wide background window
+    reaches the road beside a wide line seen up close."""
     img = np.asarray(image)
     grey = img if img.ndim == 2 else img.min(axis=2)
     grey = np.ascontiguousarray(grey, dtype=np.uint8)
