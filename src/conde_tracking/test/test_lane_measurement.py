@@ -2,6 +2,7 @@
 scripts/render_test_images; the ground truth in each file comes from conde_worlds.track_geometry)."""
 import math
 import os
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -128,6 +129,20 @@ def test_the_lane_and_crosswalk_in_the_tunnels_darker_light(name, light):
     assert abs(r.lateral_offset_m - float(d["lateral_offset_m"])) < 0.005
     assert abs(math.degrees(r.heading_error_rad - float(d["heading_error_rad"]))) < 1.0
     assert r.crosswalk_seen == (name == "near_crosswalk")
+
+
+def test_the_lane_inside_the_d4_tunnel():
+    """Rendered by the simulator in the D4 world (render_test_images d4_in_tunnel): the lines at 89
+    of 255 under the tunnel's light, grey walls; the fixed threshold alone sees one line (the left
+    camera's view leaves the tunnel), the line mask both."""
+    d, lm, images = load("d4_in_tunnel")
+    r = lm.measure(images)
+    assert r.confidence == 1.0
+    assert abs(r.lateral_offset_m - float(d["lateral_offset_m"])) < 0.005
+    assert abs(math.degrees(r.heading_error_rad - float(d["heading_error_rad"]))) < 1.5
+    assert not white_mask(images[1], lm.config.white_threshold).any()
+    fixed_threshold_only = LaneMeasurement(lm.ground_maps, replace(lm.config, min_contrast=256))
+    assert fixed_threshold_only.measure(images).confidence < 1.0
 
 
 def test_the_lane_across_a_light_boundary():
