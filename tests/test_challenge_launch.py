@@ -30,7 +30,7 @@ def test_challenge_launch_runs_the_world_with_the_robot_and_the_panel(master, tm
     assert "process has died" not in log, log[-4000:]  # the panel controller took the schedule
     if robot == "major_alvega":
         assert "process[ackermann_controller" in log, log[-4000:]
-    out_dir = tmp_path / "conde_challenges" / ("%s_%s_seed%s" % (challenge, variant, seed))
+    out_dir = tmp_path / "conde_challenges" / ("%s_%s_seed%s_track0" % (challenge, variant, seed))
     summary = yaml.safe_load((out_dir / "challenge.yaml").read_text())
     assert summary["challenge"] == challenge and summary["seed"] == int(seed)
     world = yaml.safe_load((out_dir / "world.yaml").read_text())

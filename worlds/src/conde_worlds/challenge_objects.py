@@ -18,6 +18,7 @@ from typing import Dict, List, Sequence, Tuple
 
 from . import track_geometry as tg
 from .challenges import ChallengeError
+from .track_variation import NOMINAL, TrackDimensions
 
 OBSTACLE_SIZE_M = (0.6, 0.6, 0.2)
 OBSTACLE_MASS_KG = 10.0
@@ -49,11 +50,26 @@ SIGN_CENTRE_HEIGHT_M = 1.0
 RANDOM_CLEARANCE_DEG = 15.0
 RANDOM_ATTEMPTS = 200
 
-#: Radius of the lane divider (road reference line) of the loops, and of the lane centres.
+#: Radius of the lane divider (road reference line) of the loops, and of the lane centres, on
+#: the nominal track (the functions below give them for any track's measures).
 DIVIDER_R = tg.LOOP_RADIUS
 LANE_R = {"inner": tg.LOOP_RADIUS - tg.LANE_OFFSET, "outer": tg.LOOP_RADIUS + tg.LANE_OFFSET}
 ISLAND_LINE_R = tg.LOOP_RADIUS - tg.LINE_SPACING
 OUTER_LINE_R = tg.LOOP_RADIUS + tg.LINE_SPACING
+
+
+def lane_radii(dims: TrackDimensions = NOMINAL) -> Dict[str, float]:
+    """{'inner', 'outer'}: radius of the loops' lane centres [m] (LANE_R of the track dims)."""
+    return {"inner": dims.loop_radius_m - dims.lane_offset_m, "outer": dims.loop_radius_m + dims.lane_offset_m}
+
+
+def island_line_radius(dims: TrackDimensions = NOMINAL) -> float:
+    return dims.loop_radius_m - dims.line_spacing_m
+
+
+def outer_line_radius(dims: TrackDimensions = NOMINAL) -> float:
+    return dims.loop_radius_m + dims.line_spacing_m
+
 
 #: The twelve sign positions of the original simulator's V1 world: (x, y) [m] and yaw [rad];
 #: the face points along Rz(yaw) * (0, -1, 0).  All are off the road of our track.
@@ -68,13 +84,15 @@ def _r(v, nd=4):
     return round(float(v), nd)
 
 
-def loop_centre(loop: str) -> Tuple[float, float]:
-    return (tg.LOOP_CENTRE_X, tg.LOOP_CENTRE_Y if loop == "north" else -tg.LOOP_CENTRE_Y)
+def loop_centre(loop: str, dims: TrackDimensions = NOMINAL) -> Tuple[float, float]:
+    cy = dims.loop_centre_y_m
+    return (dims.loop_centre_x_m, cy if loop == "north" else -cy)
 
 
-def loop_point(loop: str, angle_deg: float, radius_m: float) -> Tuple[float, float, float]:
+def loop_point(loop: str, angle_deg: float, radius_m: float,
+               dims: TrackDimensions = NOMINAL) -> Tuple[float, float, float]:
     """(x, y, heading of the loop arc's direction of progress [rad]) on a loop circle."""
-    cx, cy = loop_centre(loop)
+    cx, cy = loop_centre(loop, dims)
     a = math.radians(angle_deg)
     if loop == "north":
         return cx + radius_m * math.cos(a), cy + radius_m * math.sin(a), a + 0.5 * math.pi
@@ -97,11 +115,12 @@ def obstacle_box(name, x, y, yaw) -> dict:
                 static=False, mass_kg=OBSTACLE_MASS_KG)
 
 
-def obstacles(spec: Sequence[dict]) -> List[dict]:
+def obstacles(spec: Sequence[dict], dims: TrackDimensions = NOMINAL) -> List[dict]:
     """Boxes centred on a loop's lane centre, square to the lane."""
     out = []
+    radii = lane_radii(dims)
     for i, ob in enumerate(spec):
-        x, y, heading = loop_point(ob["loop"], ob["angle_deg"], LANE_R[ob["lane"]])
+        x, y, heading = loop_point(ob["loop"], ob["angle_deg"], radii[ob["lane"]], dims)
         out.append(obstacle_box("obstacle_%d" % (i + 1), x, y, heading))
     return out
 
@@ -119,14 +138,15 @@ def cone(name, x, y) -> dict:
                 length_m=CONE_HEIGHT_M, static=False, mass_kg=CONE_MASS_KG)
 
 
-def working_zone(spec: dict) -> List[dict]:
+def working_zone(spec: dict, dims: TrackDimensions = NOMINAL) -> List[dict]:
     """Cones closing one lane of a loop between from_deg and to_deg: a taper from the closed lane's
     boundary line to the lane divider, cones along the divider, a taper back.  Traffic in the
     closed lane changes to the other lane and back."""
     loop, lane = spec["loop"], spec["lane"]
     side = 1.0 if lane == "outer" else -1.0
-    r_divider = DIVIDER_R + side * CONE_DIVIDER_CLEARANCE_M
-    r_edge = (OUTER_LINE_R if lane == "outer" else ISLAND_LINE_R) - side * CONE_DIVIDER_CLEARANCE_M
+    r_divider = dims.loop_radius_m + side * CONE_DIVIDER_CLEARANCE_M
+    r_line = outer_line_radius(dims) if lane == "outer" else island_line_radius(dims)
+    r_edge = r_line - side * CONE_DIVIDER_CLEARANCE_M
     a0, a1 = spec["from_deg"], spec["to_deg"]
     taper = min(TAPER_DEG, (a1 - a0) / 3.0)
     step_deg = math.degrees(CONE_SPACING_M / r_divider)
@@ -145,18 +165,18 @@ def working_zone(spec: dict) -> List[dict]:
         radii.append(r_divider + f * (r_edge - r_divider))
     out = []
     for i, (a, r) in enumerate(zip(angles, radii)):
-        x, y, _ = loop_point(loop, a, r)
+        x, y, _ = loop_point(loop, a, r, dims)
         out.append(cone("cone_%d" % (i + 1), x, y))
     return out
 
 
-def tunnel(spec: dict) -> List[dict]:
+def tunnel(spec: dict, dims: TrackDimensions = NOMINAL) -> List[dict]:
     """A roofed section over a loop between from_deg and to_deg: two walls (outside the island
     line and outside the outer line) and a roof, each made of straight boxes, one per
     TUNNEL_SEGMENT_DEG of arc (chords slightly lengthened so that they overlap)."""
     loop, a0, a1 = spec["loop"], spec["from_deg"], spec["to_deg"]
-    r_in = ISLAND_LINE_R - TUNNEL_MARGIN_M - TUNNEL_WALL_M / 2.0
-    r_out = OUTER_LINE_R + TUNNEL_MARGIN_M + TUNNEL_WALL_M / 2.0
+    r_in = island_line_radius(dims) - TUNNEL_MARGIN_M - TUNNEL_WALL_M / 2.0
+    r_out = outer_line_radius(dims) + TUNNEL_MARGIN_M + TUNNEL_WALL_M / 2.0
     n = max(1, int(math.ceil((a1 - a0) / TUNNEL_SEGMENT_DEG)))
     d = (a1 - a0) / n
     out = []
@@ -166,64 +186,69 @@ def tunnel(spec: dict) -> List[dict]:
         for wall, r in (("inner", r_in), ("outer", r_out)):
             # The chord of the wall's circle, lengthened by the wall thickness to close the joints.
             length = 2.0 * r * math.sin(half) + TUNNEL_WALL_M
-            x, y, heading = loop_point(loop, mid, r * math.cos(half))
+            x, y, heading = loop_point(loop, mid, r * math.cos(half), dims)
             out.append(_obj("tunnel_wall_%s_%d" % (wall, k + 1), "box", (x, y, TUNNEL_HEIGHT_M / 2.0), heading,
                             TUNNEL_GREY, size_m=[_r(length), TUNNEL_WALL_M, TUNNEL_HEIGHT_M]))
         r_mid = 0.5 * (r_in + r_out)
         length = 2.0 * (r_out + TUNNEL_WALL_M) * math.sin(half) + TUNNEL_WALL_M
-        x, y, heading = loop_point(loop, mid, r_mid * math.cos(half))
+        x, y, heading = loop_point(loop, mid, r_mid * math.cos(half), dims)
         out.append(_obj("tunnel_roof_%d" % (k + 1), "box", (x, y, TUNNEL_HEIGHT_M + TUNNEL_ROOF_M / 2.0), heading,
                         TUNNEL_GREY, size_m=[_r(length), _r(r_out - r_in + TUNNEL_WALL_M), TUNNEL_ROOF_M]))
     return out
 
 
-def tunnel_light_region(spec: dict) -> dict:
+def tunnel_light_region(spec: dict, dims: TrackDimensions = NOMINAL) -> dict:
     """The world file's light region (docs/world_format.md) of a tunnel: the ground, the walls'
     inner faces and the roof's underside between the walls' centre lines, from the floor up to the
     roof, at TUNNEL_LIGHT."""
     loop, a0, a1 = spec["loop"], spec["from_deg"], spec["to_deg"]
-    r_in = ISLAND_LINE_R - TUNNEL_MARGIN_M - TUNNEL_WALL_M / 2.0
-    r_out = OUTER_LINE_R + TUNNEL_MARGIN_M + TUNNEL_WALL_M / 2.0
+    r_in = island_line_radius(dims) - TUNNEL_MARGIN_M - TUNNEL_WALL_M / 2.0
+    r_out = outer_line_radius(dims) + TUNNEL_MARGIN_M + TUNNEL_WALL_M / 2.0
     n = max(1, int(math.ceil((a1 - a0) / TUNNEL_LIGHT_STEP_DEG)))
     angles = [a0 + (a1 - a0) * k / n for k in range(n + 1)]
-    outline = ([loop_point(loop, a, r_out)[:2] for a in angles]
-               + [loop_point(loop, a, r_in)[:2] for a in reversed(angles)])
+    outline = ([loop_point(loop, a, r_out, dims)[:2] for a in angles]
+               + [loop_point(loop, a, r_in, dims)[:2] for a in reversed(angles)])
     return {"name": "tunnel_%s" % loop, "polygon_xy_m": [[_r(x), _r(y)] for x, y in outline],
             "z_range_m": [-0.01, TUNNEL_HEIGHT_M], "light": TUNNEL_LIGHT}
 
 
-def parallel_bay() -> Tuple[Tuple[float, float], Tuple[float, float]]:
+def parallel_bay(dims: TrackDimensions = NOMINAL) -> Tuple[Tuple[float, float], Tuple[float, float]]:
     """((x_min, x_max), (y_min, y_max)) of the parallel bay's straight part, inside the lines [m]."""
-    x0 = tg.X_REF + tg.LINE_SPACING + tg.SOLID_WIDTH / 2.0
-    x1 = tg.BULGE_LINE_X - tg.BULGE_LINE_WIDTH / 2.0
-    return (x0, x1), tg.BULGE_STRAIGHT_Y
+    x0 = dims.x_ref_m + dims.line_spacing_m + dims.solid_width_m / 2.0
+    x1 = dims.bulge_line_x_m - dims.bulge_line_width_m / 2.0
+    return (x0, x1), dims.bulge_straight_y_m
 
 
-def parallel_boxes(spec: dict) -> List[dict]:
+def parallel_boxes(spec: dict, dims: TrackDimensions = NOMINAL) -> List[dict]:
     """Two boxes in the parallel bay, a gap of gap_m between them centred on the bay."""
-    (x0, x1), (y0, y1) = parallel_bay()
+    (x0, x1), (y0, y1) = parallel_bay(dims)
     xc, yc = 0.5 * (x0 + x1), 0.5 * (y0 + y1)
     d = spec["gap_m"] / 2.0 + OBSTACLE_SIZE_M[1] / 2.0
     return [obstacle_box("parked_box_south", xc, yc - d, 0.0), obstacle_box("parked_box_north", xc, yc + d, 0.0)]
 
 
-def bay_box(bay: str) -> List[dict]:
+def bay_box(bay: str, dims: TrackDimensions = NOMINAL) -> List[dict]:
     """A box in the middle of bay 'north' or 'south' of the bay-parking area."""
-    (xa, xb), (ya, yb) = parking_bays()[bay]
+    (xa, xb), (ya, yb) = parking_bays(dims)[bay]
     return [obstacle_box("parked_box_%s" % bay, 0.5 * (xa + xb), 0.5 * (ya + yb), 0.0)]
 
 
-def parking_bays() -> Dict[str, tuple]:
+def parking_bays(dims: TrackDimensions = NOMINAL) -> Dict[str, tuple]:
     """{bay: ((x_min, x_max), (y_min, y_max))} inside the white lines, as Track.bays [m]."""
-    (x0, x1), (y0, y1), b = tg.BAY_AREA_X, tg.BAY_AREA_Y, tg.BAY_BORDER
+    (x0, x1), (y0, y1), b = dims.bay_area_x_m, dims.bay_area_y_m, dims.bay_border_m
     xs = (x0 + b["west"], x1 - b["east"])
-    return {"north": (xs, (tg.BAY_DIVIDER_Y[1], y1 - b["north"])),
-            "south": (xs, (y0 + b["south"], tg.BAY_DIVIDER_Y[0]))}
+    return {"north": (xs, (dims.bay_divider_y_m[1], y1 - b["north"])),
+            "south": (xs, (y0 + b["south"], dims.bay_divider_y_m[0]))}
 
 
-def sign_object(index: int, sign: str, texture: str) -> dict:
+def sign_poses(dims: TrackDimensions = NOMINAL) -> List[Tuple[float, float, float]]:
+    """SIGN_POSES carried over to the track dims (the same place relative to the lines near them)."""
+    return [dims.map_xy(x, y) + (yaw,) for x, y, yaw in SIGN_POSES]
+
+
+def sign_object(index: int, sign: str, texture: str, dims: TrackDimensions = NOMINAL) -> dict:
     """Traffic-sign face number `index` (0..11) showing `sign` (its texture file)."""
-    x, y, yaw = SIGN_POSES[index]
+    x, y, yaw = sign_poses(dims)[index]
     # Roll +90 deg turns the textured +z face to -y and the image top to +z (upright).
     return _obj("sign_%02d_%s" % (index + 1, sign), "box", (x, y, SIGN_CENTRE_HEIGHT_M), color=[0.9, 0.9, 0.9],
                 size_m=[SIGN_SIZE_M, SIGN_SIZE_M, SIGN_THICKNESS_M], rpy=(1.5708, 0.0, yaw), texture=texture,

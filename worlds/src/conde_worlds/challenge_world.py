@@ -6,6 +6,11 @@ from the challenge's `random` section); :func:`challenge_world` turns that into 
 mapping (the base world's ground, panels and physics plus the features' objects and one spawn
 pose per robot); :func:`write_challenge` writes the world, the sign textures, the panel schedule
 and a summary into one directory.
+
+A track seed N > 0 puts the challenge on a varied track (track_variation.py): its texture and
+geometry are written beside the world, every object is built on the varied lines, and the base
+world's panels and the start poses are carried over with TrackDimensions.map_xy.  The summary
+names the track seed and its measures (`track`).
 """
 
 import copy
@@ -16,7 +21,10 @@ import yaml
 
 from . import challenge_objects as co
 from . import traffic_signs
-from .challenges import Challenges, load_challenges
+from .challenges import Challenges, load_challenges, parse_seed
+from .track_files import track_file_names, write_track_files
+from .track_render import texture_ranges
+from .track_variation import NOMINAL, TrackDimensions, track_dimensions
 
 WORLD_FILE = "world.yaml"
 SCHEDULE_FILE = "schedule.yaml"
@@ -41,25 +49,25 @@ def layout(challenges: Challenges, challenge: str, variant: Optional[str] = None
     return challenge, variant, seed, features
 
 
-def objects_of(features: dict, seed: int) -> Tuple[list, Dict[str, str]]:
-    """(world objects, {texture file name: sign}) of the features."""
+def objects_of(features: dict, seed: int, dims: TrackDimensions = NOMINAL) -> Tuple[list, Dict[str, str]]:
+    """(world objects, {texture file name: sign}) of the features on the track of measures dims."""
     objects, textures = [], {}
     if "obstacles" in features:
-        objects += co.obstacles(features["obstacles"])
+        objects += co.obstacles(features["obstacles"], dims)
     if "working_zone" in features:
-        objects += co.working_zone(features["working_zone"])
+        objects += co.working_zone(features["working_zone"], dims)
     if "tunnel" in features:
-        objects += co.tunnel(features["tunnel"])
+        objects += co.tunnel(features["tunnel"], dims)
     if "parallel_boxes" in features:
-        objects += co.parallel_boxes(features["parallel_boxes"])
+        objects += co.parallel_boxes(features["parallel_boxes"], dims)
     if "occupied_bay" in features:
-        objects += co.bay_box(features["occupied_bay"])
+        objects += co.bay_box(features["occupied_bay"], dims)
     if "signs" in features:
         order = co.sign_order(traffic_signs.SIGNS, seed if features["signs"] == "shuffle" else 0)
         for i, sign in enumerate(order):
             name = "%s/sign_%s.png" % (TEXTURE_DIR, sign)
             textures[name] = sign
-            objects.append(co.sign_object(i, sign, name))
+            objects.append(co.sign_object(i, sign, name, dims))
     return objects, textures
 
 
@@ -68,53 +76,87 @@ def base_world_path(challenges: Challenges) -> str:
                         challenges.base_world + ".world.yaml")
 
 
-def challenge_world(challenges: Challenges, challenge: str, variant: Optional[str] = None, seed=0):
-    """(world mapping, {texture file: sign}, resolved (challenge, variant, seed, features))."""
+def _carried_over(xyz, dims: TrackDimensions) -> list:
+    x, y = dims.map_xy(xyz[0], xyz[1])
+    return [round(x, 4), round(y, 4)] + list(xyz[2:]) if not dims.is_nominal else list(xyz)
+
+
+def start_poses(start: Dict[str, dict], dims: TrackDimensions = NOMINAL) -> Dict[str, dict]:
+    """{robot: {xyz, yaw}} of a challenge's start on the track dims."""
+    return {robot: {"xyz": _carried_over(pose["xyz"], dims), "yaw": pose["yaw"]} for robot, pose in start.items()}
+
+
+def challenge_world(challenges: Challenges, challenge: str, variant: Optional[str] = None, seed=0, track_seed=0):
+    """(world mapping, {texture file: sign}, resolved (challenge, variant, seed, features)).
+    On a varied track (track_seed > 0) the ground texture is
+    track_files.track_file_names(track_seed)[0], relative to the world file's directory."""
     resolved = layout(challenges, challenge, variant, seed)
     name, variant, seed, features = resolved
+    dims = track_dimensions(parse_seed(track_seed, "track seed"))
     with open(base_world_path(challenges)) as f:
         world = yaml.safe_load(f)
     ch = challenges.challenges[name]
     world["name"] = "challenge_%s_%s_seed%d" % (name, variant, seed)
     texture = world["ground"].get("texture")
-    if texture and not texture.startswith(("package://", "/")):
+    if not dims.is_nominal:
+        world["name"] += "_track%d" % dims.track_seed
+        x_range, y_range = texture_ranges(dims)
+        world["ground"].update(texture=track_file_names(dims.track_seed)[0].replace(os.sep, "/"),
+                               x_range_m=list(x_range), y_range_m=list(y_range))
+        for obj in world.get("objects") or []:  # the panels stay above the varied lanes
+            obj["pose"]["xyz"] = _carried_over(obj["pose"]["xyz"], dims)
+    elif texture and not texture.startswith(("package://", "/")):
         # The base world's texture, relative to worlds/, as a package path (the generated
         # world lives elsewhere).
         world["ground"]["texture"] = "package://conde_worlds/" + os.path.normpath(os.path.join("worlds", texture))
-    objects, textures = objects_of(features, seed)
+    objects, textures = objects_of(features, seed, dims)
     world["objects"] = list(world.get("objects") or []) + objects
-    world["spawn"] = {robot: {"xyz": pose["xyz"], "yaw": pose["yaw"]} for robot, pose in ch.start.items()}
+    world["spawn"] = start_poses(ch.start, dims)
     if "tunnel" in features:
-        world["light_regions"] = [co.tunnel_light_region(features["tunnel"])]
+        world["light_regions"] = [co.tunnel_light_region(features["tunnel"], dims)]
     return world, textures, resolved
 
 
-def default_output_dir(challenge: str, variant: str, seed: int) -> str:
-    """$ROS_HOME/conde_challenges/<challenge>_<variant>_seed<seed> (ROS_HOME defaults to ~/.ros)."""
+def default_output_dir(challenge: str, variant: str, seed: int, track_seed: int = 0) -> str:
+    """$ROS_HOME/conde_challenges/<challenge>_<variant>_seed<seed>_track<track_seed> (ROS_HOME
+    defaults to ~/.ros)."""
     ros_home = os.environ.get("ROS_HOME") or os.path.join(os.path.expanduser("~"), ".ros")
-    return os.path.join(ros_home, "conde_challenges", "%s_%s_seed%d" % (challenge, variant, seed))
+    return os.path.join(ros_home, "conde_challenges", "%s_%s_seed%d_track%d" % (challenge, variant, seed, track_seed))
 
 
 def write_challenge(challenge: str, variant: Optional[str] = None, seed=0, output_dir: Optional[str] = None,
-                    challenges_path: Optional[str] = None) -> Dict[str, str]:
-    """Writes world.yaml, textures/, schedule.yaml and challenge.yaml; returns their paths
-    ({"world", "schedule", "summary", "dir"})."""
+                    challenges_path: Optional[str] = None, track_seed=0) -> Dict[str, str]:
+    """Writes world.yaml, textures/, schedule.yaml and challenge.yaml (and, on a varied track,
+    the track's texture and geometry); returns their paths ({"world", "schedule", "summary",
+    "dir"})."""
     challenges = load_challenges(challenges_path)
-    world, textures, (name, variant, seed, features) = challenge_world(challenges, challenge, variant, seed)
+    track_seed = parse_seed(track_seed, "track seed")
+    world, textures, (name, variant, seed, features) = challenge_world(challenges, challenge, variant, seed,
+                                                                       track_seed)
     ch = challenges.challenges[name]
-    out = output_dir or default_output_dir(name, variant, seed)
+    dims = track_dimensions(track_seed)
+    out = output_dir or default_output_dir(name, variant, seed, track_seed)
     os.makedirs(os.path.join(out, TEXTURE_DIR), exist_ok=True)
     for file_name, sign in textures.items():
         traffic_signs.write_sign(sign, os.path.join(out, file_name))
+    if track_seed:
+        # launch/challenge.launch runs the generator three times: render the texture once.
+        write_track_files(out, track_seed, reuse=True)
     paths = {"dir": out, "world": os.path.join(out, WORLD_FILE), "schedule": os.path.join(out, SCHEDULE_FILE),
              "summary": os.path.join(out, SUMMARY_FILE)}
-    header = ("# Generated by conde_worlds (scripts/generate_challenge %s --variant %s --seed %d) from "
-              "challenges/challenges.yaml and the track geometry; do not edit.\n" % (name, variant, seed))
+    command = "scripts/generate_challenge %s --variant %s --seed %d" % (name, variant, seed)
+    if track_seed:
+        command += " --track-seed %d" % track_seed
+    header = ("# Generated by conde_worlds (%s) from "
+              "challenges/challenges.yaml and the track geometry; do not edit.\n" % command)
     _write(paths["world"], header + _dump(world, width=110))
     _write(paths["schedule"], header + _dump({"steps": ch.schedule}))
     summary = {"challenge": name, "what": ch.what, "variant": variant, "seed": seed,
-               "time_limit_s": ch.time_limit_s, "start": ch.start, "schedule": ch.schedule_name,
-               "features": features, "world_file": paths["world"], "schedule_file": paths["schedule"]}
+               "time_limit_s": ch.time_limit_s, "start": start_poses(ch.start, dims), "schedule": ch.schedule_name,
+               "features": features, "world_file": paths["world"], "schedule_file": paths["schedule"],
+               "track_seed": track_seed, "track": dims.summary()}
+    if track_seed:
+        summary["track_geometry_file"] = os.path.join(out, track_file_names(track_seed)[1])
     _write(paths["summary"], header + _dump(summary))
     return paths
 

@@ -63,8 +63,9 @@ class Challenges:
         return ch, variant, parse_seed(seed)
 
 
-def parse_seed(seed) -> int:
-    """The seed as an int >= 0 (also from a string such as roslaunch passes)."""
+def parse_seed(seed, what: str = "seed") -> int:
+    """The seed as an int >= 0 (also from a string such as roslaunch passes); `what` names it
+    in the error."""
     value = seed
     if isinstance(seed, str):
         try:
@@ -72,7 +73,7 @@ def parse_seed(seed) -> int:
         except ValueError:
             value = None
     if isinstance(value, bool) or not isinstance(value, int) or value < 0:
-        raise ChallengeError("seed: expected an integer >= 0, got %r" % (seed,))
+        raise ChallengeError("%s: expected an integer >= 0, got %r" % (what, seed))
     return value
 
 

@@ -241,13 +241,13 @@ def dash_intervals(s0: float, s1: float, phase: float = 0.0,
 # Track
 # ----------------------------------------------------------------------------------------------
 
-def _north_loop_path() -> Path:
-    c1 = (LOOP_CENTRE_X, LOOP_CENTRE_Y)
-    arc1 = Arc(c1, LOOP_RADIUS, 0.0, 1.5 * math.pi)
-    y_bottom = LOOP_CENTRE_Y - LOOP_RADIUS
-    c2 = (X_REF - FORK_RADIUS, FORK_Y)
-    seg = Segment((LOOP_CENTRE_X, y_bottom), (c2[0], y_bottom))
-    arc2 = Arc(c2, FORK_RADIUS, 0.5 * math.pi, -0.5 * math.pi)
+def _north_loop_path(dm) -> Path:
+    c1 = (dm.loop_centre_x_m, dm.loop_centre_y_m)
+    arc1 = Arc(c1, dm.loop_radius_m, 0.0, 1.5 * math.pi)
+    y_bottom = dm.loop_centre_y_m - dm.loop_radius_m
+    c2 = (dm.x_ref_m - dm.fork_radius_m, dm.fork_y_m)
+    seg = Segment((dm.loop_centre_x_m, y_bottom), (c2[0], y_bottom))
+    arc2 = Arc(c2, dm.fork_radius_m, 0.5 * math.pi, -0.5 * math.pi)
     return Path([arc1, seg, arc2])
 
 
@@ -255,9 +255,12 @@ class Track:
     """The complete track: roads, painted strokes, areas, lane centres.  Build with
     :func:`build_track`."""
 
-    def __init__(self):
-        central = Road("central", Path([Segment((X_REF, -LOOP_CENTRE_Y), (X_REF, LOOP_CENTRE_Y))]))
-        north = Road("north_loop", _north_loop_path())
+    def __init__(self, dims):
+        #: The measures (track_variation.TrackDimensions) the track is built from.
+        self.dims = dims
+        dm = dims
+        central = Road("central", Path([Segment((dm.x_ref_m, -dm.loop_centre_y_m), (dm.x_ref_m, dm.loop_centre_y_m))]))
+        north = Road("north_loop", _north_loop_path(dm))
         south = Road("south_loop", north.path.mirrored_y())
         self.roads = {r.name: r for r in (central, north, south)}
         # Which roads cut which: a line of road X is not painted inside road Y.
@@ -274,6 +277,7 @@ class Track:
 
     def _visible(self, road_name: str, path: Path, step: float = 0.002) -> List[Tuple[float, float]]:
         """Arc-length intervals of an offset path of road_name that are not inside a cutting road."""
+        dm = self.dims
         cutters = self._cutters[road_name]
         n = max(2, int(math.ceil(path.length / step)) + 1)
         s = np.linspace(0.0, path.length, n)
@@ -282,7 +286,7 @@ class Track:
             pts = path.point(np.atleast_1d(sv))
             m = np.zeros(len(pts), dtype=bool)
             for r in cutters:
-                m |= r.contains(pts, LINE_SPACING - 1e-7, strict=True)
+                m |= r.contains(pts, dm.line_spacing_m - 1e-7, strict=True)
             return m
 
         inside = cut(s)
@@ -321,82 +325,89 @@ class Track:
                                            join_end=k < n - 1 or ends_continue))
 
     def _build_road_lines(self):
+        dm = self.dims
         central = self.roads["central"]
         L = central.path.length
-        y0 = -LOOP_CENTRE_Y  # central s = y - y0
+        y0 = -dm.loop_centre_y_m  # central s = y - y0
 
         # Central straight.
-        west = central.path.offset(LINE_SPACING)
-        self._add_path_strokes("central_west", west, SOLID_WIDTH, self._visible("central", west), "solid")
-        east = central.path.offset(-LINE_SPACING)
-        b0, b1 = BULGE_DASHED_Y[0] - y0, BULGE_DASHED_Y[1] - y0
-        east_iv = _merge([(0.0, b0), (b1, L)] + dash_intervals(b0, b1))
+        west = central.path.offset(dm.line_spacing_m)
+        self._add_path_strokes("central_west", west, dm.solid_width_m, self._visible("central", west), "solid")
+        east = central.path.offset(-dm.line_spacing_m)
+        b0, b1 = dm.bulge_dashed_y_m[0] - y0, dm.bulge_dashed_y_m[1] - y0
+        east_iv = _merge([(0.0, b0), (b1, L)] + dash_intervals(b0, b1, on=dm.dash_on_m, off=dm.dash_off_m))
         east_iv = _intersect(east_iv, self._visible("central", east))
-        self._add_path_strokes("central_east", east, SOLID_WIDTH, east_iv, "solid+dashed")
+        self._add_path_strokes("central_east", east, dm.solid_width_m, east_iv, "solid+dashed")
         # Dashed centre: a gap, then dashes, outward from each end of the crosswalk.
-        top, bottom = CROSSWALK_Y[1] - y0, CROSSWALK_Y[0] - y0
-        centre_iv = dash_intervals(top, L, phase=DASH_ON)
-        centre_iv += [(L - b, L - a) for a, b in dash_intervals(L - bottom, L, phase=DASH_ON)]
+        top, bottom = dm.crosswalk_y_m[1] - y0, dm.crosswalk_y_m[0] - y0
+        dashes = {"phase": dm.dash_on_m, "on": dm.dash_on_m, "off": dm.dash_off_m}
+        centre_iv = dash_intervals(top, L, **dashes)
+        centre_iv += [(L - b, L - a) for a, b in dash_intervals(L - bottom, L, **dashes)]
         centre_iv = _intersect(_merge(centre_iv), self._visible("central", central.path))
-        self._add_path_strokes("central_centre", central.path, DASHED_WIDTH, centre_iv, "dashed")
+        self._add_path_strokes("central_centre", central.path, dm.dashed_width_m, centre_iv, "dashed")
 
         # Loops: the dash pattern continues from the straight.
-        phase = math.fmod(LOOP_CENTRE_Y - CROSSWALK_Y[1] + DASH_ON, DASH_ON + DASH_OFF)
+        phase = math.fmod(dm.loop_centre_y_m - dm.crosswalk_y_m[1] + dm.dash_on_m, dm.dash_on_m + dm.dash_off_m)
         for name in ("north_loop", "south_loop"):
             road = self.roads[name]
             if name == "south_loop":
-                ph = math.fmod(LOOP_CENTRE_Y + CROSSWALK_Y[0] + DASH_ON, DASH_ON + DASH_OFF)
+                ph = math.fmod(dm.loop_centre_y_m + dm.crosswalk_y_m[0] + dm.dash_on_m, dm.dash_on_m + dm.dash_off_m)
             else:
                 ph = phase
             # The north loop path runs counter-clockwise: its left is the island side; the
             # south loop (mirror image) runs clockwise: its left is the outer side.
-            d_island = LINE_SPACING if name == "north_loop" else -LINE_SPACING
+            d_island = dm.line_spacing_m if name == "north_loop" else -dm.line_spacing_m
             for side, d in (("island", d_island), ("outer", -d_island)):
                 p = road.path.offset(d)
-                self._add_path_strokes("%s_%s" % (name, side), p, SOLID_WIDTH,
+                self._add_path_strokes("%s_%s" % (name, side), p, dm.solid_width_m,
                                        self._visible(name, p), "solid")
-            iv = _intersect(dash_intervals(0.0, road.path.length, phase=ph),
+            iv = _intersect(dash_intervals(0.0, road.path.length, phase=ph, on=dm.dash_on_m, off=dm.dash_off_m),
                             self._visible(name, road.path))
-            self._add_path_strokes("%s_centre" % name, road.path, DASHED_WIDTH, iv, "dashed")
+            self._add_path_strokes("%s_centre" % name, road.path, dm.dashed_width_m, iv, "dashed")
 
         # Round join at each island tip (where the straight's west line meets the island line).
         for name, sign in (("north_loop", 1.0), ("south_loop", -1.0)):
-            yt = FORK_Y + math.sqrt((FORK_RADIUS + LINE_SPACING) ** 2 - (FORK_RADIUS - LINE_SPACING) ** 2)
-            self.dots.append(Dot("%s_island_tip" % name, (X_REF - LINE_SPACING, sign * yt), SOLID_WIDTH / 2.0))
+            fr, ls = dm.fork_radius_m, dm.line_spacing_m
+            yt = dm.fork_y_m + math.sqrt((fr + ls) ** 2 - (fr - ls) ** 2)
+            self.dots.append(Dot("%s_island_tip" % name, (dm.x_ref_m - ls, sign * yt), dm.solid_width_m / 2.0))
 
     # --- crosswalk -----------------------------------------------------------------------------
 
     def _build_crosswalk(self):
-        x0, x1 = CROSSWALK_X
-        for name, (ya, yb) in (("crosswalk_bar_top", CROSSWALK_TOP_BAR_Y),
-                               ("crosswalk_bar_bottom", CROSSWALK_BOTTOM_BAR_Y)):
+        dm = self.dims
+        x0, x1 = dm.crosswalk_x_m
+        for name, (ya, yb) in (("crosswalk_bar_top", dm.crosswalk_top_bar_y_m),
+                               ("crosswalk_bar_bottom", dm.crosswalk_bottom_bar_y_m)):
             yc = 0.5 * (ya + yb)
             seg = Segment((x0, yc), (x1, yc))
             self.strokes.append(Stroke(name, seg, yb - ya, ((0.0, seg.length),)))
-        ya, yb = CROSSWALK_STRIPE_Y
-        for k, xc in enumerate(CROSSWALK_STRIPE_X):
+        ya, yb = dm.crosswalk_stripe_y_m
+        for k, xc in enumerate(dm.crosswalk_stripe_x_m):
             seg = Segment((xc, ya), (xc, yb))
-            self.strokes.append(Stroke("crosswalk_stripe_%d" % k, seg, CROSSWALK_STRIPE_WIDTH, ((0.0, seg.length),)))
+            self.strokes.append(Stroke("crosswalk_stripe_%d" % k, seg, dm.crosswalk_stripe_width_m,
+                                       ((0.0, seg.length),)))
 
     # --- parallel parking ----------------------------------------------------------------------
 
     def _build_parallel_parking(self):
-        xe = X_REF + LINE_SPACING
-        run = BULGE_LINE_X - xe  # 45-degree slants
-        ya, yb = BULGE_STRAIGHT_Y
-        corners = [(xe, ya - run), (BULGE_LINE_X, ya), (BULGE_LINE_X, yb), (xe, yb + run)]
+        dm = self.dims
+        xe = dm.x_ref_m + dm.line_spacing_m
+        run = dm.bulge_line_x_m - xe  # 45-degree slants
+        ya, yb = dm.bulge_straight_y_m
+        corners = [(xe, ya - run), (dm.bulge_line_x_m, ya), (dm.bulge_line_x_m, yb), (xe, yb + run)]
         self.bulge_outline = corners
         for k in range(3):
             seg = Segment(corners[k], corners[k + 1])
-            self.strokes.append(Stroke("parallel_parking_%d" % k, seg, BULGE_LINE_WIDTH, ((0.0, seg.length),)))
+            self.strokes.append(Stroke("parallel_parking_%d" % k, seg, dm.bulge_line_width_m, ((0.0, seg.length),)))
         for k in (1, 2):
-            self.dots.append(Dot("parallel_parking_corner_%d" % k, corners[k], BULGE_LINE_WIDTH / 2.0))
+            self.dots.append(Dot("parallel_parking_corner_%d" % k, corners[k], dm.bulge_line_width_m / 2.0))
 
     # --- bay parking ---------------------------------------------------------------------------
 
     def _build_bay_parking(self):
-        (x0, x1), (y0, y1) = BAY_AREA_X, BAY_AREA_Y
-        b = BAY_BORDER
+        dm = self.dims
+        (x0, x1), (y0, y1) = dm.bay_area_x_m, dm.bay_area_y_m
+        b = dm.bay_border_m
 
         def rect(name, xa, xb, ya, yb):
             # A filled rectangle as one stroke along its longer side.
@@ -413,7 +424,7 @@ class Track:
         rect("bay_border_north", x0, x1, y1 - b["north"], y1)
         rect("bay_border_south", x0, x1, y0, y0 + b["south"])
         xi0, xi1 = x0 + b["west"], x1 - b["east"]
-        dy0, dy1 = BAY_DIVIDER_Y
+        dy0, dy1 = dm.bay_divider_y_m
         div = Segment((xi0, 0.5 * (dy0 + dy1)), (xi1, 0.5 * (dy0 + dy1)))
         self.strokes.append(Stroke("bay_divider", div, dy1 - dy0,
                                    tuple(dash_intervals(0.0, div.length)), "dashed"))
@@ -449,8 +460,9 @@ class Track:
     # --- lanes ---------------------------------------------------------------------------------
 
     def _build_lanes(self):
+        dm = self.dims
         central = self.roads["central"].path.prims[0]
-        y0 = -LOOP_CENTRE_Y
+        y0 = -dm.loop_centre_y_m
 
         def c(ya, yb):
             # Central straight from y = ya to y = yb (either direction).
@@ -461,12 +473,12 @@ class Track:
         north = self.roads["north_loop"].path
         south = self.roads["south_loop"].path
         routes = {
-            "north_ccw": c(0.0, LOOP_CENTRE_Y) + north.prims + c(FORK_Y, -LOOP_CENTRE_Y)
-            + south.prims + c(-FORK_Y, 0.0),
-            "north_cw": c(0.0, FORK_Y) + north.reversed().prims + c(LOOP_CENTRE_Y, -FORK_Y)
-            + south.reversed().prims + c(-LOOP_CENTRE_Y, 0.0),
+            "north_ccw": c(0.0, dm.loop_centre_y_m) + north.prims + c(dm.fork_y_m, -dm.loop_centre_y_m)
+            + south.prims + c(-dm.fork_y_m, 0.0),
+            "north_cw": c(0.0, dm.fork_y_m) + north.reversed().prims + c(dm.loop_centre_y_m, -dm.fork_y_m)
+            + south.reversed().prims + c(-dm.loop_centre_y_m, 0.0),
         }
-        self.routes = {k: Path(v).offset(-LANE_OFFSET) for k, v in routes.items()}
+        self.routes = {k: Path(v).offset(-dm.lane_offset_m) for k, v in routes.items()}
 
     # --- public queries ------------------------------------------------------------------------
 
@@ -492,15 +504,18 @@ class Track:
 
     def in_crosswalk(self, points) -> np.ndarray:
         """Points inside the crosswalk box (between the straight's boundary lines, bar to bar)."""
+        dm = self.dims
         p = _as_points(points)
-        return ((p[:, 0] >= X_REF - ROAD_HALF_WIDTH) & (p[:, 0] <= X_REF + ROAD_HALF_WIDTH)
-                & (p[:, 1] >= CROSSWALK_Y[0]) & (p[:, 1] <= CROSSWALK_Y[1]))
+        return ((p[:, 0] >= dm.x_ref_m - dm.road_half_width_m) & (p[:, 0] <= dm.x_ref_m + dm.road_half_width_m)
+                & (p[:, 1] >= dm.crosswalk_y_m[0]) & (p[:, 1] <= dm.crosswalk_y_m[1]))
 
-    def on_road(self, points, half_width: float = ROAD_HALF_WIDTH) -> np.ndarray:
+    def on_road(self, points, half_width: float = None) -> np.ndarray:
         """Points on the road surface.  By default the boundary lines count as road (the road
-        is 1.698 m wide; measured 1.697 m); pass half_width=LINE_SPACING - SOLID_WIDTH / 2 for
+        is 1.698 m wide; measured 1.697 m); pass half_width=line_spacing_m - solid_width_m / 2 (of self.dims) for
         the clear area between the lines.  The parking areas are not road (see
         in_parallel_parking, in_bay)."""
+        if half_width is None:
+            half_width = self.dims.road_half_width_m
         pts = _as_points(points)
         out = np.zeros(len(pts), dtype=bool)
         for road in self.roads.values():
@@ -576,6 +591,7 @@ class Track:
 
     def to_dict(self, lane_spacing: float = 0.05) -> dict:
         """Plain data for the geometry YAML (lane centres sampled every <= lane_spacing m)."""
+        dm = self.dims
         lanes = []
         for name, lc in self.lane_centres(lane_spacing).items():
             lanes.append({
@@ -587,58 +603,63 @@ class Track:
                 "heading_rad": [_f(float(h), 4) for h in lc["heading"]],
                 "section": [str(v) for v in lc["section"]],
             })
-        xw, xe = X_REF - LINE_SPACING, X_REF + LINE_SPACING
+        xw, xe = dm.x_ref_m - dm.line_spacing_m, dm.x_ref_m + dm.line_spacing_m
         return {
             "format": "conde_track_geometry/1",
             "name": "competition_track",
             "frame": "world: origin at the floor centre, x east, y north, z up; metres, radians",
             "dimensions": {
-                "road_reference_x_m": X_REF,
-                "line_spacing_m": _f(LINE_SPACING),
-                "solid_line_width_m": SOLID_WIDTH,
-                "dashed_line_width_m": DASHED_WIDTH,
-                "dash_m": DASH_ON,
-                "gap_m": DASH_OFF,
-                "lane_width_m": _f(LANE_WIDTH, 6),
-                "lane_offset_m": _f(LANE_OFFSET, 6),
-                "road_width_m": _f(2 * ROAD_HALF_WIDTH, 6),
-                "loop_centre_m": _r([LOOP_CENTRE_X, LOOP_CENTRE_Y]),
-                "loop_radius_m": _f(LOOP_RADIUS),
-                "loop_outer_line_radius_m": _f(LOOP_RADIUS + LINE_SPACING, 6),
-                "loop_island_line_radius_m": _f(LOOP_RADIUS - LINE_SPACING, 6),
-                "fork_radius_m": FORK_RADIUS,
-                "fork_y_m": _f(FORK_Y, 6),
+                "road_reference_x_m": dm.x_ref_m,
+                "line_spacing_m": _f(dm.line_spacing_m),
+                "solid_line_width_m": dm.solid_width_m,
+                "dashed_line_width_m": dm.dashed_width_m,
+                "dash_m": dm.dash_on_m,
+                "gap_m": dm.dash_off_m,
+                "lane_width_m": _f(dm.lane_width_m, 6),
+                "lane_offset_m": _f(dm.lane_offset_m, 6),
+                "road_width_m": _f(2 * dm.road_half_width_m, 6),
+                "loop_centre_m": _r([dm.loop_centre_x_m, dm.loop_centre_y_m]),
+                "loop_radius_m": _f(dm.loop_radius_m),
+                "loop_outer_line_radius_m": _f(dm.loop_radius_m + dm.line_spacing_m, 6),
+                "loop_island_line_radius_m": _f(dm.loop_radius_m - dm.line_spacing_m, 6),
+                "fork_radius_m": dm.fork_radius_m,
+                "fork_y_m": _f(dm.fork_y_m, 6),
             },
             "roads": [{"name": r.name, "reference": [p.to_dict() for p in r.path.prims]}
                       for r in self.roads.values()],
             "lines": [s.to_dict() for s in self.strokes],
             "dots": [d.to_dict() for d in self.dots],
             "crosswalk": {
-                "box": {"x_m": [_f(xw - SOLID_WIDTH / 2, 6), _f(xe + SOLID_WIDTH / 2, 6)],
-                        "y_m": list(CROSSWALK_Y)},
-                "bars_y_m": [list(CROSSWALK_BOTTOM_BAR_Y), list(CROSSWALK_TOP_BAR_Y)],
-                "bars_x_m": list(CROSSWALK_X),
-                "stripe_centres_x_m": list(CROSSWALK_STRIPE_X),
-                "stripe_width_m": CROSSWALK_STRIPE_WIDTH,
-                "stripes_y_m": list(CROSSWALK_STRIPE_Y),
+                "box": {"x_m": [_f(xw - dm.solid_width_m / 2, 6), _f(xe + dm.solid_width_m / 2, 6)],
+                        "y_m": list(dm.crosswalk_y_m)},
+                "bars_y_m": [list(dm.crosswalk_bottom_bar_y_m), list(dm.crosswalk_top_bar_y_m)],
+                "bars_x_m": list(dm.crosswalk_x_m),
+                "stripe_centres_x_m": list(dm.crosswalk_stripe_x_m),
+                "stripe_width_m": dm.crosswalk_stripe_width_m,
+                "stripes_y_m": list(dm.crosswalk_stripe_y_m),
             },
             "parallel_parking": {
                 "outline_m": [_r(p) for p in self.bulge_outline],
-                "line_width_m": _f(BULGE_LINE_WIDTH, 6),
-                "bay": {"x_m": [_f(xe + SOLID_WIDTH / 2, 6), _f(BULGE_LINE_X - BULGE_LINE_WIDTH / 2, 6)],
-                        "y_m": list(BULGE_STRAIGHT_Y)},
-                "dashed_east_line_y_m": list(BULGE_DASHED_Y),
+                "line_width_m": _f(dm.bulge_line_width_m, 6),
+                "bay": {"x_m": [_f(xe + dm.solid_width_m / 2, 6), _f(dm.bulge_line_x_m - dm.bulge_line_width_m / 2, 6)],
+                        "y_m": list(dm.bulge_straight_y_m)},
+                "dashed_east_line_y_m": list(dm.bulge_dashed_y_m),
             },
             "bay_parking": {
-                "area": {"x_m": list(BAY_AREA_X), "y_m": list(BAY_AREA_Y)},
+                "area": {"x_m": list(dm.bay_area_x_m), "y_m": list(dm.bay_area_y_m)},
                 "entry_heading_rad": 0.0,
                 "bays": [{"name": k, "x_m": _r(v[0]), "y_m": _r(v[1])} for k, v in self.bays.items()],
             },
-            "spawn": {k: {"xyz": list(v[:3]), "yaw": v[3]} for k, v in SPAWNS.items()},
+            "spawn": {k: {"xyz": list(dm.map_xy(*v[:2])) + [v[2]], "yaw": v[3]} for k, v in SPAWNS.items()},
             "lane_centres": lanes,
         }
 
 
-def build_track() -> Track:
-    """The competition track."""
-    return Track()
+def build_track(dims=None) -> Track:
+    """The competition track with the measures dims (track_variation.TrackDimensions; default:
+    the nominal track, track seed 0)."""
+    if dims is None:
+        # Imported here: track_variation reads this module's nominal constants.
+        from .track_variation import NOMINAL
+        dims = NOMINAL
+    return Track(dims)

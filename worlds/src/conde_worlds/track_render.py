@@ -17,12 +17,24 @@ from typing import Tuple
 import numpy as np
 
 from .track_geometry import Track, build_track
+from .track_variation import TrackDimensions, pixel_noise_seed
 
 #: Default resolution and extent of the competition texture.  The extent is the original
 #: 6.95 x 16.7 m floor plus 0.5 m on the east side for the bay-parking picture.
 RESOLUTION_PX_PER_M = 200.0
 X_RANGE_M = (-3.475, 3.975)
 Y_RANGE_M = (-8.35, 8.35)
+#: Extent of a varied track's texture (track seed > 0): 0.5 m more on every side, room for every
+#: variation of track_variation (loops and parking areas move outwards by up to ~0.4 m).
+VARIED_X_RANGE_M = (-3.975, 4.475)
+VARIED_Y_RANGE_M = (-8.85, 8.85)
+
+
+def texture_ranges(dims: TrackDimensions):
+    """(x_range, y_range) [m] of the texture of a track with the measures dims."""
+    if dims.is_nominal:
+        return X_RANGE_M, Y_RANGE_M
+    return VARIED_X_RANGE_M, VARIED_Y_RANGE_M
 
 
 def image_size(resolution: float = RESOLUTION_PX_PER_M, x_range=X_RANGE_M, y_range=Y_RANGE_M) -> Tuple[int, int]:
@@ -100,9 +112,21 @@ def render_coverage(track: Track, resolution: float = RESOLUTION_PX_PER_M,
 
 
 def render_track(track: Track = None, resolution: float = RESOLUTION_PX_PER_M,
-                 x_range=X_RANGE_M, y_range=Y_RANGE_M) -> np.ndarray:
-    """The texture as an (H, W, 3) uint8 RGB image: white paint on black."""
+                 x_range=None, y_range=None) -> np.ndarray:
+    """The texture as an (H, W, 3) uint8 RGB image: white paint on black for the nominal track;
+    a varied track (track.dims) has its mat and paint grey levels and a per-pixel grey noise
+    (normal, drawn with numpy from the track seed).  x_range, y_range default to
+    texture_ranges(track.dims)."""
     if track is None:
         track = build_track()
-    grey = np.rint(render_coverage(track, resolution, x_range, y_range) * 255.0).astype(np.uint8)
+    d = track.dims
+    default_x, default_y = texture_ranges(d)
+    x_range, y_range = x_range or default_x, y_range or default_y
+    cov = render_coverage(track, resolution, x_range, y_range)
+    if d.is_nominal:
+        grey = np.rint(cov * 255.0).astype(np.uint8)
+    else:
+        value = d.mat_grey + cov * (d.line_grey - d.mat_grey)
+        value += np.random.default_rng(pixel_noise_seed(d)).normal(0.0, d.noise_grey, cov.shape)
+        grey = np.rint(np.clip(value, 0.0, 255.0)).astype(np.uint8)
     return np.repeat(grey[:, :, None], 3, axis=2)

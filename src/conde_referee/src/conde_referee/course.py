@@ -1,7 +1,8 @@
 """What the referee knows of a challenge's course, from the track geometry and the challenge's
 resolved layout (conde_worlds): painted lines, road surface, start line and loop gates, the
 immobilisation zones before the crosswalk, the parking bays, the objects' footprints and the V1
-signs. Pure Python (numpy), no ROS. World frame: x east, y north [m]; headings [rad]."""
+signs, all on the challenge's track (its track seed: the nominal or a varied track, conde_worlds
+track_variation). Pure Python (numpy), no ROS. World frame: x east, y north [m]; headings [rad]."""
 import math
 from dataclasses import dataclass
 from typing import Dict, List, Optional, Tuple
@@ -11,12 +12,15 @@ import numpy as np
 from conde_worlds import challenge_objects as co
 from conde_worlds import track_geometry as tg
 from conde_worlds.challenge_world import layout, objects_of
-from conde_worlds.challenges import load_challenges
+from conde_worlds.challenges import load_challenges, parse_seed
+from conde_worlds.track_variation import track_dimensions
 from conde_worlds.traffic_signs import SIGNS
 
-#: The start/finish line across the straight, 0.21 m behind the crosswalk (as conde_eval's lap timer).
+#: The start/finish line across the straight, 0.21 m behind the crosswalk (as conde_eval's lap
+#: timer), on the nominal track (Course.start_line_y_m: on the course's track).
 START_LINE_Y_M = -0.55
-#: Loop gates: from the loop centre across the road at the loop's far end (north: top, south: bottom).
+#: Loop gates: from the loop centre across the road at the loop's far end (north: top, south:
+#: bottom), on the nominal track (Course.gate_length_m: on the course's track).
 GATE_LENGTH_M = tg.LOOP_RADIUS + tg.ROAD_HALF_WIDTH + 0.5
 #: Painted lines that count as "touching a line" while driving: the road's solid boundary lines.
 BOUNDARY_PREFIXES = ("central_west", "central_east", "north_loop_island", "north_loop_outer",
@@ -75,13 +79,18 @@ def obstacles_of(objects) -> List[Obstacle]:
 class Course:
     """One challenge's course. Build with :meth:`from_layout` or :meth:`from_summary`."""
 
-    def __init__(self, challenge: str, features: dict, seed: int, time_limit_s: float):
+    def __init__(self, challenge: str, features: dict, seed: int, time_limit_s: float, track_seed: int = 0):
         self.challenge = challenge
         self.features = features
         self.seed = seed
         self.time_limit_s = time_limit_s
-        self.track = tg.build_track()
-        objects, _ = objects_of(features, seed)
+        self.track_seed = track_seed
+        #: The track's measures (conde_worlds.track_variation.TrackDimensions).
+        self.dims = track_dimensions(track_seed)
+        self.track = tg.build_track(self.dims)
+        self.start_line_y_m = self.dims.map_xy(self.dims.x_ref_m, START_LINE_Y_M)[1]
+        self.gate_length_m = self.dims.loop_radius_m + self.dims.road_half_width_m + 0.5
+        objects, _ = objects_of(features, seed, self.dims)
         self.obstacles = obstacles_of(objects)
         self.boundary_lines = [s for s in self.track.strokes if s.name.startswith(BOUNDARY_PREFIXES)]
         self.parking_lines = [s for s in self.track.strokes if s.name.startswith(PARKING_PREFIXES)]
@@ -89,18 +98,21 @@ class Course:
         self.signs: List[Tuple[float, float, str]] = []
         if "signs" in features:
             order = co.sign_order(SIGNS, seed if features["signs"] == "shuffle" else 0)
-            self.signs = [(x, y, sign) for (x, y, _), sign in zip(co.SIGN_POSES, order)]
+            self.signs = [(x, y, sign) for (x, y, _), sign in zip(co.sign_poses(self.dims), order)]
 
     @classmethod
-    def from_layout(cls, challenge: str, variant: Optional[str] = None, seed: int = 0, challenges_path=None):
+    def from_layout(cls, challenge: str, variant: Optional[str] = None, seed: int = 0, challenges_path=None,
+                    track_seed: int = 0):
         challenges = load_challenges(challenges_path)
         name, _variant, seed, features = layout(challenges, challenge, variant, seed)
-        return cls(name, features, seed, challenges.challenges[name].time_limit_s)
+        return cls(name, features, seed, challenges.challenges[name].time_limit_s, parse_seed(track_seed, "track seed"))
 
     @classmethod
     def from_summary(cls, summary: dict):
-        """From generate_challenge's challenge.yaml (the parameter /challenge/summary_file)."""
-        return cls(summary["challenge"], summary["features"], int(summary["seed"]), float(summary["time_limit_s"]))
+        """From generate_challenge's challenge.yaml (the parameter /challenge/summary_file); a
+        summary without track_seed is on the nominal track."""
+        return cls(summary["challenge"], summary["features"], int(summary["seed"]), float(summary["time_limit_s"]),
+                   parse_seed(summary.get("track_seed", 0), "track seed"))
 
     @property
     def kind(self) -> str:
@@ -132,7 +144,7 @@ class Course:
     def on_surface(self, points) -> np.ndarray:
         """Points on the road or in a parking area."""
         pts = np.asarray(points, dtype=float)
-        (bx0, bx1), (by0, by1) = tg.BAY_AREA_X, tg.BAY_AREA_Y
+        (bx0, bx1), (by0, by1) = self.dims.bay_area_x_m, self.dims.bay_area_y_m
         in_bays = (pts[:, 0] >= bx0) & (pts[:, 0] <= bx1) & (pts[:, 1] >= by0) & (pts[:, 1] <= by1)
         return self.track.on_road(pts) | self.track.in_parallel_parking(pts) | in_bays
 
@@ -140,9 +152,9 @@ class Course:
         """(loop, angle along its 270-degree arc [deg], radius [m]) of a point on a loop's road
         (challenge_objects.loop_point's angles), or None off the loops' arcs."""
         for loop in ("north", "south"):
-            cx, cy = co.loop_centre(loop)
+            cx, cy = co.loop_centre(loop, self.dims)
             r = math.hypot(x - cx, y - cy)
-            if abs(r - co.DIVIDER_R) > tg.ROAD_HALF_WIDTH:
+            if abs(r - self.dims.loop_radius_m) > self.dims.road_half_width_m:
                 continue
             angle = math.degrees(math.atan2((y - cy) if loop == "north" else (cy - y), x - cx)) % 360.0
             if angle <= 270.0:
@@ -152,8 +164,8 @@ class Course:
     def free_bays(self) -> Dict[str, tuple]:
         """{name: ((x0, x1), (y0, y1))} of the places the robot may park in [m]."""
         if self.challenge.startswith("P"):
-            return {"parallel": co.parallel_bay()}
-        return {k: v for k, v in co.parking_bays().items() if k != self.occupied_bay}
+            return {"parallel": co.parallel_bay(self.dims)}
+        return {k: v for k, v in co.parking_bays(self.dims).items() if k != self.occupied_bay}
 
 
 def inside_box(points, box) -> np.ndarray:

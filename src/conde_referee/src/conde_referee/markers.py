@@ -13,9 +13,8 @@ from std_msgs.msg import ColorRGBA
 from visualization_msgs.msg import Marker
 
 from conde_worlds import challenge_objects as co
-from conde_worlds import track_geometry as tg
 
-from .course import GATE_LENGTH_M, START_LINE_Y_M, Course
+from .course import Course
 from .referee import Event, stop_zones
 
 FRAME = "world"
@@ -59,20 +58,20 @@ def _area(ns: str, marker_id: int, box, rgba) -> Marker:
 
 def gates(course: Course) -> List[Marker]:
     """The start line across the straight and the line at each loop's far end."""
-    del course  # the same gates on every course
-    out = [_segment("referee_gates", 0, (tg.X_REF - tg.ROAD_HALF_WIDTH, START_LINE_Y_M),
-                    (tg.X_REF + tg.ROAD_HALF_WIDTH, START_LINE_Y_M), RGBA["gate"])]
+    d, y = course.dims, course.start_line_y_m
+    out = [_segment("referee_gates", 0, (d.x_ref_m - d.road_half_width_m, y),
+                    (d.x_ref_m + d.road_half_width_m, y), RGBA["gate"])]
     for i, loop in enumerate(("north", "south"), start=1):
-        cx, cy = co.loop_centre(loop)
+        cx, cy = co.loop_centre(loop, d)
         sign = 1.0 if loop == "north" else -1.0
-        out.append(_segment("referee_gates", i, (cx, cy), (cx, cy + sign * GATE_LENGTH_M), RGBA["gate"]))
+        out.append(_segment("referee_gates", i, (cx, cy), (cx, cy + sign * course.gate_length_m), RGBA["gate"]))
     return out
 
 
-def zones(stop_zone_depth_m: float) -> List[Marker]:
-    """The immobilisation zones before the crosswalk, one per lane."""
-    return [_area("referee_zones", i, box, RGBA["zone"])
-            for i, (_, box) in enumerate(sorted(stop_zones(stop_zone_depth_m).items()))]
+def zones(stop_zone_depth_m: float, course: Course = None) -> List[Marker]:
+    """The immobilisation zones before the crosswalk, one per lane (on the course's track)."""
+    boxes = stop_zones(stop_zone_depth_m, course.dims) if course else stop_zones(stop_zone_depth_m)
+    return [_area("referee_zones", i, box, RGBA["zone"]) for i, (_, box) in enumerate(sorted(boxes.items()))]
 
 
 def bays(course: Course) -> List[Marker]:
@@ -82,12 +81,13 @@ def bays(course: Course) -> List[Marker]:
     free = sorted(course.free_bays().items())
     out = [_area("referee_bays", i, box, RGBA["free_bay"]) for i, (_, box) in enumerate(free)]
     if course.occupied_bay:
-        out.append(_area("referee_bays", len(out), co.parking_bays()[course.occupied_bay], RGBA["occupied_bay"]))
+        occupied = co.parking_bays(course.dims)[course.occupied_bay]
+        out.append(_area("referee_bays", len(out), occupied, RGBA["occupied_bay"]))
     return out
 
 
 def course_markers(course: Course, stop_zone_depth_m: float) -> List[Marker]:
-    return gates(course) + zones(stop_zone_depth_m) + bays(course)
+    return gates(course) + zones(stop_zone_depth_m, course) + bays(course)
 
 
 def event_markers(events: Sequence[Event]) -> List[Marker]:

@@ -44,9 +44,9 @@ from typing import List, Optional
 import numpy as np
 
 from conde_worlds import challenge_objects as co
-from conde_worlds import track_geometry as tg
+from conde_worlds.track_variation import NOMINAL, TrackDimensions
 
-from .course import START_LINE_Y_M, Course, inside_box, polygons_overlap
+from .course import Course, inside_box, polygons_overlap
 from .footprint import Footprint
 from .rules import Rules
 
@@ -70,13 +70,14 @@ OVERTAKE_M = 1.5
 JUMP_M = 0.5
 
 
-def stop_zones(depth_m: float) -> dict:
-    """{lane: ((x_min, x_max), (y_min, y_max))} of the immobilisation zones [m]: the lane from
-    depth_m before the crosswalk to ZONE_PAST_EDGE_M into it (east lane northbound, west lane
-    southbound)."""
-    cw_near, cw_far = tg.CROSSWALK_Y
-    return {"east": ((tg.X_REF, tg.X_REF + tg.ROAD_HALF_WIDTH), (cw_near - depth_m, cw_near + ZONE_PAST_EDGE_M)),
-            "west": ((tg.X_REF - tg.ROAD_HALF_WIDTH, tg.X_REF), (cw_far - ZONE_PAST_EDGE_M, cw_far + depth_m))}
+def stop_zones(depth_m: float, dims: TrackDimensions = NOMINAL) -> dict:
+    """{lane: ((x_min, x_max), (y_min, y_max))} of the immobilisation zones [m] on the track dims:
+    the lane from depth_m before the crosswalk to ZONE_PAST_EDGE_M into it (east lane northbound,
+    west lane southbound)."""
+    cw_near, cw_far = dims.crosswalk_y_m
+    x, rh = dims.x_ref_m, dims.road_half_width_m
+    return {"east": ((x, x + rh), (cw_near - depth_m, cw_near + ZONE_PAST_EDGE_M)),
+            "west": ((x - rh, x), (cw_far - ZONE_PAST_EDGE_M, cw_far + depth_m))}
 
 
 @dataclass(frozen=True)
@@ -238,7 +239,7 @@ class Referee:
             if not (self.parking_ordered and stroke.name.startswith("central_east")):
                 return np.zeros(len(pts), dtype=bool)
             entry = np.zeros(len(pts), dtype=bool)
-            for y0, y1 in (tg.BULGE_DASHED_Y, tg.BAY_AREA_Y):
+            for y0, y1 in (self.course.dims.bulge_dashed_y_m, self.course.dims.bay_area_y_m):
                 entry |= (pts[:, 1] >= y0) & (pts[:, 1] <= y1)
             return entry
 
@@ -264,20 +265,23 @@ class Referee:
 
     def _gates(self, t_s, px, py, x, y):
         crossed = []
-        if py < START_LINE_Y_M <= y:
-            crossed.append("start" if x > tg.X_REF else None)
-        elif py >= START_LINE_Y_M > y:
-            crossed.append("mid" if x < tg.X_REF else None)
-        cw_near, cw_far = tg.CROSSWALK_Y
-        if (py < cw_far <= y and x > tg.X_REF) or (py > cw_near >= y and x < tg.X_REF):
+        d = self.course.dims
+        start_y = self.course.start_line_y_m
+        if py < start_y <= y:
+            crossed.append("start" if x > d.x_ref_m else None)
+        elif py >= start_y > y:
+            crossed.append("mid" if x < d.x_ref_m else None)
+        cw_near, cw_far = d.crosswalk_y_m
+        if (py < cw_far <= y and x > d.x_ref_m) or (py > cw_near >= y and x < d.x_ref_m):
             if self.panel == "stop" and self.go_at is not None:
                 self._give(t_s, "stop_not_respected", x, y, "crossed the crosswalk while the panel shows stop")
-        if abs(x - tg.X_REF) <= tg.ROAD_HALF_WIDTH and (py < tg.FORK_Y <= y or py > -tg.FORK_Y >= y):
+        if abs(x - d.x_ref_m) <= d.road_half_width_m and (py < d.fork_y_m <= y or py > -d.fork_y_m >= y):
             self.order, self.pending_order = self.pending_order, None  # at a fork
+        lcx = d.loop_centre_x_m
         for gate, sign in (("north", 1.0), ("south", -1.0)):
-            cy = sign * tg.LOOP_CENTRE_Y
-            if (px - tg.LOOP_CENTRE_X) * (x - tg.LOOP_CENTRE_X) < 0 or (x == tg.LOOP_CENTRE_X != px):
-                if 0.0 < sign * (y - cy) < tg.ROAD_HALF_WIDTH + tg.LOOP_RADIUS + 0.5:
+            cy = sign * d.loop_centre_y_m
+            if (px - lcx) * (x - lcx) < 0 or (x == lcx != px):
+                if 0.0 < sign * (y - cy) < self.course.gate_length_m:
                     crossed.append(gate)
                     self._branch(t_s, gate, x, y, east=x > px)
         for gate in crossed:
@@ -307,15 +311,16 @@ class Referee:
             self.wrong_way_m = 0.0
             return
         loop, angle_deg, radius_m = where
-        cx, cy = co.loop_centre(loop)
+        cx, cy = co.loop_centre(loop, self.course.dims)
+        divider_r = self.course.dims.loop_radius_m
         counter_clockwise = (x - cx) * dy - (y - cy) * dx > 0.0
-        if counter_clockwise == (radius_m > co.DIVIDER_R):  # the right lane
+        if counter_clockwise == (radius_m > divider_r):  # the right lane
             self.wrong_way_m, self.wrong_way_given = 0.0, False
             return
         self.wrong_way_m += step_m
         if self.wrong_way_m >= WRONG_WAY_MIN_M and not self.wrong_way_given:
             self.wrong_way_given = True
-            lane = "outer" if radius_m > co.DIVIDER_R else "inner"
+            lane = "outer" if radius_m > divider_r else "inner"
             self._give(t_s, "wrong_direction", x, y, "%s loop, %s lane, against its traffic (%.0f deg)"
                        % (loop, lane, angle_deg), key="wrong_direction:loop")
 
@@ -327,7 +332,7 @@ class Referee:
         if zone and zone["loop"] == loop and (zone["from_deg"] - co.TAPER_DEG <= angle_deg
                                               <= zone["to_deg"] + co.TAPER_DEG):
             return True
-        margin_deg = math.degrees(OVERTAKE_M / co.DIVIDER_R)
+        margin_deg = math.degrees(OVERTAKE_M / self.course.dims.loop_radius_m)
         return any(o["loop"] == loop and abs(o["angle_deg"] - angle_deg) <= margin_deg
                    for o in self.course.features.get("obstacles", []))
 
@@ -369,10 +374,11 @@ class Referee:
                 self._give(t_s, "stopped_outside_zone", x, y, "stopped for the stop signal outside the zone")
 
     def _in_stop_zone(self, x, y):
-        on_straight = abs(x - tg.X_REF) <= tg.ROAD_HALF_WIDTH
-        cw_near, cw_far = tg.CROSSWALK_Y
+        d = self.course.dims
+        on_straight = abs(x - d.x_ref_m) <= d.road_half_width_m
+        cw_near, cw_far = d.crosswalk_y_m
         near = on_straight and cw_near - STOP_JUDGING_DISTANCE_M <= y <= cw_far + STOP_JUDGING_DISTANCE_M
-        zones = stop_zones(self.rules.judging["stop_zone_depth_m"]).values()
+        zones = stop_zones(self.rules.judging["stop_zone_depth_m"], d).values()
         in_zone = any(inside_box([(x, y)], box)[0] for box in zones)
         return in_zone, near
 
@@ -386,7 +392,8 @@ class Referee:
                 self.over = "parked"
                 return True
         from conde_worlds.challenge_objects import parking_bays
-        if self.course.occupied_bay and inside_box(centre, parking_bays()[self.course.occupied_bay]).all():
+        occupied = self.course.occupied_bay
+        if occupied and inside_box(centre, parking_bays(self.course.dims)[occupied]).all():
             return self._fail_parking(t_s, "parked_in_occupied_bay", x, y,
                                       "the %s bay is occupied" % self.course.occupied_bay)
         for name, box in self.course.free_bays().items():

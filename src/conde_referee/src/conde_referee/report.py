@@ -8,6 +8,8 @@ import numpy as np
 
 #: The competition texture's extent in the world [m]: x0, x1, y0, y1 (worlds/competition.world.yaml).
 TRACK_EXTENT_M = (-3.475, 3.975, -8.35, 8.35)
+#: Resolution of a varied track drawn under the path [px/m].
+PLOT_TEXTURE_PX_PER_M = 40.0
 #: The path in the JSON file: one pose every this many seconds at most.
 PATH_PERIOD_S = 0.1
 #: Spacing of the numbered event markers in the PNG [m].
@@ -64,7 +66,13 @@ def plot(report, path, course, out_png, texture_path=None):
     import matplotlib.pyplot as plt
 
     fig, ax = plt.subplots(figsize=(5, 10), dpi=120)
-    texture_path = texture_path or default_texture()
+    if texture_path is None and course.track_seed:
+        # A varied track: drawn from the course's own geometry (its texture is not in the package).
+        from conde_worlds.track_render import render_track, texture_ranges
+        (x0, x1), (y0, y1) = texture_ranges(course.dims)
+        ax.imshow(render_track(course.track, PLOT_TEXTURE_PX_PER_M), extent=(x0, x1, y0, y1), origin="upper")
+        texture_path = ""
+    texture_path = texture_path if texture_path is not None else default_texture()
     if os.path.isfile(texture_path):
         import matplotlib.image as mpimg
         ax.imshow(mpimg.imread(texture_path), extent=TRACK_EXTENT_M, origin="upper")
