@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from conde_tracking.ipm import GroundMap
-from conde_tracking.lane_measurement import LaneMeasurement, line_mask, white_mask
+from conde_tracking.lane_measurement import LaneMeasurement, LaneResult, line_mask, white_mask
 
 import synthetic_views
 
@@ -253,3 +253,35 @@ def test_no_line_ends_on_the_straight(name):
     _, lm, images = load(name)
     r = lm.measure(images)
     assert math.isnan(r.right_line_end_m) and math.isnan(r.left_line_end_m)
+
+
+class EdgeLineBesideABay(synthetic_views.StraightLane):
+    """A junction's gap in the centre line, beside a parking bay: a thin edge line and, 0.3 m to
+    its right, the bay's wider border."""
+
+    def paint(self, along_m, left_m):
+        edge = -self.lane_width_m / 2
+        right = (left_m <= edge) & (left_m >= edge - self.right_width_m)
+        bay = (left_m <= edge - 0.30) & (left_m >= edge - 0.39)
+        return np.where(right | bay, self.white, self.black)
+
+
+def test_the_line_followed_before_is_kept_when_a_stronger_one_is_beside_it():
+    fine, maps = synthetic_setup()
+    lm = LaneMeasurement(maps)
+    both = lm.measure([synthetic_views.render(f, synthetic_views.StraightLane(right_width_m=0.055), 0.02, 0.0)
+                       for f in fine])
+    gap = [synthetic_views.render(f, EdgeLineBesideABay(right_width_m=0.055), 0.02, 0.0) for f in fine]
+    assert abs(lm.measure(gap).lateral_offset_m - 0.02) > 0.2  # afresh: the bay's border taken for the edge line
+    prior = lm.next_prior(both)
+    for _ in range(5):
+        r = lm.measure(gap, prior)
+        assert r.confidence == 0.5 and abs(r.lateral_offset_m - 0.02) < 0.02
+        prior = lm.next_prior(r)
+
+
+def test_a_prior_whose_lines_are_gone_falls_back_to_a_fresh_search():
+    d, lm, images = load("centred")
+    r = lm.measure(images, prior=np.array([5.0, 0.0, 0.0]))  # bands 5 m to the left: nothing there
+    assert r.confidence == 1.0 and abs(r.lateral_offset_m - float(d["lateral_offset_m"])) < 0.005
+    assert lm.next_prior(LaneResult()) is None

@@ -300,6 +300,14 @@ class LaneMeasurement:
             i = j
         return False, float("nan")
 
+    @staticmethod
+    def next_prior(result: LaneResult) -> Optional[np.ndarray]:
+        """The prior for the next frame: this frame's fit, also when it found one line only.  A
+        fresh search with one line in view takes the strongest line parallel to the lane, e.g. a
+        parking bay's border beside a thin edge line where the centre line has a gap at a junction;
+        following the line fitted before keeps the lane."""
+        return result.fit.coeffs if result.fit is not None else None
+
     def line_end(self, coeffs, offset_m, line_pts, everything):
         """x [m] of the last point of a line (offset_m from the centre curve) when its band is seen,
         without the line, for end_gap_m beyond it; NaN when the line runs on beyond the view (or
@@ -320,6 +328,8 @@ class LaneMeasurement:
         previous fit's coefficients."""
         pts, everything, flags = self.ground_white(images)
         fit, rpts, lpts = self.fit_lane(pts, prior)
+        if fit is None and prior is not None:  # the lines left the prior's bands: search afresh
+            fit, rpts, lpts = self.fit_lane(pts)
         if fit is None:
             return LaneResult()
         c0, c1 = fit.coeffs[0], fit.coeffs[1]
