@@ -5,10 +5,10 @@ with the referee). The referee's report must show two laps, the end of trial and
 lane is measured on the varied lines and the junctions' right turns begin and end where the
 cameras see them, not at the nominal track's distances."""
 import json
-import os
-import signal
 import subprocess
 import time
+
+from conde_testing.ros_harness import stop_process
 
 TRACK_SEED = 3
 WALL_LIMIT_S = 600  # the run takes about 110 s of wall time here; the simulator stops at 260 s anyway
@@ -38,13 +38,7 @@ def test_d1_on_a_varied_track_without_penalty(master, tmp_path):
             time.sleep(1.0)  # the run goes as fast as lock-step lets it; this only polls for its end
             report = read_report(out_dir / "referee.json")
     finally:
-        if launch.poll() is None:
-            os.killpg(launch.pid, signal.SIGINT)
-            try:
-                launch.wait(timeout=60)
-            except subprocess.TimeoutExpired:
-                os.killpg(launch.pid, signal.SIGKILL)
-                launch.wait()
+        stop_process(launch, timeout_s=60, group=True)
     log_text = log_path.read_text()
     assert report is not None, "no referee report:\n" + log_text[-4000:]
     summary = (out_dir / "challenge.yaml").read_text()
