@@ -15,7 +15,9 @@ from road_model import DT_S, HALF_LAP_M, LOOP_RADIUS_M, LOOP_STRAIGHT_M, Lane, R
 
 PACKAGE_DIR = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 SPEC = load_state_machine(os.path.join(PACKAGE_DIR, "config", "conde_states.yaml"))
-CONFIG = DecisionConfig()
+# The 1-D model of the route has no camera corners: without the late fallback its turns begin at
+# the stored distances (test_fork_navigator.py tests the fallback).
+CONFIG = replace(DecisionConfig(), junction_fallback_m=0.0)
 CRUISE = CONFIG.cruise_speed_mps
 STEP_M = CRUISE * DT_S  # distance of one step at cruise speed
 FORK_S = CONFIG.crosswalk_length_m + CONFIG.fork_distance_m  # first fork, from the start (s = 0)

@@ -36,9 +36,10 @@ Junction corners from the cameras: a lane measurement whose right (edge) line en
 min_line_end_m and corner_sight_m ahead (conde_tracking's right_line_end_m) shows the corner of a
 right turn: the edge line leaves its band corner_line_offset_m beyond the corner, where it turns
 away.  The corner's place along the road is kept (the latest sighting) and, corner_lead_m before
-the robot reaches it, a fork_right or merge_right fires, within junction_window_m before the stored
-distance (fork_distance_m, loop_exit_m): the turn's arc begins at the corner the robot sees (the
-stored distances arm the search and are the fallback).
+the robot reaches it, a fork_right or merge_right fires, from junction_window_m before the stored
+distance (fork_distance_m, loop_exit_m) on: the turn's arc begins at the corner the robot sees.
+The stored distances arm the search; junction_fallback_m after them the turn begins anyway (on a
+track seed with a 3.6 % longer y the stored fork distance came 19 cm before the corner).
 Left turns have no such mark yet (the dashed centre line ends somewhere within a dash period
 before the branch): they begin at the stored distances.
 
@@ -123,6 +124,8 @@ class DecisionConfig:
     loop_exit_m: float = 1.1775  # end of the loop's arc to the start of the turn onto the central road [m]
     # a turn's corner seen by the cameras counts from this far before the stored distance [m]
     junction_window_m: float = 0.6
+    # where the cameras mark the corner (right turns), the stored distance is the fallback this much later [m]
+    junction_fallback_m: float = 0.3
     corner_sight_m: float = 0.6  # a right edge line ending within this distance ahead marks a corner [m]
     # ... the corner lies this much before the line's end: where the edge line, turning away with
     # the corner's radius (0.19 m on the competition track), leaves its band [m] (measured: 0.19-0.22)
@@ -166,7 +169,8 @@ class DecisionConfig:
                      "lane_lost_timeout_s", "max_step_s"):
             need(name, getattr(self, name) > 0, "must be > 0")
         for name in ("stop_margin_m", "crosswalk_rearm_m", "fork_distance_m", "branch_offset_m", "loop_sweep_rad",
-                     "loop_exit_tolerance_rad", "loop_exit_m", "junction_window_m", "corner_sight_m",
+                     "loop_exit_tolerance_rad", "loop_exit_m", "junction_window_m", "junction_fallback_m",
+                     "corner_sight_m",
                      "corner_line_offset_m", "corner_lead_m", "min_line_end_m", "lane_aligned_rad"):
             need(name, getattr(self, name) >= 0, "must be >= 0")
         for name in ("min_signal_confidence", "min_lane_confidence"):

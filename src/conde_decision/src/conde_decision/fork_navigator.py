@@ -2,8 +2,8 @@
 straight on from a fork joins the central road again.  Pure Python, no ROS.
 
 `config` is any object with the fields fork_distance_m, fork_sides, fork_forward,
-loop_lane_radii_m, loop_sweep_rad, loop_exit_tolerance_rad, loop_exit_m and junction_window_m
-(DecisionConfig; their meaning is in the docstring of decision_logic).
+loop_lane_radii_m, loop_sweep_rad, loop_exit_tolerance_rad, loop_exit_m, junction_window_m and
+junction_fallback_m (DecisionConfig; their meaning is in the docstring of decision_logic).
 
 The last direction signal before a fork chooses: the side the fork opens to gives fork_left /
 fork_right, the other side fork_straight (with a note: that order cannot be obeyed), "forward" what
@@ -12,10 +12,11 @@ the fork turns toward the fork's side; once the heading has turned through the l
 loop_exit_tolerance_rad) and the robot has driven loop_exit_m (plus the arc that the tolerance
 leaves at the loop's lane radius) further, merge_right / merge_left fires.
 
-What the cameras see comes first: a turn toward a side whose corner the cameras see (the caller
-passes the sides in `corners_seen`) fires as soon as it is seen within junction_window_m before
-the stored distance; the stored distances only arm the search, and are the fallback when the
-corner is not seen."""
+What the cameras see comes first: a turn toward a side whose corners the cameras mark
+(`marked_sides`) fires when the caller passes that side in `corners_seen`, from junction_window_m
+before the stored distance on; the stored distance is then only the fallback, junction_fallback_m
+after it (on a track drawn differently the corner may lie further).  Turns to other sides fire at
+the stored distances."""
 
 from dataclasses import dataclass
 from typing import Optional, Sequence, Tuple
@@ -33,8 +34,9 @@ class LoopExit:
 
 
 class ForkNavigator:
-    def __init__(self, config):
+    def __init__(self, config, marked_sides: Sequence[str] = ("right",)):
         self.config = config
+        self.marked_sides = tuple(marked_sides)  # the sides whose corners the cameras mark
         self.direction_order = "forward"  # the last direction signal, used up at the next fork
         self.fork_pending = False  # the robot left a crosswalk and has not reached the fork after it
         self.forks_passed = 0
@@ -66,8 +68,10 @@ class ForkNavigator:
         if not self.fork_pending or since_crosswalk_m is None:
             return None, ""
         fork, side, order = self._next_fork()
-        seen = order == side and side in corners_seen and since_crosswalk_m >= c.fork_distance_m - c.junction_window_m
-        if not (seen or since_crosswalk_m >= c.fork_distance_m):
+        marked = order == side and side in self.marked_sides
+        seen = marked and side in corners_seen and since_crosswalk_m >= c.fork_distance_m - c.junction_window_m
+        due_m = c.fork_distance_m + (c.junction_fallback_m if marked else 0.0)
+        if not (seen or since_crosswalk_m >= due_m):
             return None, ""
         self.fork_pending = False
         self.forks_passed += 1
@@ -98,9 +102,13 @@ class ForkNavigator:
                 loop.exit_mark_m = travelled_m
             return None
         exit_m = c.loop_exit_m + c.loop_exit_tolerance_rad * loop.radius_m
-        if loop.merge in corners_seen:
-            exit_m -= c.junction_window_m
-        if travelled_m - loop.exit_mark_m >= exit_m:
+        driven_m = travelled_m - loop.exit_mark_m
+        if loop.merge in self.marked_sides:
+            seen = loop.merge in corners_seen and driven_m >= exit_m - c.junction_window_m
+            due = driven_m >= exit_m + c.junction_fallback_m
+        else:
+            seen, due = False, driven_m >= exit_m
+        if seen or due:
             self.loop = None
             return "merge_" + loop.merge
         return None
