@@ -26,6 +26,7 @@ FORK_SIDES = ("left", "right")  # the side each fork opens to, in turn from the 
 LOOP_STRAIGHT_M = {"left": 1.8, "right": 3.18}  # fork to the start of the loop's arc [m]
 LOOP_RADIUS_M = {"left": 2.5685, "right": 1.7865}  # the lane's radius around the loop [m]
 LOOP_SWEEP_RAD = 1.5 * math.pi
+NEW_LANE_SEEN_RAD = math.radians(45)  # a junction's turn shows the lane it leads to from here on
 
 
 @dataclass
@@ -37,10 +38,13 @@ class Lane:
     crosswalk_seen: bool = False
     crosswalk_distance_m: float = 0.0
     confidence: float = 1.0
+    right_line_end_m: float = float("nan")  # no junction corner in view (the model has none)
+    left_line_end_m: float = float("nan")
 
 
 class Road:
-    def __init__(self, logic, speed_scale=1.0, start_s=0.0, t0_s=100.0, odometry_distance=True):
+    def __init__(self, logic, speed_scale=1.0, start_s=0.0, t0_s=100.0, odometry_distance=True,
+                 new_lane_in_turns=False):
         self.logic = logic
         self.s = start_s
         self.t = t0_s
@@ -54,6 +58,8 @@ class Road:
         self.odometry_distance = odometry_distance  # odometry reports the path length (s) too
         self.forks = 0  # forks passed
         self.loop = None  # (arc start s, arc end s, signed curvature) of the loop being driven
+        self.turned_rad = 0.0  # heading change in the junction's arc being driven (+ = left), 0 outside
+        self.new_lane_in_turns = new_lane_in_turns  # the cameras see the new lane in the arcs' second half
 
     def next_near_edge_m(self):
         """Position of the first crosswalk near edge at least VIEW_M[0] ahead of the robot."""
@@ -64,8 +70,15 @@ class Road:
     def lane(self):
         ahead_m = self.next_near_edge_m() - self.s
         seen = ahead_m <= VIEW_M[1]
-        return Lane(self.lateral_offset_m, self.heading_error_rad, seen, ahead_m if seen else 0.0,
-                    self.lane_confidence)
+        if self.turned_rad == 0.0:
+            return Lane(self.lateral_offset_m, self.heading_error_rad, seen, ahead_m if seen else 0.0,
+                        self.lane_confidence)
+        # In a junction's arc: one line of the road left behind, then (turned through more than
+        # NEW_LANE_SEEN_RAD) both lines of the lane the turn leads to, 90 deg from the old one.
+        if not self.new_lane_in_turns or abs(self.turned_rad) < NEW_LANE_SEEN_RAD:
+            return Lane(self.lateral_offset_m, self.heading_error_rad, False, 0.0, 0.5)
+        remaining = math.copysign(0.5 * math.pi, self.turned_rad) - self.turned_rad
+        return Lane(self.lateral_offset_m, -remaining, False, 0.0, 1.0)
 
     def step(self):
         self.logic.on_odometry(self.yaw_rad, self.s if self.odometry_distance else None)
@@ -81,6 +94,7 @@ class Road:
                     radius = LOOP_RADIUS_M[side]
                     self.loop = (start, start + LOOP_SWEEP_RAD * radius, (1.0 if side == "left" else -1.0) / radius)
         ds = out.linear_velocity_mps * self.speed_scale * DT_S
+        self.turned_rad = self.turned_rad + out.path_curvature_per_m * ds if out.path_curvature_per_m != 0.0 else 0.0
         if out.path_curvature_per_m != 0.0:
             self.yaw_rad += out.path_curvature_per_m * ds
         elif self.loop is not None:

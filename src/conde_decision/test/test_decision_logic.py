@@ -4,6 +4,7 @@ the track (road_model.py), and every transition of the default YAML fired from r
 import math
 import os
 from dataclasses import replace
+from types import SimpleNamespace
 
 import pytest
 
@@ -14,7 +15,9 @@ from road_model import DT_S, HALF_LAP_M, LOOP_RADIUS_M, LOOP_STRAIGHT_M, Lane, R
 
 PACKAGE_DIR = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 SPEC = load_state_machine(os.path.join(PACKAGE_DIR, "config", "conde_states.yaml"))
-CONFIG = DecisionConfig()
+# The 1-D model of the route has no camera corners: without the late fallback its turns begin at
+# the stored distances (test_fork_navigator.py tests the fallback).
+CONFIG = replace(DecisionConfig(), junction_fallback_m=0.0)
 CRUISE = CONFIG.cruise_speed_mps
 STEP_M = CRUISE * DT_S  # distance of one step at cruise speed
 FORK_S = CONFIG.crosswalk_length_m + CONFIG.fork_distance_m  # first fork, from the start (s = 0)
@@ -547,6 +550,7 @@ def parking_place_for(source, event):
 def test_every_transition_fires_from_inputs(source, event, target):
     road = make(fork_forward=("straight", "straight")) if event == "merge_left" else make(
         parking_place=parking_place_for(source, event))
+        self.right_corner_at_m: Optional[float] = None  # travelled_m at the right-turn corner last seen
     if event in ("fork_left", "fork_right"):
         reach_before_fork(road, source, event[len("fork_"):])
     elif event in ("merge_left", "merge_right"):
@@ -561,3 +565,58 @@ def test_every_transition_fires_from_inputs(source, event, target):
         fired = road.until(event).transitions
     assert fired[0] == (source, event, target if target != "return" else entered_from)
     assert road.logic.last_event == fired[-1][1]
+
+
+def test_a_right_turns_corner_is_kept_from_where_the_edge_line_ends_ahead():
+    """The edge line ends corner_line_offset_m beyond the corner: the corner is reached (less
+    corner_lead_m) after driving on, also when later measurements lose the line's end."""
+    c = CONFIG
+    logic = DecisionLogic(SPEC, c)
+    for end_m in (float("nan"), 0.0, 0.05, c.corner_sight_m + 0.05):  # no end, unset field, too near, too far
+        assert logic.corners_seen(Lane(right_line_end_m=end_m)) == ()
+    assert logic.corners_seen(SimpleNamespace(lateral_offset_m=0.0)) == ()  # a measurement without the field
+    assert logic.right_corner_at_m is None
+    logic.road.travelled_m = 10.0
+    assert logic.corners_seen(Lane(right_line_end_m=0.5)) == ()
+    corner_m = 10.0 + 0.5 - c.corner_line_offset_m
+    assert logic.right_corner_at_m == pytest.approx(corner_m)
+    logic.road.travelled_m = corner_m - c.corner_lead_m - 0.01
+    assert logic.corners_seen(Lane()) == ()
+    logic.road.travelled_m = corner_m - c.corner_lead_m
+    assert logic.corners_seen(Lane()) == ("right",)
+    logic.road.travelled_m = corner_m + c.corner_sight_m + 0.01  # long passed: forgotten
+    assert logic.corners_seen(Lane()) == () and logic.right_corner_at_m is None
+
+
+def test_a_right_turn_ends_where_the_cameras_see_the_new_lane_ahead():
+    """With the new lane in view in the arc's second half, the turn ends when the robot heads along
+    it (lane_aligned_rad), before the arc's stored length; without it, after that length."""
+    road = make()
+    road.new_lane_in_turns = True
+    reach(road, "turn_right")
+    first, start_m = len(road.outputs), road.s
+    out = road.until("lane_aligned")
+    assert out.transitions == [("turn_right", "lane_aligned", "follow_lane")]
+    turn = SPEC.states["turn_right"].command
+    turned_rad = (road.s - start_m) / turn.radius_m  # the model drives the commanded arc
+    assert math.pi / 2 - CONFIG.lane_aligned_rad - 0.03 < turned_rad < math.pi / 2
+    assert road.s - start_m < turn.distance_m
+    assert_blind_arc(road.outputs[first:-1], "turn_right", -1.0 / turn.radius_m)
+
+
+@pytest.mark.parametrize("heading_rad, confidence", [(0.3, 1.0), (0.0, 0.5)])
+def test_no_lane_aligned_in_the_first_half_of_the_arc_nor_off_the_lane(heading_rad, confidence):
+    """The first half of the arc still sees the road it leaves (both lines, heading along it); in
+    the second half a lane seen with one line, or at an angle, is not the turn's end."""
+    road = make()
+    reach(road, "turn_right")
+    turn = SPEC.states["turn_right"].command
+    logic, entry_m = road.logic, road.logic.state_entry_m
+    while logic.road.travelled_m - entry_m < turn.distance_m - 0.05:
+        in_first_half = logic.road.travelled_m - entry_m < 0.5 * turn.distance_m - 0.02
+        lane = Lane(0.0, 0.0, False, 0.0, 1.0) if in_first_half else Lane(0.0, heading_rad, False, 0.0, confidence)
+        out = logic.on_lane(lane, road.t)
+        road.t += DT_S
+        logic.on_odometry(road.yaw_rad, logic.road.travelled_m + out.linear_velocity_mps * DT_S)
+        assert "lane_aligned" not in out.events
+        assert logic.state == "turn_right"

@@ -7,7 +7,9 @@ import pytest
 from conde_decision.decision_logic import DecisionConfig
 from conde_decision.fork_navigator import ForkNavigator
 
-CONFIG = DecisionConfig()
+# The 1-D model of the route has no camera corners: without the late fallback its turns begin at
+# the stored distances (test_fork_navigator.py tests the fallback).
+CONFIG = replace(DecisionConfig(), junction_fallback_m=0.0)
 D = CONFIG.fork_distance_m
 
 
@@ -62,3 +64,74 @@ def test_the_tolerance_leaves_its_arc_to_drive():
     assert nav.loop_exit(CONFIG.loop_sweep_rad, 5.0 + CONFIG.loop_exit_m + extra_m - 1e-6) is None
     assert nav.loop_exit(CONFIG.loop_sweep_rad, 5.0 + CONFIG.loop_exit_m + extra_m) == "merge_right"
     assert extra_m == pytest.approx(0.2235, abs=1e-3)
+
+
+# --- corners seen by the cameras ------------------------------------------------------------------
+
+W = CONFIG.junction_window_m
+
+
+def test_a_fork_fires_where_the_cameras_see_the_corner_of_the_branch_taken():
+    nav = ForkNavigator(CONFIG)
+    assert fork(nav) == ("fork_straight", "")  # north fork
+    nav.loop = None
+    nav.on_crosswalk_left()  # the south fork opens right; "forward" takes its branch there
+    assert nav.at_fork(D - W - 0.01, 0.0, ("right",)) == (None, "")  # too early: not this fork's corner
+    assert nav.at_fork(D - W + 0.1, 0.0, ()) == (None, "")
+    assert nav.at_fork(D - W + 0.1, 0.0, ("left",)) == (None, "")  # the other side's corner
+    assert nav.at_fork(D - W + 0.1, 0.0, ("right",)) == ("fork_right", "")
+    assert nav.forks_passed == 2 and nav.direction_order == "forward"
+
+
+def test_the_corner_of_a_branch_not_taken_changes_nothing():
+    nav = ForkNavigator(CONFIG)
+    nav.on_crosswalk_left()  # north fork, opens left, "forward" keeps straight
+    assert nav.at_fork(D - 0.1, 0.0, ("left",)) == (None, "")
+    assert nav.at_fork(D, 0.0, ("left",)) == ("fork_straight", "")
+    nav.loop = None
+    nav.on_direction("left")  # at the south fork (opens right): not obeyable, straight on
+    nav.on_crosswalk_left()
+    assert nav.at_fork(D - 0.1, 0.0, ("right",)) == (None, "")
+    assert nav.at_fork(D, 0.0, ("right",))[0] == "fork_straight"
+
+
+def test_a_loop_ends_where_the_cameras_see_the_corner_of_the_merge():
+    nav = ForkNavigator(replace(CONFIG, loop_exit_tolerance_rad=0.0))
+    fork(nav, yaw_rad=0.0)  # north fork straight: the loop ends with a right turn
+    assert nav.loop_exit(CONFIG.loop_sweep_rad, 10.0) is None  # sweep complete at 10 m
+    exit_m = 10.0 + CONFIG.loop_exit_m
+    assert nav.loop_exit(CONFIG.loop_sweep_rad, exit_m - W - 0.01, ("right",)) is None
+    assert nav.loop_exit(CONFIG.loop_sweep_rad, exit_m - W + 0.1, ("left",)) is None
+    assert nav.loop_exit(CONFIG.loop_sweep_rad, exit_m - W + 0.1, ("right",)) == "merge_right"
+    assert nav.loop is None
+
+
+def test_a_marked_turn_not_seen_falls_back_after_the_stored_distance():
+    """Right turns (the cameras mark their corners) without a sighting begin junction_fallback_m
+    after the stored distance; left turns and straight on at it."""
+    config = DecisionConfig()
+    fallback_m = config.junction_fallback_m
+    assert fallback_m > 0
+    nav = ForkNavigator(config)
+    nav.on_direction("left")
+    nav.on_crosswalk_left()
+    assert nav.at_fork(D, 0.0) == ("fork_left", "")  # not marked: at the stored distance
+    nav.on_crosswalk_left()  # the south fork, "forward": its branch, to the right
+    assert nav.at_fork(D + fallback_m - 0.01, 0.0) == (None, "")
+    assert nav.at_fork(D + fallback_m, 0.0) == ("fork_right", "")
+    loop_nav = ForkNavigator(replace(config, loop_exit_tolerance_rad=0.0))
+    loop_nav.on_crosswalk_left()
+    assert loop_nav.at_fork(D, 0.0) == ("fork_straight", "")  # the north fork: the loop ends with a right merge
+    assert loop_nav.loop_exit(config.loop_sweep_rad, 10.0) is None
+    exit_m = 10.0 + config.loop_exit_m
+    assert loop_nav.loop_exit(config.loop_sweep_rad, exit_m + fallback_m - 0.01) is None
+    assert loop_nav.loop_exit(config.loop_sweep_rad, exit_m + fallback_m) == "merge_right"
+
+
+def test_turns_to_unmarked_sides_ignore_corner_sightings():
+    nav = ForkNavigator(CONFIG, marked_sides=())
+    fork(nav)
+    nav.loop = None
+    nav.on_crosswalk_left()
+    assert nav.at_fork(D - 0.1, 0.0, ("right",)) == (None, "")
+    assert nav.at_fork(D, 0.0, ("right",)) == ("fork_right", "")

@@ -135,6 +135,9 @@ MODIFIED = [
 ] + [
     ("distance_event_without_distance", in_command("turn_left", lambda c: c.pop("distance_m")),
      "states.turn_left.on.distance_elapsed: the state has no command.distance_m, so the event never fires"),
+    ("lane_aligned_without_an_arc", lambda d: d["states"]["follow_lane"]["on"].update(lane_aligned="stopped"),
+     "states.follow_lane.on.lane_aligned: the state has no command.radius_m and command.distance_m (an arc), "
+     "so the event never fires"),
     ("unreachable_state", without_the_parking_signal,
      "states.go_to_parking: unreachable from the initial state 'wait_for_go'"),
     ("transitions_must_be_a_mapping", lambda d: d["states"]["stopped"].update(on=["signal_forward"]),

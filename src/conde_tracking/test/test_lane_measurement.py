@@ -2,15 +2,21 @@
 scripts/render_test_images; the ground truth in each file comes from conde_worlds.track_geometry)."""
 import math
 import os
+from dataclasses import replace
 
 import numpy as np
 import pytest
 
 from conde_tracking.ipm import GroundMap
-from conde_tracking.lane_measurement import LaneMeasurement, white_mask
+from conde_tracking.lane_measurement import LaneMeasurement, LaneResult, line_mask, white_mask
+
+import synthetic_views
 
 DATA = os.path.join(os.path.dirname(os.path.abspath(__file__)), "data")
 POSES = ["centred", "left_5cm", "right_5cm", "heading_left_10deg", "heading_right_10deg", "near_crosswalk"]
+JUNCTION_POSES = ["merge_right_corner_ahead", "fork_right_corner_ahead", "fork_left_corner_ahead"]
+CORNER_AHEAD_M = {"merge_right_corner_ahead": 0.5, "fork_right_corner_ahead": 0.5, "fork_left_corner_ahead": 0.6}
+EDGE_CORNER_RADIUS_M = 1.0 - 0.8065  # the edge line's corner: fork radius less the line's distance from the road centre
 CROSSWALK_NEAR_EDGE_Y_M = -0.340  # world y of the near (south) edge of the crosswalk's bottom bar
 
 
@@ -21,7 +27,7 @@ def load(name):
     return d, LaneMeasurement(maps), [d["left_image"], d["right_image"]]
 
 
-@pytest.mark.parametrize("name", POSES)
+@pytest.mark.parametrize("name", POSES + JUNCTION_POSES)
 def test_offset_and_heading_match_ground_truth(name):
     d, lm, images = load(name)
     r = lm.measure(images)
@@ -104,3 +110,178 @@ def test_the_coarse_search_finds_the_model_its_definition_finds():
         point_sets.append(np.vstack([np.column_stack([x, y]), clutter]))
     for pts in point_sets:
         np.testing.assert_array_equal(lm._coarse_search(pts), brute_force_search(lm, pts))
+
+
+# --- any light, any drawing within the rules ----------------------------------------------------
+
+def dimmed(images, light, rng, noise=3.0):
+    """The images under a light level (0..1), with grey-level noise (standard deviation [0..255])."""
+    return [np.clip(img * light + rng.normal(0.0, noise, img.shape), 0, 255).astype(np.uint8) for img in images]
+
+
+@pytest.mark.parametrize("light", [0.5, 0.35, 0.25])
+@pytest.mark.parametrize("name", ["centred", "left_5cm", "heading_right_10deg", "near_crosswalk"])
+def test_the_lane_and_crosswalk_in_the_tunnels_darker_light(name, light):
+    """The D4 tunnel dims the light to 0.35: its white lines (89 of 255) are below white_threshold."""
+    d, lm, images = load(name)
+    r = lm.measure(dimmed(images, light, np.random.default_rng(3)))
+    assert r.confidence == 1.0
+    assert abs(r.lateral_offset_m - float(d["lateral_offset_m"])) < 0.005
+    assert abs(math.degrees(r.heading_error_rad - float(d["heading_error_rad"]))) < 1.0
+    assert r.crosswalk_seen == (name == "near_crosswalk")
+
+
+def test_the_lane_inside_the_d4_tunnel():
+    """Rendered by the simulator in the D4 world (render_test_images d4_in_tunnel): the lines at 89
+    of 255 under the tunnel's light, grey walls; the fixed threshold alone sees one line (the left
+    camera's view leaves the tunnel), the line mask both."""
+    d, lm, images = load("d4_in_tunnel")
+    r = lm.measure(images)
+    assert r.confidence == 1.0
+    assert abs(r.lateral_offset_m - float(d["lateral_offset_m"])) < 0.005
+    assert abs(math.degrees(r.heading_error_rad - float(d["heading_error_rad"]))) < 1.5
+    assert not white_mask(images[1], lm.config.white_threshold).any()
+    fixed_threshold_only = LaneMeasurement(lm.ground_maps, replace(lm.config, min_contrast=256))
+    assert fixed_threshold_only.measure(images).confidence < 1.0
+
+
+def test_the_lane_across_a_light_boundary():
+    """Entering the tunnel: the far part of the view dark, the near part lit."""
+    d, lm, images = load("left_5cm")
+    dark = dimmed(images, 0.35, np.random.default_rng(4))
+    mixed = [np.concatenate([dk[:70], img[70:]]) for dk, img in zip(dark, images)]
+    r = lm.measure(mixed)
+    assert r.confidence == 1.0
+    assert abs(r.lateral_offset_m - float(d["lateral_offset_m"])) < 0.005
+
+
+def test_grey_noise_in_the_dark_is_no_line():
+    _, lm, images = load("centred")
+    rng = np.random.default_rng(5)
+    noise = [np.clip(rng.normal(30.0, 8.0, img.shape), 0, 255).astype(np.uint8) for img in images]
+    assert not line_mask(noise[0], lm.config).any()
+    assert lm.measure(noise).confidence == 0.0
+
+
+def test_line_mask_keeps_every_white_pixel():
+    _, lm, images = load("near_crosswalk")
+    for img in images:
+        white = white_mask(img, lm.config.white_threshold)
+        assert white.any() and np.all(line_mask(img, lm.config)[white])
+
+
+def synthetic_setup():
+    d, _, _ = load("centred")
+    cams = [(d[f"{k}_K"], d[f"{k}_D"], d[f"{k}_T_base_optical"]) for k in ("left", "right")]
+    fine = [synthetic_views.supersampled_map(160, 120, *cam) for cam in cams]
+    return fine, [GroundMap.from_camera(160, 120, *cam) for cam in cams]
+
+
+VIEWS = [(0.0, 0.0), (0.05, 0.0), (-0.05, 0.0), (0.0, math.radians(10)), (0.03, math.radians(-8))]
+
+
+@pytest.mark.parametrize("lane_width_m", [0.709, 0.746, 0.783])  # nominal +- 5 %
+@pytest.mark.parametrize("right_width_m, left_width_m",
+                         [(0.05, 0.05), (0.10, 0.10), (0.085, 0.036), (0.05, 0.10), (0.10, 0.05)])
+def test_lanes_drawn_within_the_rules(lane_width_m, right_width_m, left_width_m):
+    """Line widths 5 to 10 cm, lane width +-5 %: the measured lane centre is the one between the
+    lines' inner edges within 3 cm (the lines' widths are not measured: the configured midpoint
+    between them is off by a quarter of the difference of the widths from the nominal), heading
+    within 3 deg."""
+    fine, maps = synthetic_setup()
+    lane = synthetic_views.StraightLane(lane_width_m=lane_width_m, right_width_m=right_width_m,
+                                        left_width_m=left_width_m)
+    for offset_m, heading_rad in VIEWS:
+        r = LaneMeasurement(maps).measure([synthetic_views.render(f, lane, offset_m, heading_rad) for f in fine])
+        assert r.confidence == 1.0
+        assert abs(r.lateral_offset_m - offset_m) < 0.03
+        assert abs(math.degrees(r.heading_error_rad - heading_rad)) < 3.0
+
+
+def test_the_line_separation_is_learnt_and_serves_when_one_line_is_seen():
+    """A lane 5 % wider: after frames showing both lines, a frame with the centre line out of
+    sight (the left camera black) is measured from the edge line and the learnt separation."""
+    fine, maps = synthetic_setup()
+    lane = synthetic_views.StraightLane(lane_width_m=0.783)
+    true_separation_m = 0.783 + (0.085 + 0.036) / 2
+    both = [synthetic_views.render(f, lane, 0.02, 0.0) for f in fine]
+    one_line = [np.zeros_like(both[0]), both[1]]
+    fresh = LaneMeasurement(maps)
+    nominal_error_m = abs(fresh.measure(one_line).lateral_offset_m - 0.02)
+    assert nominal_error_m > 0.015  # half the separation's change: why it is learnt
+    lm = LaneMeasurement(maps)
+    for _ in range(20):
+        lm.measure(both)
+    assert lm.line_separation_m == pytest.approx(true_separation_m, abs=0.01)
+    r = lm.measure(one_line)
+    assert r.confidence == 0.5
+    assert abs(r.lateral_offset_m - 0.02) < 0.006
+
+
+def test_the_line_separation_stays_within_its_limits():
+    fine, maps = synthetic_setup()
+    lane = synthetic_views.StraightLane(lane_width_m=0.746 * 1.4)  # far outside the rules
+    lm = LaneMeasurement(maps)
+    for _ in range(20):
+        lm.measure([synthetic_views.render(f, lane, 0.0, 0.0) for f in fine])
+    limit_m = lm.configured_separation_m * (1 + lm.config.max_separation_change)
+    assert lm.line_separation_m <= limit_m + 1e-9
+
+
+# --- junctions ------------------------------------------------------------------------------------
+
+@pytest.mark.parametrize("name", ["merge_right_corner_ahead", "fork_right_corner_ahead"])
+def test_the_edge_line_turning_away_at_a_right_turns_corner(name):
+    """The right turn's arc begins at the corner (CORNER_AHEAD_M); the edge line leaves its band
+    about the corner's radius later."""
+    _, lm, images = load(name)
+    r = lm.measure(images)
+    expected_m = CORNER_AHEAD_M[name] + EDGE_CORNER_RADIUS_M
+    assert r.right_line_end_m == pytest.approx(expected_m, abs=0.03)
+
+
+def test_the_centre_line_ending_before_the_left_branch():
+    _, lm, images = load("fork_left_corner_ahead")
+    r = lm.measure(images)
+    assert math.isnan(r.right_line_end_m)  # the edge line on the right runs on past the fork
+    assert CORNER_AHEAD_M["fork_left_corner_ahead"] - 0.2 < r.left_line_end_m < CORNER_AHEAD_M["fork_left_corner_ahead"]
+
+
+@pytest.mark.parametrize("name", POSES)
+def test_no_line_ends_on_the_straight(name):
+    """The dashed line's gaps (0.148 m) are no end; lines running beyond the view have none."""
+    _, lm, images = load(name)
+    r = lm.measure(images)
+    assert math.isnan(r.right_line_end_m) and math.isnan(r.left_line_end_m)
+
+
+class EdgeLineBesideABay(synthetic_views.StraightLane):
+    """A junction's gap in the centre line, beside a parking bay: a thin edge line and, 0.3 m to
+    its right, the bay's wider border."""
+
+    def paint(self, along_m, left_m):
+        edge = -self.lane_width_m / 2
+        right = (left_m <= edge) & (left_m >= edge - self.right_width_m)
+        bay = (left_m <= edge - 0.30) & (left_m >= edge - 0.39)
+        return np.where(right | bay, self.white, self.black)
+
+
+def test_the_line_followed_before_is_kept_when_a_stronger_one_is_beside_it():
+    fine, maps = synthetic_setup()
+    lm = LaneMeasurement(maps)
+    both = lm.measure([synthetic_views.render(f, synthetic_views.StraightLane(right_width_m=0.055), 0.02, 0.0)
+                       for f in fine])
+    gap = [synthetic_views.render(f, EdgeLineBesideABay(right_width_m=0.055), 0.02, 0.0) for f in fine]
+    assert abs(lm.measure(gap).lateral_offset_m - 0.02) > 0.2  # afresh: the bay's border taken for the edge line
+    prior = lm.next_prior(both)
+    for _ in range(5):
+        r = lm.measure(gap, prior)
+        assert r.confidence == 0.5 and abs(r.lateral_offset_m - 0.02) < 0.02
+        prior = lm.next_prior(r)
+
+
+def test_a_prior_whose_lines_are_gone_falls_back_to_a_fresh_search():
+    d, lm, images = load("centred")
+    r = lm.measure(images, prior=np.array([5.0, 0.0, 0.0]))  # bands 5 m to the left: nothing there
+    assert r.confidence == 1.0 and abs(r.lateral_offset_m - float(d["lateral_offset_m"])) < 0.005
+    assert lm.next_prior(LaneResult()) is None

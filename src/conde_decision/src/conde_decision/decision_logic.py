@@ -32,6 +32,17 @@ worlds/tracks/competition_track.geometry.yaml):
   starts `loop_exit_m` further on, and merge_right / merge_left fires.  Without odometry the
   merges never fire.
 
+Junction corners from the cameras: a lane measurement whose right (edge) line ends between
+min_line_end_m and corner_sight_m ahead (conde_tracking's right_line_end_m) shows the corner of a
+right turn: the edge line leaves its band corner_line_offset_m beyond the corner, where it turns
+away.  The corner's place along the road is kept (the latest sighting) and, corner_lead_m before
+the robot reaches it, a fork_right or merge_right fires, from junction_window_m before the stored
+distance (fork_distance_m, loop_exit_m) on: the turn's arc begins at the corner the robot sees.
+The stored distances arm the search; junction_fallback_m after them the turn begins anyway (on a
+track seed with a 3.6 % longer y the stored fork distance came 19 cm before the corner).
+Left turns have no such mark yet (the dashed centre line ends somewhere within a dash period
+before the branch): they begin at the stored distances.
+
 Where the robot is along the road is measured by odometry (the path length on_odometry is given)
 or, without it, dead-reckoned from the speed it is commanded (ramped at speed_ramp_mps2 with
 conde_common's rate limiter, which conde_control uses for its acceleration limit, so that the
@@ -57,6 +68,10 @@ Commands (the state's `command` in the YAML):
   measures the robot against the lane it is in (the lane it leaves, then the branch);
 * speed ``creep`` / ``reverse``: forward / backward at park_speed_mps, blind (an arc with
   branch and radius_m, else straight on): the parking manoeuvres (parking.py);
+* lane_aligned: in such an arc, past half its distance_m, the cameras see the lane the turn leads
+  to with both lines and the robot heads along it within lane_aligned_rad: the turn can end there,
+  as the cameras see it, rather than after its stored length (the arc's radius is what the robot
+  drives, which lags: it ended about 10 deg past the new lane and 9 cm inside it);
 * distance_m: the event distance_elapsed fires after that distance in the state (driven either
   way: forward or backward).
 
@@ -112,6 +127,17 @@ class DecisionConfig:
     loop_exit_tolerance_rad: float = 0.087  # the loop counts as done this much before its full sweep [rad]
     loop_lane_radii_m: Tuple[float, ...] = (2.5685, 1.7865)  # lane radius of the loop after each fork of fork_sides [m]
     loop_exit_m: float = 1.1775  # end of the loop's arc to the start of the turn onto the central road [m]
+    # a turn's corner seen by the cameras counts from this far before the stored distance [m]
+    junction_window_m: float = 0.6
+    # where the cameras mark the corner (right turns), the stored distance is the fallback this much later [m]
+    junction_fallback_m: float = 0.3
+    corner_sight_m: float = 0.6  # a right edge line ending within this distance ahead marks a corner [m]
+    # ... the corner lies this much before the line's end: where the edge line, turning away with
+    # the corner's radius (0.19 m on the competition track), leaves its band [m] (measured: 0.19-0.22)
+    corner_line_offset_m: float = 0.21
+    corner_lead_m: float = 0.05  # the turn begins this far before the corner: the robot follows its commands late [m]
+    min_line_end_m: float = 0.1  # line ends nearer than this are no measurement (an unset field is 0) [m]
+    lane_aligned_rad: float = 0.1  # lane_aligned: heading error within this of the lane seen in an arc [rad]
     branch_offset_m: float = 0.2  # peak lateral offset reference while taking a branch [m] (+ = left branch)
     branch_heading_rad: float = 0.0  # peak heading reference while taking a branch [rad] (+ = left branch)
     min_signal_confidence: float = 0.5  # panel signals below this confidence are ignored
@@ -152,7 +178,9 @@ class DecisionConfig:
                      "lane_lost_timeout_s", "max_step_s", "park_speed_mps"):
             need(name, getattr(self, name) > 0, "must be > 0")
         for name in ("stop_margin_m", "crosswalk_rearm_m", "fork_distance_m", "branch_offset_m", "loop_sweep_rad",
-                     "loop_exit_tolerance_rad", "loop_exit_m"):
+                     "loop_exit_tolerance_rad", "loop_exit_m", "junction_window_m", "junction_fallback_m",
+                     "corner_sight_m",
+                     "corner_line_offset_m", "corner_lead_m", "min_line_end_m", "lane_aligned_rad"):
             need(name, getattr(self, name) >= 0, "must be >= 0")
         for name in ("min_signal_confidence", "min_lane_confidence"):
             need(name, 0 <= getattr(self, name) <= 1, "must be in [0, 1]")
@@ -200,6 +228,7 @@ class DecisionLogic:
         self.speed = SpeedProfile(config.cruise_speed_mps, config.speed_ramp_mps2, config.brake_decel_mps2,
                                   config.stop_margin_m, config.park_speed_mps)
         self.parking_event = parking_event(check_parking_place(config.parking_place))
+        self.right_corner_at_m: Optional[float] = None  # travelled_m at the right-turn corner last seen
         self.last_time_s: Optional[float] = None
         self.state_entry_m = 0.0  # travelled_m when the current state was entered
         self.distance_fired = False  # distance_elapsed already fired in this state
@@ -249,8 +278,9 @@ class DecisionLogic:
         self.last_time_s = time_s
         self.crosswalk.advance(self.road.advance(abs(self.speed.v_mps) * dt_s))
         self.crosswalk.on_sighting(lane.crosswalk_seen, lane.crosswalk_distance_m)
-        self._crosswalk_and_fork_events(time_s)
-        merge = self.forks.loop_exit(self.road.yaw_rad, self.road.travelled_m)
+        corners = self.corners_seen(lane)
+        self._crosswalk_and_fork_events(time_s, corners)
+        merge = self.forks.loop_exit(self.road.yaw_rad, self.road.travelled_m, corners)
         if merge is not None:
             self._fire(merge)
         if self.parking_event in self.machine.spec.states[self.state].transitions:
@@ -260,6 +290,9 @@ class DecisionLogic:
                 and self.road.travelled_m - self.state_entry_m >= command.distance_m - 1e-9):
             self.distance_fired = True
             self._fire("distance_elapsed")
+        command = self.machine.command
+        if self._lane_aligned_in_arc(lane, command):
+            self._fire("lane_aligned")
         command = self.machine.command
 
         blind_arc = command.radius_m is not None or command.speed in BLIND_SPEEDS
@@ -301,7 +334,21 @@ class DecisionLogic:
             if self.state != before:
                 self.speed.unlatch()
 
-    def _crosswalk_and_fork_events(self, time_s: float) -> None:
+    def corners_seen(self, lane) -> Tuple[str, ...]:
+        """("right",) when the robot is (within corner_lead_m) at the corner of a right turn that
+        the cameras showed (this lane measurement or earlier ones), else ()."""
+        c = self.config
+        end_m = getattr(lane, "right_line_end_m", float("nan"))
+        travelled_m = self.road.travelled_m
+        if c.min_line_end_m <= end_m <= c.corner_sight_m:
+            self.right_corner_at_m = travelled_m + end_m - c.corner_line_offset_m
+        elif self.right_corner_at_m is not None and travelled_m > self.right_corner_at_m + c.corner_sight_m:
+            self.right_corner_at_m = None  # long passed
+        if self.right_corner_at_m is not None and travelled_m >= self.right_corner_at_m - c.corner_lead_m:
+            return ("right",)
+        return ()
+
+    def _crosswalk_and_fork_events(self, time_s: float, corners: Tuple[str, ...] = ()) -> None:
         if self.crosswalk.reached():
             lap_done = self.lap_counter.on_crossing(time_s)
             self._fire("crosswalk_reached")
@@ -311,11 +358,19 @@ class DecisionLogic:
             self.forks.on_crosswalk_left()
             self.speed.unlatch()
             self._fire("crosswalk_left")
-        event, note = self.forks.at_fork(self.crosswalk.since_left_m, self.road.yaw_rad)
+        event, note = self.forks.at_fork(self.crosswalk.since_left_m, self.road.yaw_rad, corners)
         if note:
             self.notes.append(note)
         if event is not None:
             self._fire(event)
+
+    def _lane_aligned_in_arc(self, lane, command) -> bool:
+        """In an arc driven blind, past half its distance: the cameras see the lane the turn leads
+        to (both lines) and the robot heads along it."""
+        if command.radius_m is None or command.distance_m is None:
+            return False
+        return (self.road.travelled_m - self.state_entry_m >= 0.5 * command.distance_m
+                and lane.confidence >= 1.0 and abs(lane.heading_error_rad) <= self.config.lane_aligned_rad)
 
     def _branch_shape(self, command) -> float:
         """0..1: trapezoid over the state's distance (rise 1/4, hold to 1/2, fall to the end)."""

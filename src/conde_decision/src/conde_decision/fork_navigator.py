@@ -2,18 +2,24 @@
 straight on from a fork joins the central road again.  Pure Python, no ROS.
 
 `config` is any object with the fields fork_distance_m, fork_sides, fork_forward,
-loop_lane_radii_m, loop_sweep_rad, loop_exit_tolerance_rad and loop_exit_m (DecisionConfig; their
-meaning is in the docstring of decision_logic).
+loop_lane_radii_m, loop_sweep_rad, loop_exit_tolerance_rad, loop_exit_m, junction_window_m and
+junction_fallback_m (DecisionConfig; their meaning is in the docstring of decision_logic).
 
 The last direction signal before a fork chooses: the side the fork opens to gives fork_left /
 fork_right, the other side fork_straight (with a note: that order cannot be obeyed), "forward" what
 fork_forward says for that fork.  The order is used up at the fork.  Straight on, the loop beyond
 the fork turns toward the fork's side; once the heading has turned through the loop's sweep (less
 loop_exit_tolerance_rad) and the robot has driven loop_exit_m (plus the arc that the tolerance
-leaves at the loop's lane radius) further, merge_right / merge_left fires."""
+leaves at the loop's lane radius) further, merge_right / merge_left fires.
+
+What the cameras see comes first: a turn toward a side whose corners the cameras mark
+(`marked_sides`) fires when the caller passes that side in `corners_seen`, from junction_window_m
+before the stored distance on; the stored distance is then only the fallback, junction_fallback_m
+after it (on a track drawn differently the corner may lie further).  Turns to other sides fire at
+the stored distances."""
 
 from dataclasses import dataclass
-from typing import Optional, Tuple
+from typing import Optional, Sequence, Tuple
 
 
 @dataclass
@@ -28,8 +34,9 @@ class LoopExit:
 
 
 class ForkNavigator:
-    def __init__(self, config):
+    def __init__(self, config, marked_sides: Sequence[str] = ("right",)):
         self.config = config
+        self.marked_sides = tuple(marked_sides)  # the sides whose corners the cameras mark
         self.direction_order = "forward"  # the last direction signal, used up at the next fork
         self.fork_pending = False  # the robot left a crosswalk and has not reached the fork after it
         self.forks_passed = 0
@@ -42,20 +49,33 @@ class ForkNavigator:
     def on_crosswalk_left(self) -> None:
         self.fork_pending = True
 
-    def at_fork(self, since_crosswalk_m: Optional[float], yaw_rad: Optional[float]) -> Tuple[Optional[str], str]:
-        """(event, note) once the robot is fork_distance_m past the crosswalk's far edge: the event
-        is fork_left, fork_right or fork_straight, the note says why an order was not obeyed ("" if
-        it was).  (None, "") before the fork."""
+    def _next_fork(self) -> Tuple[int, str, str]:
+        """(index in fork_sides, the side it opens to, the way the order takes there: a side or "forward")."""
         c = self.config
-        if not (self.fork_pending and since_crosswalk_m >= c.fork_distance_m):
-            return None, ""
-        self.fork_pending = False
         fork = self.forks_passed % len(c.fork_sides)
-        side = c.fork_sides[fork]
-        self.forks_passed += 1
-        order, self.direction_order = self.direction_order, "forward"
+        side, order = c.fork_sides[fork], self.direction_order
         if order == "forward" and c.fork_forward[fork] == "branch":
             order = side
+        return fork, side, order
+
+    def at_fork(self, since_crosswalk_m: Optional[float], yaw_rad: Optional[float],
+                corners_seen: Sequence[str] = ()) -> Tuple[Optional[str], str]:
+        """(event, note) once the robot is fork_distance_m past the crosswalk's far edge, or up to
+        junction_window_m earlier where the cameras see the corner of the branch it takes
+        (corners_seen: "left" / "right"): the event is fork_left, fork_right or fork_straight, the
+        note says why an order was not obeyed ("" if it was).  (None, "") before the fork."""
+        c = self.config
+        if not self.fork_pending or since_crosswalk_m is None:
+            return None, ""
+        fork, side, order = self._next_fork()
+        marked = order == side and side in self.marked_sides
+        seen = marked and side in corners_seen and since_crosswalk_m >= c.fork_distance_m - c.junction_window_m
+        due_m = c.fork_distance_m + (c.junction_fallback_m if marked else 0.0)
+        if not (seen or since_crosswalk_m >= due_m):
+            return None, ""
+        self.fork_pending = False
+        self.forks_passed += 1
+        self.direction_order = "forward"
         if order == side:
             return "fork_" + side, ""
         note = ""
@@ -67,9 +87,11 @@ class ForkNavigator:
                              merge="right" if side == "left" else "left")
         return "fork_straight", note
 
-    def loop_exit(self, yaw_rad: Optional[float], travelled_m: float) -> Optional[str]:
+    def loop_exit(self, yaw_rad: Optional[float], travelled_m: float,
+                  corners_seen: Sequence[str] = ()) -> Optional[str]:
         """merge_left / merge_right where the loop driven after a fork_straight turns back onto the
-        central road, else None; yaw_rad: unwrapped heading [rad], travelled_m: distance [m]."""
+        central road (up to junction_window_m earlier where the cameras see that turn's corner,
+        corners_seen), else None; yaw_rad: unwrapped heading [rad], travelled_m: distance [m]."""
         c, loop = self.config, self.loop
         if loop is None or yaw_rad is None:
             return None
@@ -79,7 +101,14 @@ class ForkNavigator:
             if loop.sign * (yaw_rad - loop.yaw0_rad) >= c.loop_sweep_rad - c.loop_exit_tolerance_rad:
                 loop.exit_mark_m = travelled_m
             return None
-        if travelled_m - loop.exit_mark_m >= c.loop_exit_m + c.loop_exit_tolerance_rad * loop.radius_m:
+        exit_m = c.loop_exit_m + c.loop_exit_tolerance_rad * loop.radius_m
+        driven_m = travelled_m - loop.exit_mark_m
+        if loop.merge in self.marked_sides:
+            seen = loop.merge in corners_seen and driven_m >= exit_m - c.junction_window_m
+            due = driven_m >= exit_m + c.junction_fallback_m
+        else:
+            seen, due = False, driven_m >= exit_m
+        if seen or due:
             self.loop = None
             return "merge_" + loop.merge
         return None

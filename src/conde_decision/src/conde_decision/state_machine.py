@@ -62,6 +62,8 @@ EVENTS = OrderedDict([
     ("parking_parallel", "the parking place chosen is the parallel bay (fires in every step)"),
     ("parking_bay_north", "the parking place chosen is the north bay of the bay-parking area (every step)"),
     ("parking_bay_south", "the parking place chosen is the south bay of the bay-parking area (every step)"),
+    ("lane_aligned", "in an arc driven blind (command.radius_m), past half its command.distance_m, the cameras see "
+                     "a lane with both lines and the robot heading along it (within lane_aligned_rad)"),
 ])
 
 SPEEDS = ("cruise", "stop", "stop_at_crosswalk", "creep", "reverse")
@@ -186,6 +188,9 @@ def parse_state_machine(data, source: str) -> StateMachineSpec:
                      % (event, ", ".join(EVENTS)))
             if event == "distance_elapsed" and command.distance_m is None:
                 fail("%s.on.%s" % (where, event), "the state has no command.distance_m, so the event never fires")
+            if event == "lane_aligned" and (command.radius_m is None or command.distance_m is None):
+                fail("%s.on.%s" % (where, event),
+                     "the state has no command.radius_m and command.distance_m (an arc), so the event never fires")
         states[name] = State(name, command, dict(transitions), description)
 
     for name, state in states.items():

@@ -1,16 +1,25 @@
 """Lane measurement from Conde's two ground cameras.  Pure numpy, no ROS.
 
 Pipeline per image pair:
-  1. white pixels (every channel >= white_threshold) of both images -> ground points in
-     base_footprint through each camera's GroundMap (ipm.py);
+  1. line pixels of both images (line_mask: bright in every channel, either >= white_threshold
+     or, where the light is dimmer (a tunnel, a shadow), bright relative to the brightest pixel
+     around them and well above the dark road around them) -> ground points in base_footprint
+     through each camera's GroundMap (ipm.py);
   2. the lane centre ahead is modelled as y = c0 + c1 x + c2 x^2 in base_footprint (x forward,
      y left); its right line (solid edge line) lies right_line_offset_m and its left line (the
      dashed centre line) left_line_offset_m from it, measured along the normal.  Without a
      prior fit a coarse grid search picks the model that puts most white points on the two
-     lines; then a few rounds of windowed least squares refine it with both lines together;
+     lines; then a few rounds of windowed least squares refine it with both lines together.
+     Tracks differ (the rules allow +-5 % on the lane width, line widths of 5 to 10 cm): where
+     both lines are seen over a long enough stretch, the distance between their centres is
+     fitted too (within max_separation_change of the configured one) and kept, smoothed, for the
+     frames that see only one line;
   3. lateral offset = signed distance from base_footprint to the centre curve (+ = robot left
      of it), heading error = -atan(c1) (+ = robot points left of the lane);
-  4. crosswalk: along the lane, in its interior (between the lines), the share of white
+  4. line ends: where a line of the fit stops although the cameras see the ground of its band
+     for end_gap_m further (at a junction the edge line turns away, the centre line ends), its
+     distance ahead; the decision starts the junction's turns from it;
+  5. crosswalk: along the lane, in its interior (between the lines), the share of white
      pixels per distance bin: a bar across the whole lane (share >= bar_share) followed by
      the stripes (share >= stripe_share), with observed black lane before the bar, is a
      crosswalk; its distance is the near edge of the bar.
@@ -25,6 +34,7 @@ import math
 from dataclasses import dataclass, field
 from typing import Optional, Sequence
 
+import cv2
 import numpy as np
 
 from conde_tracking.ipm import GroundMap
@@ -34,14 +44,27 @@ from conde_tracking.ipm import GroundMap
 class LaneConfig:
     right_line_offset_m: float = -(0.8065 - 0.391)  # centre of the solid edge line from the lane centre (+ = left)
     left_line_offset_m: float = 0.391  # centre of the dashed centre line from the lane centre
-    white_threshold: int = 140  # [0..255] every RGB channel at least this
+    white_threshold: int = 140  # [0..255] every RGB channel at least this: a line pixel in any light
+    # Dimmer light (the tunnel's 0.35): a pixel is also a line pixel where its darkest channel is at
+    # least relative_white of the brightest one within local_window_px, and that brightest one is
+    # at least min_contrast above the darkest one within background_window_px (the road around).
+    relative_white: float = 0.55
+    min_contrast: int = 40  # [0..255]
+    local_window_px: int = 9  # [px] (odd)
+    background_window_px: int = 25  # [px] (odd), wider than the widest line seen near the robot
     fit_range_m: Sequence[float] = (0.0, 1.3)  # x range [m] of the points used for the lane fit
     near_weight_length_m: float = 0.4  # a point's fit weight is 1 / (1 + x / this)^2 [m]
     max_abs_y_m: float = 1.3  # points farther to the side are ignored [m]
     line_window_m: float = 0.06  # half width of the band around a predicted line centre [m]
+    max_separation_change: float = 0.15  # the measured line separation stays within this share of the configured one
+    min_separation_extent_m: float = 0.3  # each line seen over this x extent for the separation to be fitted [m]
+    separation_smoothing: float = 0.2  # weight of a frame's measured separation in the kept one (0..1)
     min_line_points: int = 25  # white pixels for a line to count as found
     min_line_extent_m: float = 0.15  # ... spread over at least this distance along x [m]
     search_points: int = 300  # points used by the coarse grid search (subsampled)
+    # a line ends where its band is seen this far beyond its last point without it [m] (> a dash gap)
+    end_gap_m: float = 0.25
+    min_end_gap_points: int = 40  # ground pixels in that stretch of the band for it to count as seen
     crosswalk_range_m: Sequence[float] = (0.0, 1.6)  # x range [m] searched for the crosswalk
     crosswalk_bin_m: float = 0.02
     crosswalk_half_width_m: float = 0.25  # half width of the lane interior used [m]
@@ -67,6 +90,8 @@ class LaneResult:
     confidence: float = 0.0
     crosswalk_seen: bool = False
     crosswalk_distance_m: float = float("nan")
+    right_line_end_m: float = float("nan")  # x [m] where the right (edge) line ends ahead; NaN: runs on beyond view
+    left_line_end_m: float = float("nan")  # ... the left (centre) line
     fit: Optional[LaneFit] = None
     right_points: np.ndarray = field(default_factory=lambda: np.zeros((0, 2)))
     left_points: np.ndarray = field(default_factory=lambda: np.zeros((0, 2)))
@@ -78,6 +103,27 @@ def white_mask(image, threshold):
     if img.ndim == 2:
         return img >= threshold
     return np.all(img >= threshold, axis=2)
+
+
+def line_mask(image, config):
+    """Boolean (H, W) mask of the pixels of white road markings in any light (LaneConfig's
+    white_threshold, relative_white, min_contrast and the two windows).
+
+    A white line under dimmer light is grey, but still much brighter than the black road next to
+    it: a pixel counts when its darkest channel is >= white_threshold, or >= relative_white times
+    the brightest darkest-channel value within local_window_px of it while that value is at least
+    min_contrast above the road's level within background_window_px (the darkest 5 x 5 mean).
+    Uniform road (also grey-level noise on it) has no such contrast; the wide background window
+    reaches the road beside a wide line seen up close."""
+    img = np.asarray(image)
+    grey = img if img.ndim == 2 else img.min(axis=2)
+    grey = np.ascontiguousarray(grey, dtype=np.uint8)
+    bright = cv2.dilate(grey, np.ones((config.local_window_px, config.local_window_px), np.uint8))
+    # the road's level around: the darkest of the 5 x 5 means, so that single noisy pixels do not count
+    smooth = cv2.blur(grey, (5, 5))
+    dark = cv2.erode(smooth, np.ones((config.background_window_px, config.background_window_px), np.uint8))
+    relative = (grey >= config.relative_white * bright) & (bright.astype(np.int16) - dark >= config.min_contrast)
+    return (grey >= config.white_threshold) | relative
 
 
 def _line_positions(coeffs, x, offset_m):
@@ -96,6 +142,11 @@ class LaneMeasurement:
         self.ground_maps = list(ground_maps)
         self.config = config
         self._grid_axes = self._search_grid()
+        # Lines at midline +- separation / 2 from the lane centre: the midpoint between the lines
+        # stays as configured, the separation [m] is measured (see the module's docstring).
+        self._midline_m = 0.5 * (config.right_line_offset_m + config.left_line_offset_m)
+        self.configured_separation_m = config.left_line_offset_m - config.right_line_offset_m
+        self.line_separation_m = self.configured_separation_m
         # The pixels that see the ground never change: their indices per map and their ground
         # points (all maps, in order) are taken once; a frame only reads its white flags.
         self._ground_pixels = []
@@ -120,7 +171,7 @@ class LaneMeasurement:
         """White ground points (N, 2) [m] of all images together, and all ground points (M, 2) with a
         white flag (M,) for the crosswalk search."""
         c = self.config
-        flags = np.concatenate([white_mask(img, c.white_threshold).reshape(-1)[pixels]
+        flags = np.concatenate([line_mask(img, c).reshape(-1)[pixels]
                                 for img, pixels in zip(images, self._ground_pixels)])
         return self._ground_xy[flags], self._ground_xy, flags
 
@@ -146,7 +197,7 @@ class LaneMeasurement:
         high = (shift + (c0s + c.line_window_m)[None, :]).ravel()
         low = (shift + (c0s - c.line_window_m)[None, :]).ravel()
         score = np.zeros(len(shapes) * len(c0s), dtype=np.int64)
-        for offset in (c.right_line_offset_m, c.left_line_offset_m):
+        for offset in self.line_offsets(self.line_separation_m):
             r = (np.sort(base - offset * k, axis=1) + shift).ravel()
             score += np.searchsorted(r, high, "left") - np.searchsorted(r, low, "right")
         score = score.reshape(len(shapes), len(c0s))
@@ -154,6 +205,10 @@ class LaneMeasurement:
         best = int(np.argmax(score.T.reshape(-1)))
         c0_index, shape_index = divmod(best, len(shapes))
         return np.array([c0s[c0_index], shapes[shape_index, 0], shapes[shape_index, 1]])
+
+    def line_offsets(self, separation_m):
+        """(right, left) line-centre offsets [m] from the lane centre for a line separation [m]."""
+        return self._midline_m - 0.5 * separation_m, self._midline_m + 0.5 * separation_m
 
     def _line_found(self, pts):
         c = self.config
@@ -171,26 +226,45 @@ class LaneMeasurement:
         coeffs = np.asarray(prior, float).copy() if prior is not None else self._coarse_search(pts)
         x, y = pts[:, 0], pts[:, 1]
         right = left = np.zeros(len(pts), bool)
+        separation_m, separation_fitted = self.line_separation_m, False
         for window in (c.line_window_m, c.line_window_m, 0.75 * c.line_window_m, 0.75 * c.line_window_m):
-            right = np.abs(y - _line_positions(coeffs, x, c.right_line_offset_m)) < window
-            left = np.abs(y - _line_positions(coeffs, x, c.left_line_offset_m)) < window
+            right_m, left_m = self.line_offsets(separation_m)
+            right = np.abs(y - _line_positions(coeffs, x, right_m)) < window
+            left = np.abs(y - _line_positions(coeffs, x, left_m)) < window
             found_r, found_l = self._line_found(pts[right]), self._line_found(pts[left])
             use = (right & found_r) | (left & found_l)
             if not use.any():
                 return None, empty, empty
-            slope = coeffs[1] + 2 * coeffs[2] * x[use]
-            offs = np.where(right[use], c.right_line_offset_m, c.left_line_offset_m)
-            target = y[use] - offs * np.sqrt(1.0 + slope * slope)  # centre-line y implied by each point
             xu = x[use]
+            slope = coeffs[1] + 2 * coeffs[2] * xu
+            k = np.sqrt(1.0 + slope * slope)
+            side = np.where(right[use], -0.5, 0.5)  # the line's offset is midline + side * separation
             # one line only, or a short x extent: a parabola is not determined well; keep it straight
             degree = 2 if (found_r and found_l and np.ptp(xu) > 0.6) else 1
             A = np.column_stack([np.ones_like(xu), xu, xu * xu][:degree + 1])
             # Near points weigh more: the heading is wanted at the robot (x = 0), and a parabola
             # over the whole range bends toward a curve that begins (or ends) further ahead.
             sqrt_w = 1.0 / (1.0 + xu / c.near_weight_length_m)
-            sol = np.linalg.lstsq(A * sqrt_w[:, None], target * sqrt_w, rcond=None)[0]
+            separation_fitted = (found_r and found_l and np.ptp(x[right]) >= c.min_separation_extent_m
+                                 and np.ptp(x[left]) >= c.min_separation_extent_m)
+            if separation_fitted:
+                # the separation is one more unknown: y = centre(x) + (midline + side * separation) k
+                sol = np.linalg.lstsq(np.column_stack([A, side * k]) * sqrt_w[:, None],
+                                      (y[use] - self._midline_m * k) * sqrt_w, rcond=None)[0]
+                limit_m = c.max_separation_change * self.configured_separation_m
+                separation_m = min(max(sol[-1], self.configured_separation_m - limit_m),
+                                   self.configured_separation_m + limit_m)
+                # outside the limits (other lines in the bands, e.g. at a junction): the centre is
+                # fitted again below for the limit, and this frame's separation is not kept
+                separation_fitted = separation_m == sol[-1]
+                sol = sol[:-1]
+            if not separation_fitted:
+                target = y[use] - (self._midline_m + side * separation_m) * k  # centre-line y implied by each point
+                sol = np.linalg.lstsq(A * sqrt_w[:, None], target * sqrt_w, rcond=None)[0]
             coeffs = np.zeros(3)
             coeffs[:degree + 1] = sol
+        if separation_fitted:
+            self.line_separation_m += c.separation_smoothing * (separation_m - self.line_separation_m)
         return LaneFit(coeffs, bool(found_r), bool(found_l)), pts[right], pts[left]
 
     def find_crosswalk(self, coeffs, everything, flags):
@@ -226,11 +300,36 @@ class LaneMeasurement:
             i = j
         return False, float("nan")
 
+    @staticmethod
+    def next_prior(result: LaneResult) -> Optional[np.ndarray]:
+        """The prior for the next frame: this frame's fit, also when it found one line only.  A
+        fresh search with one line in view takes the strongest line parallel to the lane, e.g. a
+        parking bay's border beside a thin edge line where the centre line has a gap at a junction;
+        following the line fitted before keeps the lane."""
+        return result.fit.coeffs if result.fit is not None else None
+
+    def line_end(self, coeffs, offset_m, line_pts, everything):
+        """x [m] of the last point of a line (offset_m from the centre curve) when its band is seen,
+        without the line, for end_gap_m beyond it; NaN when the line runs on beyond the view (or
+        the fit's range), or was not found."""
+        c = self.config
+        if not self._line_found(line_pts):
+            return float("nan")
+        end_m = float(line_pts[:, 0].max())
+        x = everything[:, 0]
+        beyond = (x > end_m + 0.02) & (x <= end_m + c.end_gap_m)
+        if end_m + c.end_gap_m > c.fit_range_m[1]:
+            return float("nan")
+        in_band = np.abs(everything[beyond, 1] - _line_positions(coeffs, x[beyond], offset_m)) < c.line_window_m
+        return end_m if np.count_nonzero(in_band) >= c.min_end_gap_points else float("nan")
+
     def measure(self, images, prior: Optional[np.ndarray] = None) -> LaneResult:
         """LaneResult from one image per ground map (same order), optionally starting from the
         previous fit's coefficients."""
         pts, everything, flags = self.ground_white(images)
         fit, rpts, lpts = self.fit_lane(pts, prior)
+        if fit is None and prior is not None:  # the lines left the prior's bands: search afresh
+            fit, rpts, lpts = self.fit_lane(pts)
         if fit is None:
             return LaneResult()
         c0, c1 = fit.coeffs[0], fit.coeffs[1]
@@ -238,4 +337,7 @@ class LaneMeasurement:
         lateral = -c0 * math.cos(heading)
         seen, dist = self.find_crosswalk(fit.coeffs, everything, flags)
         conf = 0.5 * fit.right_found + 0.5 * fit.left_found
-        return LaneResult(lateral, heading, conf, seen, dist, fit, rpts, lpts)
+        right_m, left_m = self.line_offsets(self.line_separation_m)
+        right_end = self.line_end(fit.coeffs, right_m, rpts, everything)
+        left_end = self.line_end(fit.coeffs, left_m, lpts, everything)
+        return LaneResult(lateral, heading, conf, seen, dist, right_end, left_end, fit, rpts, lpts)
