@@ -550,7 +550,7 @@ def parking_place_for(source, event):
 def test_every_transition_fires_from_inputs(source, event, target):
     road = make(fork_forward=("straight", "straight")) if event == "merge_left" else make(
         parking_place=parking_place_for(source, event))
-        self.right_corner_at_m: Optional[float] = None  # travelled_m at the right-turn corner last seen
+    road.new_lane_in_turns = event == "lane_aligned"
     if event in ("fork_left", "fork_right"):
         reach_before_fork(road, source, event[len("fork_"):])
     elif event in ("merge_left", "merge_right"):
