@@ -20,7 +20,7 @@ Which lane an object blocks is the caller's business (conde_decision.avoidance),
 needs the lane measurement.
 """
 from dataclasses import dataclass
-from typing import List, Sequence
+from typing import List, Sequence, Tuple
 
 import cv2
 import numpy as np
@@ -140,3 +140,12 @@ class ObstacleDetector:
             found += self._blobs(green, gm, BOX)
             found += self._blobs(orange, gm, CONE)
         return self._merge(found)
+
+
+def lane_relative_extent(detection: Detection, lane_coeffs) -> Tuple[float, float]:
+    """(y_min, y_max) of a detection measured from the lane's centre curve y = c0 + c1 x + c2 x^2
+    (base_footprint, conde_tracking.lane_measurement) at the detection's near edge [m], + = left."""
+    c0, c1, c2 = (float(v) for v in lane_coeffs)
+    x = detection.near_x_m
+    centre_y = c0 + c1 * x + c2 * x * x
+    return detection.y_min_m - centre_y, detection.y_max_m - centre_y

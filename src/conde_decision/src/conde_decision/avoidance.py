@@ -1,0 +1,129 @@
+"""Obstacle avoidance by a lane change and back (D3), and the working zone's temporary lane (D4).
+Pure Python, no ROS.
+
+Inputs per lane measurement: the lateral offset conde_tracking measured (against the lane it
+tracks), whether it is usable, the distance driven [m], the current state's command.lane
+(own | other), and the obstacles of the measurement (boxes and cones: distance ahead to their near
+edge at the floor, lateral extent at their base from the tracked lane's centre line).
+
+* The robot's own lane is the lane it drove in before the change; the other lane is its left
+  neighbour (traffic keeps right), lane_spacing_m to the left.  An obstacle blocks the own lane
+  when its base reaches into +-block_half_width_m of the own lane's centre.
+* The offset reference moves (in the own lane's frame) toward 0 (lane own) or lane_spacing_m
+  (lane other) by lane_spacing_m per change_length_m driven: a ramp, so the robot changes lanes
+  along an S of that length.
+* conde_tracking may, while the robot crosses the dashed line, start measuring against the other
+  lane (its lines look the same, mirrored): its offset then jumps by about one lane spacing.  Such a
+  jump (more than half a spacing between two usable measurements, watched only around a lane change)
+  is taken as a change of the tracked lane, not as motion: lane_shift_m keeps the own lane's frame.
+  The reference given to conde_control is in the tracked lane's frame.
+* Events: obstacle_ahead (a blocker within avoid_trigger_m), lane_changed (lane other, the
+  reference is on the other lane and the robot within settle_tolerance_m of it), obstacle_passed
+  (lane other, every blocker seen is avoid_clearance_m behind the robot: its far end is its near
+  edge plus box_depth_m or cone_depth_m; cones in a row keep moving it on), lane_returned (lane own
+  after a change, the reference back at 0 and the robot within settle_tolerance_m of it).
+"""
+import math
+from dataclasses import dataclass, field, fields
+from typing import List, Optional, Sequence
+
+BOX = "box"
+CONE = "cone"
+
+
+@dataclass(frozen=True)
+class AvoidanceConfig:
+    """Track facts and tuning; the initial values are the defaults (the decision node's parameters
+    override them by name)."""
+
+    lane_spacing_m: float = 0.782  # own lane centre to the other lane's centre [m] (2 x lane_offset_m)
+    block_half_width_m: float = 0.25  # an obstacle reaching this close to the own lane's centre blocks it [m]
+    avoid_trigger_m: float = 1.1  # start the lane change when a blocker's near edge is this close [m]
+    change_length_m: float = 0.9  # the reference crosses one lane spacing over this distance driven [m]
+    avoid_clearance_m: float = 0.45  # return once the blockers' far ends are this far behind base_footprint [m]
+    box_depth_m: float = 0.6  # a box's length along the road (hidden behind its near face) [m]
+    cone_depth_m: float = 0.15  # a cone's base diameter [m]
+    settle_tolerance_m: float = 0.1  # lane_changed / lane_returned within this of the lane's centre [m]
+
+    def check(self) -> "AvoidanceConfig":
+        for f in fields(self):
+            value = getattr(self, f.name)
+            if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value) or value <= 0:
+                raise ValueError("%s: expected a finite number > 0, got %r" % (f.name, value))
+        return self
+
+
+@dataclass(frozen=True)
+class Obstacle:
+    kind: str  # BOX or CONE
+    near_x_m: float  # ahead of base_footprint to the near edge at the floor [m]
+    lane_y_min_m: float  # lateral extent at the base from the tracked lane's centre line, + = left [m]
+    lane_y_max_m: float
+
+
+@dataclass
+class AvoidanceStep:
+    events: List[str] = field(default_factory=list)
+    offset_ref_m: float = 0.0  # lateral offset reference in the tracked lane's frame [m]
+    own_lane_offset_m: float = float("nan")  # the robot from the own lane's centre (+ = left) [m]
+
+
+class Avoidance:
+    def __init__(self, config: AvoidanceConfig = AvoidanceConfig()):
+        self.config = config.check()
+        self.ref_m = 0.0  # offset reference in the own lane's frame [m]
+        self.lane_shift_m = 0.0  # the tracked lane's centre from the own lane's centre (+ = left) [m]
+        self.far_end_m: Optional[float] = None  # distance driven at which the last blocker ends [m]
+        self.changed = False  # a lane change happened and the robot is not back yet
+        self._last_offset_m: Optional[float] = None
+        self._last_travelled_m: Optional[float] = None
+
+    @property
+    def active(self) -> bool:
+        return self.changed or self.ref_m != 0.0 or self.lane_shift_m != 0.0
+
+    def blockers(self, obstacles: Sequence[Obstacle]) -> List[Obstacle]:
+        """The obstacles that reach into the own lane (in the own lane's frame)."""
+        w, s = self.config.block_half_width_m, self.lane_shift_m
+        return [o for o in obstacles if o.lane_y_min_m + s <= w and o.lane_y_max_m + s >= -w]
+
+    def step(self, lane_offset_m: float, lane_ok: bool, travelled_m: float, lane_command: str,
+             obstacles: Sequence[Obstacle] = ()) -> AvoidanceStep:
+        c = self.config
+        out = AvoidanceStep()
+        driven_m = 0.0 if self._last_travelled_m is None else max(0.0, travelled_m - self._last_travelled_m)
+        self._last_travelled_m = travelled_m
+        other = lane_command == "other"
+        if other:
+            self.changed = True
+        if lane_ok:
+            if self._last_offset_m is not None and self.active:
+                jump_m = lane_offset_m - self._last_offset_m
+                if abs(jump_m) > 0.5 * c.lane_spacing_m:
+                    self.lane_shift_m -= round(jump_m / c.lane_spacing_m) * c.lane_spacing_m
+            self._last_offset_m = lane_offset_m
+        target_m = c.lane_spacing_m if other else 0.0
+        slew_m = c.lane_spacing_m * driven_m / c.change_length_m
+        self.ref_m = target_m if abs(target_m - self.ref_m) <= slew_m else self.ref_m + math.copysign(slew_m, target_m - self.ref_m)
+        own_offset_m = lane_offset_m + self.lane_shift_m if lane_ok else float("nan")
+        out.own_lane_offset_m = own_offset_m
+
+        blocking = self.blockers(obstacles)
+        for o in blocking:
+            if other or o.near_x_m <= c.avoid_trigger_m:
+                end_m = travelled_m + o.near_x_m + (c.box_depth_m if o.kind == BOX else c.cone_depth_m)
+                self.far_end_m = end_m if self.far_end_m is None else max(self.far_end_m, end_m)
+        if any(o.near_x_m <= c.avoid_trigger_m for o in blocking):
+            out.events.append("obstacle_ahead")
+        settled = lane_ok and abs(own_offset_m - target_m) <= c.settle_tolerance_m and self.ref_m == target_m
+        if other and settled:
+            out.events.append("lane_changed")
+        if other and self.far_end_m is not None and travelled_m >= self.far_end_m + c.avoid_clearance_m:
+            out.events.append("obstacle_passed")
+            self.far_end_m = None
+        if not other and self.changed and settled:
+            out.events.append("lane_returned")
+            self.changed = False
+            self.far_end_m = None
+        out.offset_ref_m = self.ref_m - self.lane_shift_m
+        return out
