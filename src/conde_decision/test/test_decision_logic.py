@@ -470,8 +470,8 @@ def test_every_transition_fires_from_inputs(source, event, target):
         reach(road, source)
     assert road.logic.state == source
     entered_from = road.logic.machine.previous  # where a `return` goes back to
-    if event == "obstacle_ahead":  # a box in the lane ahead
-        road.obstacles.append(Obstacle("box", road.s + 2.0, -0.3, 0.3))
+    if event == "obstacle_ahead":  # a box in the lane ahead (at once, on the way back from the last one)
+        road.obstacles.append(Obstacle("box", road.s + (1.0 if source == "avoid_return" else 2.0), -0.3, 0.3))
     if (source, event) == ("avoid_change_lane", "obstacle_passed"):
         road.follow_reference = False  # a robot that never settles on the other lane before passing
     if event in CODES:

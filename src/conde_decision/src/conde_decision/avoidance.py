@@ -14,7 +14,8 @@ edge at the floor, lateral extent at their base from the tracked lane's centre l
   along an S of that length.
 * conde_tracking may, while the robot crosses the dashed line, start measuring against the other
   lane (its lines look the same, mirrored): its offset then jumps by about one lane spacing.  Such a
-  jump (more than half a spacing between two usable measurements, watched only around a lane change)
+  jump (a whole number of spacings within jump_tolerance_m between two usable measurements, watched
+  only around a lane change)
   is taken as a change of the tracked lane, not as motion: lane_shift_m keeps the own lane's frame.
   The reference given to conde_control is in the tracked lane's frame.
 * Events: obstacle_ahead (a blocker within avoid_trigger_m), lane_changed (lane other, the
@@ -39,8 +40,14 @@ class AvoidanceConfig:
     lane_spacing_m: float = 0.782  # own lane centre to the other lane's centre [m] (2 x lane_offset_m)
     block_half_width_m: float = 0.25  # an obstacle reaching this close to the own lane's centre blocks it [m]
     avoid_trigger_m: float = 1.1  # start the lane change when a blocker's near edge is this close [m]
-    change_length_m: float = 0.9  # the reference crosses one lane spacing over this distance driven [m]
-    avoid_clearance_m: float = 0.45  # return once the blockers' far ends are this far behind base_footprint [m]
+    change_length_m: float = 0.8  # the reference crosses one lane spacing over this distance driven [m]
+    # Return once the blockers' far ends are this far behind base_footprint [m]: Conde's footprint
+    # reaches 0.443 m behind it (base_footprint is near its front), plus a margin.
+    avoid_clearance_m: float = 0.55
+    # A blocker's far end is taken from sightings of its near edge at least this far ahead [m]
+    # (beside the robot the cameras see only the part of it still ahead: the near edge is cut).
+    edge_seen_from_m: float = 0.05
+    jump_tolerance_m: float = 0.15  # a switch of the tracked lane moves the offset by a spacing within this [m]
     box_depth_m: float = 0.6  # a box's length along the road (hidden behind its near face) [m]
     cone_depth_m: float = 0.15  # a cone's base diameter [m]
     settle_tolerance_m: float = 0.1  # lane_changed / lane_returned within this of the lane's centre [m]
@@ -99,18 +106,19 @@ class Avoidance:
         if lane_ok:
             if self._last_offset_m is not None and self.active:
                 jump_m = lane_offset_m - self._last_offset_m
-                if abs(jump_m) > 0.5 * c.lane_spacing_m:
-                    self.lane_shift_m -= round(jump_m / c.lane_spacing_m) * c.lane_spacing_m
+                lanes = round(jump_m / c.lane_spacing_m)
+                if lanes != 0 and abs(jump_m - lanes * c.lane_spacing_m) <= c.jump_tolerance_m:
+                    self.lane_shift_m -= lanes * c.lane_spacing_m
             self._last_offset_m = lane_offset_m
         target_m = c.lane_spacing_m if other else 0.0
         slew_m = c.lane_spacing_m * driven_m / c.change_length_m
-        self.ref_m = target_m if abs(target_m - self.ref_m) <= slew_m else self.ref_m + math.copysign(slew_m, target_m - self.ref_m)
+        self.ref_m = target_m if abs(target_m - self.ref_m) <= slew_m + 1e-9 else self.ref_m + math.copysign(slew_m, target_m - self.ref_m)
         own_offset_m = lane_offset_m + self.lane_shift_m if lane_ok else float("nan")
         out.own_lane_offset_m = own_offset_m
 
         blocking = self.blockers(obstacles)
         for o in blocking:
-            if other or o.near_x_m <= c.avoid_trigger_m:
+            if (other or o.near_x_m <= c.avoid_trigger_m) and o.near_x_m >= c.edge_seen_from_m:
                 end_m = travelled_m + o.near_x_m + (c.box_depth_m if o.kind == BOX else c.cone_depth_m)
                 self.far_end_m = end_m if self.far_end_m is None else max(self.far_end_m, end_m)
         if any(o.near_x_m <= c.avoid_trigger_m for o in blocking):
