@@ -8,7 +8,7 @@ import pytest
 
 from conde_tracking.ipm import GroundMap
 from conde_tracking.obstacles import BOX, CONE, ObstacleConfig, ObstacleDetector, colour_masks
-from obstacle_truth import VIEWS, objects_in_robot_frame
+from conde_tracking.obstacle_truth import VIEWS, objects_in_robot_frame
 
 DATA = os.path.join(os.path.dirname(os.path.abspath(__file__)), "data")
 CONFIG = ObstacleConfig()

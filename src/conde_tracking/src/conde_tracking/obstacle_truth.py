@@ -1,6 +1,7 @@
 """Ground truth of the boxes and cones in the rendered obstacle views (test/data/d4_*.npz, rendered
 by scripts/render_test_images in the D4 v1 world): each object's footprint in base_footprint and
-its near edge and lateral extent on the floor."""
+its near edge and lateral extent on the floor.  Used by test_obstacles.py and
+scripts/obstacle_accuracy; needs conde_worlds (the challenge layouts)."""
 import math
 from dataclasses import dataclass
 from typing import List
