@@ -15,7 +15,7 @@ straight on.  (The straight before the north loop is shortened from the track's 
 the loop and the turn back onto the central road fit into the model's mean half lap.)"""
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Tuple
 
 #: Lane-centre length between two crossings: a lap is 40.66 m (geometry YAML), split 21.5 + 19.1 m
@@ -137,9 +137,12 @@ class Road:
                     radius = LOOP_RADIUS_M[side]
                     self.loop = (start, start + LOOP_SWEEP_RAD * radius, (1.0 if side == "left" else -1.0) / radius)
         ds = out.linear_velocity_mps * self.speed_scale * DT_S
-        if self.follow_reference:  # the reference is in the tracked lane's frame
-            wanted_m = out.lateral_offset_ref_m + self._tracked_shift_m()
-            self.own_offset_m += (wanted_m - self.own_offset_m) * min(1.0, DT_S / OFFSET_TIME_CONSTANT_S)
+        if self.follow_reference:
+            # the reference is in the own lane's frame while the logic changes lanes, else the tracked lane's
+            wanted_m = out.lateral_offset_ref_m + (0.0 if self.logic.avoidance.active else self._tracked_shift_m())
+            moved_m = (wanted_m - self.own_offset_m) * min(1.0, DT_S / OFFSET_TIME_CONSTANT_S)
+            self.own_offset_m += moved_m
+            self.heading_error_rad = math.atan2(moved_m, ds) if ds > 0 else 0.0
         self.turned_rad = self.turned_rad + out.path_curvature_per_m * ds if out.path_curvature_per_m != 0.0 else 0.0
         if out.path_curvature_per_m != 0.0:
             self.yaw_rad += out.path_curvature_per_m * ds

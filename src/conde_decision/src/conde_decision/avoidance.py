@@ -13,11 +13,12 @@ edge at the floor, lateral extent at their base from the tracked lane's centre l
   (lane other) by lane_spacing_m per change_length_m driven: a ramp, so the robot changes lanes
   along an S of that length.
 * conde_tracking may, while the robot crosses the dashed line, start measuring against the other
-  lane (its lines look the same, mirrored): its offset then jumps by about one lane spacing.  Such a
-  jump (a whole number of spacings within jump_tolerance_m between two usable measurements, watched
-  only around a lane change)
-  is taken as a change of the tracked lane, not as motion: lane_shift_m keeps the own lane's frame.
-  The reference given to conde_control is in the tracked lane's frame.
+  lane (its lines look the same, mirrored), or lose a line and fit a wrong pair for a while.  So
+  during a lane change and back the robot's offset from the own lane is dead-reckoned from the
+  distance driven and the heading error (the same against either lane: they are parallel), and
+  the tracked lane is the whole number of lane spacings (lane_shift_m) that best explains the
+  tracker's offset; a tracker offset within anchor_tolerance_m of the dead-reckoned one re-anchors
+  it.  Offset and reference go to conde_control in the own lane's frame.
 * Events: obstacle_ahead (a blocker within avoid_trigger_m), lane_changed (lane other, the
   reference is on the other lane and the robot within settle_tolerance_m of it), obstacle_passed
   (lane other, every blocker seen is avoid_clearance_m behind the robot: its far end is its near
@@ -47,7 +48,7 @@ class AvoidanceConfig:
     # A blocker's far end is taken from sightings of its near edge at least this far ahead [m]
     # (beside the robot the cameras see only the part of it still ahead: the near edge is cut).
     edge_seen_from_m: float = 0.05
-    jump_tolerance_m: float = 0.15  # a switch of the tracked lane moves the offset by a spacing within this [m]
+    anchor_tolerance_m: float = 0.15  # the tracker within this of the dead-reckoned offset re-anchors it [m]
     box_depth_m: float = 0.6  # a box's length along the road (hidden behind its near face) [m]
     cone_depth_m: float = 0.15  # a cone's base diameter [m]
     settle_tolerance_m: float = 0.1  # lane_changed / lane_returned within this of the lane's centre [m]
@@ -71,8 +72,9 @@ class Obstacle:
 @dataclass
 class AvoidanceStep:
     events: List[str] = field(default_factory=list)
-    offset_ref_m: float = 0.0  # lateral offset reference in the tracked lane's frame [m]
+    offset_ref_m: float = 0.0  # lateral offset reference in the own lane's frame [m]
     own_lane_offset_m: float = float("nan")  # the robot from the own lane's centre (+ = left) [m]
+    active: bool = False  # a lane change or the way back: control on own_lane_offset_m and offset_ref_m
 
 
 class Avoidance:
@@ -82,12 +84,12 @@ class Avoidance:
         self.lane_shift_m = 0.0  # the tracked lane's centre from the own lane's centre (+ = left) [m]
         self.far_end_m: Optional[float] = None  # distance driven at which the last blocker ends [m]
         self.changed = False  # a lane change happened and the robot is not back yet
-        self._last_offset_m: Optional[float] = None
+        self.own_offset_m: Optional[float] = None  # dead-reckoned and re-anchored, while active [m]
         self._last_travelled_m: Optional[float] = None
 
     @property
     def active(self) -> bool:
-        return self.changed or self.ref_m != 0.0 or self.lane_shift_m != 0.0
+        return self.changed or self.ref_m != 0.0
 
     def blockers(self, obstacles: Sequence[Obstacle]) -> List[Obstacle]:
         """The obstacles that reach into the own lane (in the own lane's frame)."""
@@ -95,7 +97,7 @@ class Avoidance:
         return [o for o in obstacles if o.lane_y_min_m + s <= w and o.lane_y_max_m + s >= -w]
 
     def step(self, lane_offset_m: float, lane_ok: bool, travelled_m: float, lane_command: str,
-             obstacles: Sequence[Obstacle] = ()) -> AvoidanceStep:
+             obstacles: Sequence[Obstacle] = (), heading_error_rad: float = 0.0) -> AvoidanceStep:
         c = self.config
         out = AvoidanceStep()
         driven_m = 0.0 if self._last_travelled_m is None else max(0.0, travelled_m - self._last_travelled_m)
@@ -103,17 +105,27 @@ class Avoidance:
         other = lane_command == "other"
         if other:
             self.changed = True
-        if lane_ok:
-            if self._last_offset_m is not None and self.active:
-                jump_m = lane_offset_m - self._last_offset_m
-                lanes = round(jump_m / c.lane_spacing_m)
-                if lanes != 0 and abs(jump_m - lanes * c.lane_spacing_m) <= c.jump_tolerance_m:
-                    self.lane_shift_m -= lanes * c.lane_spacing_m
-            self._last_offset_m = lane_offset_m
+        if self.active:
+            if self.own_offset_m is None:
+                self.own_offset_m = lane_offset_m if lane_ok else 0.0
+            elif math.isfinite(heading_error_rad):
+                self.own_offset_m += driven_m * math.sin(heading_error_rad)
+            if lane_ok:
+                self.lane_shift_m = c.lane_spacing_m * round((self.own_offset_m - lane_offset_m) / c.lane_spacing_m)
+                if abs(lane_offset_m + self.lane_shift_m - self.own_offset_m) <= c.anchor_tolerance_m:
+                    self.own_offset_m = lane_offset_m + self.lane_shift_m
+        else:
+            self.own_offset_m, self.lane_shift_m = None, 0.0
         target_m = c.lane_spacing_m if other else 0.0
         slew_m = c.lane_spacing_m * driven_m / c.change_length_m
-        self.ref_m = target_m if abs(target_m - self.ref_m) <= slew_m + 1e-9 else self.ref_m + math.copysign(slew_m, target_m - self.ref_m)
-        own_offset_m = lane_offset_m + self.lane_shift_m if lane_ok else float("nan")
+        if abs(target_m - self.ref_m) <= slew_m + 1e-9:
+            self.ref_m = target_m
+        else:
+            self.ref_m += math.copysign(slew_m, target_m - self.ref_m)
+        if self.own_offset_m is not None:
+            own_offset_m = self.own_offset_m
+        else:
+            own_offset_m = lane_offset_m if lane_ok else float("nan")
         out.own_lane_offset_m = own_offset_m
 
         blocking = self.blockers(obstacles)
@@ -123,7 +135,8 @@ class Avoidance:
                 self.far_end_m = end_m if self.far_end_m is None else max(self.far_end_m, end_m)
         if any(o.near_x_m <= c.avoid_trigger_m for o in blocking):
             out.events.append("obstacle_ahead")
-        settled = lane_ok and abs(own_offset_m - target_m) <= c.settle_tolerance_m and self.ref_m == target_m
+        settled = (math.isfinite(own_offset_m) and abs(own_offset_m - target_m) <= c.settle_tolerance_m
+                   and self.ref_m == target_m)
         if other and settled:
             out.events.append("lane_changed")
         if other and self.far_end_m is not None and travelled_m >= self.far_end_m + c.avoid_clearance_m:
@@ -133,5 +146,6 @@ class Avoidance:
             out.events.append("lane_returned")
             self.changed = False
             self.far_end_m = None
-        out.offset_ref_m = self.ref_m - self.lane_shift_m
+        out.offset_ref_m = self.ref_m
+        out.active = self.active
         return out

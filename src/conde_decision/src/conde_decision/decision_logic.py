@@ -291,7 +291,7 @@ class DecisionLogic:
             self.lane_bad_since_s = time_s
         lane_lost = self.lane_bad_since_s is not None and time_s - self.lane_bad_since_s >= c.lane_lost_timeout_s
         avoid = self.avoidance.step(lane.lateral_offset_m, lane_ok and not blind_arc, self.road.travelled_m,
-                                    command.lane, obstacles_of(lane))
+                                    command.lane, obstacles_of(lane), lane.heading_error_rad)
         for event in avoid.events:
             self._fire(event)
         command = self.machine.command
@@ -310,6 +310,8 @@ class DecisionLogic:
         offset_ref_m = bias * c.branch_offset_m + avoid.offset_ref_m
         heading_ref_rad = bias * c.branch_heading_rad
         offset_m = lane.lateral_offset_m if lane_ok and not blind_arc else offset_ref_m
+        if avoid.active and math.isfinite(avoid.own_lane_offset_m):  # a lane change: the own lane's frame
+            offset_m = avoid.own_lane_offset_m
         heading_rad = lane.heading_error_rad if lane_ok and not blind_arc else heading_ref_rad
         return DecisionOutput(self.state, self.last_event, offset_m, offset_ref_m, heading_rad, heading_ref_rad,
                               v_mps, curvature_per_m, list(self._transitions), list(self._events), lane_lost)
