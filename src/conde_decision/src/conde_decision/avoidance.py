@@ -17,8 +17,8 @@ edge at the floor, lateral extent at their base from the tracked lane's centre l
   during a lane change and back the robot's offset from the own lane is dead-reckoned from the
   distance driven and the heading error (the same against either lane: they are parallel), and
   the tracked lane is the whole number of lane spacings (lane_shift_m) that best explains the
-  tracker's offset; a tracker offset within anchor_tolerance_m of the dead-reckoned one re-anchors
-  it.  Offset and reference go to conde_control in the own lane's frame.
+  tracker's offset; a tracker offset with both lines fitted, within anchor_tolerance_m of the
+  dead-reckoned one, re-anchors it.  Offset and reference go to conde_control in the own lane's frame.
 * Events: obstacle_ahead (a blocker within avoid_trigger_m), lane_changed (lane other, the
   reference is on the other lane and the robot within settle_tolerance_m of it), obstacle_passed
   (lane other, every blocker seen is avoid_clearance_m behind the robot: its far end is its near
@@ -48,7 +48,7 @@ class AvoidanceConfig:
     # A blocker's far end is taken from sightings of its near edge at least this far ahead [m]
     # (beside the robot the cameras see only the part of it still ahead: the near edge is cut).
     edge_seen_from_m: float = 0.05
-    anchor_tolerance_m: float = 0.15  # the tracker within this of the dead-reckoned offset re-anchors it [m]
+    anchor_tolerance_m: float = 0.3  # the tracker within this of the dead-reckoned offset re-anchors it [m]
     box_depth_m: float = 0.6  # a box's length along the road (hidden behind its near face) [m]
     cone_depth_m: float = 0.15  # a cone's base diameter [m]
     settle_tolerance_m: float = 0.1  # lane_changed / lane_returned within this of the lane's centre [m]
@@ -97,7 +97,11 @@ class Avoidance:
         return [o for o in obstacles if o.lane_y_min_m + s <= w and o.lane_y_max_m + s >= -w]
 
     def step(self, lane_offset_m: float, lane_ok: bool, travelled_m: float, lane_command: str,
-             obstacles: Sequence[Obstacle] = (), heading_error_rad: float = 0.0) -> AvoidanceStep:
+             obstacles: Sequence[Obstacle] = (), heading_error_rad: float = 0.0,
+             both_lines: bool = True) -> AvoidanceStep:
+        """One lane measurement: its offset [m], whether usable, the distance driven so far [m], the
+        state's command.lane, the obstacles, the heading error [rad] and whether both lines were
+        fitted (only such a measurement re-anchors the dead-reckoned offset)."""
         c = self.config
         out = AvoidanceStep()
         driven_m = 0.0 if self._last_travelled_m is None else max(0.0, travelled_m - self._last_travelled_m)
@@ -112,7 +116,7 @@ class Avoidance:
                 self.own_offset_m += driven_m * math.sin(heading_error_rad)
             if lane_ok:
                 self.lane_shift_m = c.lane_spacing_m * round((self.own_offset_m - lane_offset_m) / c.lane_spacing_m)
-                if abs(lane_offset_m + self.lane_shift_m - self.own_offset_m) <= c.anchor_tolerance_m:
+                if both_lines and abs(lane_offset_m + self.lane_shift_m - self.own_offset_m) <= c.anchor_tolerance_m:
                     self.own_offset_m = lane_offset_m + self.lane_shift_m
         else:
             self.own_offset_m, self.lane_shift_m = None, 0.0

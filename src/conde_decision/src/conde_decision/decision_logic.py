@@ -291,7 +291,8 @@ class DecisionLogic:
             self.lane_bad_since_s = time_s
         lane_lost = self.lane_bad_since_s is not None and time_s - self.lane_bad_since_s >= c.lane_lost_timeout_s
         avoid = self.avoidance.step(lane.lateral_offset_m, lane_ok and not blind_arc, self.road.travelled_m,
-                                    command.lane, obstacles_of(lane), lane.heading_error_rad)
+                                    command.lane, obstacles_of(lane), lane.heading_error_rad,
+                                    lane.confidence >= 1.0)
         for event in avoid.events:
             self._fire(event)
         command = self.machine.command
