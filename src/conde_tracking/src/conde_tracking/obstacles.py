@@ -47,7 +47,8 @@ class ObstacleConfig:
 
     def check(self) -> "ObstacleConfig":
         """Returns self if usable, else raises ValueError naming the field."""
-        for name in ("min_blob_px", "outline_depth_m", "max_range_m", "merge_gap_m", "merge_box_dx_m", "merge_cone_dx_m"):
+        for name in ("min_blob_px", "outline_depth_m", "max_range_m", "merge_gap_m", "merge_box_dx_m",
+                     "merge_cone_dx_m"):
             if not getattr(self, name) > 0:
                 raise ValueError("%s: must be > 0, got %r" % (name, getattr(self, name)))
         if not 0 <= self.near_percentile <= 50:
