@@ -16,6 +16,7 @@ the loop and the turn back onto the central road fit into the model's mean half 
 
 import math
 from dataclasses import dataclass
+from typing import Tuple
 
 #: Lane-centre length between two crossings: a lap is 40.66 m (geometry YAML), split 21.5 + 19.1 m
 #: or 19.1 + 21.6 m depending on the route; the model uses the mean.
@@ -27,6 +28,9 @@ LOOP_STRAIGHT_M = {"left": 1.8, "right": 3.18}  # fork to the start of the loop'
 LOOP_RADIUS_M = {"left": 2.5685, "right": 1.7865}  # the lane's radius around the loop [m]
 LOOP_SWEEP_RAD = 1.5 * math.pi
 NEW_LANE_SEEN_RAD = math.radians(45)  # a junction's turn shows the lane it leads to from here on
+LANE_SPACING_M = 0.782  # own lane centre to the other (left) lane's centre [m]
+OBSTACLE_VIEW_M = (-0.2, 2.5)  # x range [m] in which the ground cameras see objects on the floor
+OFFSET_TIME_CONSTANT_S = 0.3  # with follow_reference: the lateral offset follows its reference this fast [s]
 
 
 @dataclass
@@ -40,6 +44,22 @@ class Lane:
     confidence: float = 1.0
     right_line_end_m: float = float("nan")  # no junction corner in view (the model has none)
     left_line_end_m: float = float("nan")
+    obstacle_kinds: Tuple[str, ...] = ()
+    obstacle_distances_m: Tuple[float, ...] = ()
+    obstacle_lane_y_min_m: Tuple[float, ...] = ()
+    obstacle_lane_y_max_m: Tuple[float, ...] = ()
+
+
+@dataclass
+class Obstacle:
+    """A box or cone on the route: its near edge at s_near_m, its depth along the road, its lateral
+    extent from the own lane's centre [m]."""
+
+    kind: str
+    s_near_m: float
+    y_min_m: float
+    y_max_m: float
+    depth_m: float = 0.6
 
 
 class Road:
@@ -60,6 +80,25 @@ class Road:
         self.loop = None  # (arc start s, arc end s, signed curvature) of the loop being driven
         self.turned_rad = 0.0  # heading change in the junction's arc being driven (+ = left), 0 outside
         self.new_lane_in_turns = new_lane_in_turns  # the cameras see the new lane in the arcs' second half
+        self.obstacles = []  # Obstacle on the route
+        self.follow_reference = False  # the lateral offset follows the logic's reference (a lane change)
+        self.own_offset_m = self.lateral_offset_m  # from the own lane's centre (follow_reference)
+        self.relock = True  # the tracker measures against the lane whose centre the robot is nearer
+
+    def _tracked_shift_m(self):
+        """The tracked lane's centre from the own lane's centre [m]."""
+        return LANE_SPACING_M if self.relock and self.own_offset_m > 0.5 * LANE_SPACING_M else 0.0
+
+    def _obstacle_fields(self, shift_m):
+        seen = []
+        for o in self.obstacles:
+            ahead_m = o.s_near_m - self.s
+            if OBSTACLE_VIEW_M[0] <= ahead_m + o.depth_m and ahead_m <= OBSTACLE_VIEW_M[1]:
+                seen.append((max(ahead_m, OBSTACLE_VIEW_M[0]), o))
+        seen.sort(key=lambda item: item[0])
+        return dict(obstacle_kinds=tuple(o.kind for _, o in seen), obstacle_distances_m=tuple(x for x, _ in seen),
+                    obstacle_lane_y_min_m=tuple(o.y_min_m - shift_m for _, o in seen),
+                    obstacle_lane_y_max_m=tuple(o.y_max_m - shift_m for _, o in seen))
 
     def next_near_edge_m(self):
         """Position of the first crosswalk near edge at least VIEW_M[0] ahead of the robot."""
@@ -71,6 +110,10 @@ class Road:
         ahead_m = self.next_near_edge_m() - self.s
         seen = ahead_m <= VIEW_M[1]
         if self.turned_rad == 0.0:
+            if self.follow_reference or self.obstacles:
+                shift_m = self._tracked_shift_m()
+                return Lane(self.own_offset_m - shift_m, self.heading_error_rad, seen, ahead_m if seen else 0.0,
+                            self.lane_confidence, **self._obstacle_fields(shift_m))
             return Lane(self.lateral_offset_m, self.heading_error_rad, seen, ahead_m if seen else 0.0,
                         self.lane_confidence)
         # In a junction's arc: one line of the road left behind, then (turned through more than
@@ -94,6 +137,12 @@ class Road:
                     radius = LOOP_RADIUS_M[side]
                     self.loop = (start, start + LOOP_SWEEP_RAD * radius, (1.0 if side == "left" else -1.0) / radius)
         ds = out.linear_velocity_mps * self.speed_scale * DT_S
+        if self.follow_reference:
+            # the reference is in the own lane's frame while the logic changes lanes, else the tracked lane's
+            wanted_m = out.lateral_offset_ref_m + (0.0 if self.logic.avoidance.active else self._tracked_shift_m())
+            moved_m = (wanted_m - self.own_offset_m) * min(1.0, DT_S / OFFSET_TIME_CONSTANT_S)
+            self.own_offset_m += moved_m
+            self.heading_error_rad = math.atan2(moved_m, ds) if ds > 0 else 0.0
         self.turned_rad = self.turned_rad + out.path_curvature_per_m * ds if out.path_curvature_per_m != 0.0 else 0.0
         if out.path_curvature_per_m != 0.0:
             self.yaw_rad += out.path_curvature_per_m * ds

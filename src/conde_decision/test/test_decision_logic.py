@@ -8,10 +8,11 @@ from types import SimpleNamespace
 
 import pytest
 
+from conde_decision.avoidance import AvoidanceConfig
 from conde_decision.decision_logic import (END_OF_TRIAL, FORWARD, LEFT, NONE, PARKING, RIGHT, STOP, DecisionConfig,
                                            DecisionLogic)
 from conde_decision.state_machine import load_state_machine, parse_state_machine
-from road_model import DT_S, HALF_LAP_M, LOOP_RADIUS_M, LOOP_STRAIGHT_M, Lane, Road
+from road_model import DT_S, HALF_LAP_M, LOOP_RADIUS_M, LOOP_STRAIGHT_M, Lane, Obstacle, Road
 
 PACKAGE_DIR = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 SPEC = load_state_machine(os.path.join(PACKAGE_DIR, "config", "conde_states.yaml"))
@@ -498,7 +499,13 @@ def reach(road, state):
         return
     signal(road, FORWARD)
     road.drive_m(FORK_S + 1.0)
-    if state == "turn_right":
+    if state.startswith("avoid_"):
+        road.follow_reference = True
+        road.obstacles.append(Obstacle("box", road.s + 2.0, -0.3, 0.3))
+        road.until("obstacle_ahead")
+        if state != "avoid_change_lane":
+            road.until("obstacle_passed" if state == "avoid_return" else "lane_changed")
+    elif state == "turn_right":
         road.drive_m(HALF_LAP_M - FORK_S - 6.0)
         signal(road, RIGHT)
         road.until("fork_right")
@@ -559,6 +566,10 @@ def test_every_transition_fires_from_inputs(source, event, target):
         reach(road, source)
     assert road.logic.state == source
     entered_from = road.logic.machine.previous  # where a `return` goes back to
+    if event == "obstacle_ahead":  # a box in the lane ahead (at once, on the way back from the last one)
+        road.obstacles.append(Obstacle("box", road.s + (1.0 if source == "avoid_return" else 2.0), -0.3, 0.3))
+    if (source, event) == ("avoid_change_lane", "obstacle_passed"):
+        road.follow_reference = False  # a robot that never settles on the other lane before passing
     if event in CODES:
         fired = signal(road, CODES[event])
     else:
@@ -620,3 +631,56 @@ def test_no_lane_aligned_in_the_first_half_of_the_arc_nor_off_the_lane(heading_r
         logic.on_odometry(road.yaw_rad, logic.road.travelled_m + out.linear_velocity_mps * DT_S)
         assert "lane_aligned" not in out.events
         assert logic.state == "turn_right"
+
+
+def test_a_box_in_the_lane_is_passed_on_the_other_lane_and_the_robot_comes_back():
+    """D3: the lane change, the pass and the way back, on the 1-D road with the lateral offset
+    following the reference, and the tracker switching to the lane the robot is nearer."""
+    road = make()
+    road.follow_reference = True
+    reach(road, "follow_lane")
+    box = Obstacle("box", road.s + 3.0, -0.3, 0.3)
+    road.obstacles.append(box)
+    states = []
+    widest_m, at_box_m = 0.0, []
+    for _ in range(int(12.0 / DT_S)):
+        road.step()
+        states.append(road.logic.state)
+        widest_m = max(widest_m, road.own_offset_m)
+        if box.s_near_m - 0.3 <= road.s <= box.s_near_m + box.depth_m + 0.3:  # beside the box (robot half length 0.3)
+            at_box_m.append(road.own_offset_m)
+    seen = [s for i, s in enumerate(states) if i == 0 or s != states[i - 1]]
+    assert seen == ["follow_lane", "avoid_change_lane", "avoid_pass", "avoid_return", "follow_lane"], seen
+    assert min(at_box_m) > 0.3 + 0.15  # clear of the box (its edge 0.3 m, robot half width 0.15 m)
+    assert widest_m == pytest.approx(0.782, abs=0.05)
+    assert abs(road.own_offset_m) < 0.05  # back on the own lane's centre
+    assert road.logic.avoidance.lane_shift_m == 0.0  # the tracker is on the own lane again
+
+
+def test_a_box_in_the_other_lane_and_cones_beyond_the_own_lane_are_not_avoided():
+    road = make()
+    road.follow_reference = True
+    reach(road, "follow_lane")
+    road.obstacles += [Obstacle("box", road.s + 2.0, 0.48, 1.08), Obstacle("cone", road.s + 2.0, 0.42, 0.57, 0.15)]
+    road.run(6.0)
+    assert all(out.state == "follow_lane" for out in road.outputs[-int(6.0 / DT_S):])
+
+
+def test_a_row_of_cones_keeps_the_robot_on_the_other_lane_until_the_last():
+    """D4: cones closing the own lane (0.1 m inside it from the divider, 0.45 m apart)."""
+    road = make()
+    road.follow_reference = True
+    reach(road, "follow_lane")
+    first = road.s + 2.0
+    road.obstacles += [Obstacle("cone", first + 0.45 * k, 0.216, 0.366, 0.15) for k in range(12)]
+    last_end = first + 0.45 * 11 + 0.15
+    states, positions = [], []
+    for _ in range(int(20.0 / DT_S)):
+        road.step()
+        states.append(road.logic.state)
+        positions.append((road.s, road.own_offset_m))
+    returned_at = next(s for (s, _), st in zip(positions, states) if st == "avoid_return")
+    assert returned_at >= last_end + AvoidanceConfig().avoid_clearance_m - 0.05
+    beside = [off for s, off in positions if first <= s <= last_end]
+    assert min(beside) > 0.6  # on the other lane all along the cones
+    assert states[-1] == "follow_lane"

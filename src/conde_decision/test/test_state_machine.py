@@ -25,7 +25,7 @@ def path_to(spec, goal):
         if state == goal:
             return events
         for event, target in spec.states[state].transitions.items():
-            if target not in seen and target != "return":
+            if target not in seen and target != "return":  # `return` is not a state
                 seen.add(target)
                 queue.append((target, events + [event]))
     raise AssertionError("no path to %s" % goal)
@@ -36,7 +36,10 @@ def test_default_description():
     assert list(SPEC.states) == ["wait_for_go", "follow_lane", "turn_left", "turn_right", "approach_stop", "stopped",
                                  "approach_finish", "finished", "go_to_parking", "parked", "park_drive", "park_creep",
                                  "park_swing_out", "park_swing_in", "bay_drive_north", "bay_drive_south", "bay_creep",
-                                 "bay_turn_in", "bay_drive_in"]
+                                 "bay_turn_in", "bay_drive_in", "avoid_change_lane",
+                                 "avoid_pass", "avoid_return"]
+    assert SPEC.states["avoid_change_lane"].command.lane == "other"
+    assert SPEC.states["avoid_return"].command.lane == "own"
     assert SPEC.states["turn_left"].command.branch == "left"
     assert SPEC.states["turn_right"].command.branch == "right"
     assert SPEC.states["go_to_parking"].command.distance_m is None  # leaves on the parking place's event
@@ -120,7 +123,7 @@ MODIFIED = [
     ("unknown_state_key", lambda d: d["states"]["stopped"].update(colour="red"),
      "states.stopped: unknown key 'colour' (expected one of: description, command, on)"),
     ("unknown_command_key", in_command("stopped", lambda c: c.update(lane="left")),
-     "states.stopped.command: unknown key 'lane' (expected one of: speed, branch, distance_m, radius_m)"),
+     "states.stopped.command.lane: unknown lane 'left' (expected one of: own, other)"),
     ("unknown_speed", in_command("follow_lane", lambda c: c.update(speed="fast")),
      "states.follow_lane.command.speed: unknown speed 'fast' (expected one of: cruise, stop, stop_at_crosswalk, "
      "creep, reverse)"),

@@ -88,6 +88,7 @@ from dataclasses import dataclass, field, fields
 from typing import List, Optional, Tuple
 
 from conde_common.panel_signals import NAMES_BY_CODE, SIGNAL_CODES
+from conde_decision.avoidance import Avoidance, AvoidanceConfig, Obstacle
 from conde_decision.crosswalk import CrosswalkTracker
 from conde_decision.fork_navigator import ForkNavigator
 from conde_decision.lap_counter import LapCounter
@@ -217,8 +218,10 @@ class DecisionLogic:
     the road, heading), CrosswalkTracker (the crosswalk ahead), LapCounter, ForkNavigator (forks
     and the ends of the loops) and SpeedProfile (the commanded speed)."""
 
-    def __init__(self, spec: StateMachineSpec, config: DecisionConfig = DecisionConfig()):
+    def __init__(self, spec: StateMachineSpec, config: DecisionConfig = DecisionConfig(),
+                 avoidance_config: AvoidanceConfig = AvoidanceConfig()):
         self.config = config.check()
+        self.avoidance = Avoidance(avoidance_config)  # obstacles and the working zone: command.lane
         self.machine = StateMachine(spec)
         self.road = RoadDistance()
         self.crosswalk = CrosswalkTracker(config.crosswalk_length_m, config.crosswalk_zone_m,
@@ -303,6 +306,12 @@ class DecisionLogic:
         elif self.lane_bad_since_s is None:
             self.lane_bad_since_s = time_s
         lane_lost = self.lane_bad_since_s is not None and time_s - self.lane_bad_since_s >= c.lane_lost_timeout_s
+        avoid = self.avoidance.step(lane.lateral_offset_m, lane_ok and not blind_arc, self.road.travelled_m,
+                                    command.lane, obstacles_of(lane), lane.heading_error_rad,
+                                    lane.confidence >= 1.0)
+        for event in avoid.events:
+            self._fire(event)
+        command = self.machine.command
 
         v_mps = self.speed.step(command.speed, self.crosswalk.to_near_edge_m, dt_s, hold=lane_lost)
         if v_mps > 0.0:
@@ -315,9 +324,11 @@ class DecisionLogic:
             curvature_per_m = side / command.radius_m if command.radius_m is not None else 0.0
         else:
             bias = side * self._branch_shape(command)
-        offset_ref_m = bias * c.branch_offset_m
+        offset_ref_m = bias * c.branch_offset_m + avoid.offset_ref_m
         heading_ref_rad = bias * c.branch_heading_rad
         offset_m = lane.lateral_offset_m if lane_ok and not blind_arc else offset_ref_m
+        if avoid.active and math.isfinite(avoid.own_lane_offset_m):  # a lane change: the own lane's frame
+            offset_m = avoid.own_lane_offset_m
         heading_rad = lane.heading_error_rad if lane_ok and not blind_arc else heading_ref_rad
         return DecisionOutput(self.state, self.last_event, offset_m, offset_ref_m, heading_rad, heading_ref_rad,
                               v_mps, curvature_per_m, list(self._transitions), list(self._events), lane_lost)
@@ -378,3 +389,12 @@ class DecisionLogic:
             return 1.0
         u = (self.road.travelled_m - self.state_entry_m) / command.distance_m
         return max(0.0, min(1.0, 4.0 * u, 2.0 * (1.0 - u)))
+
+
+def obstacles_of(lane) -> List[Obstacle]:
+    """The obstacles of a lane measurement (conde_msgs/LaneMeasurement's obstacle_* arrays; none
+    when the object has no such fields)."""
+    kinds = getattr(lane, "obstacle_kinds", ())
+    return [Obstacle(k, float(d), float(lo), float(hi)) for k, d, lo, hi in
+            zip(kinds, getattr(lane, "obstacle_distances_m", ()), getattr(lane, "obstacle_lane_y_min_m", ()),
+                getattr(lane, "obstacle_lane_y_max_m", ()))]

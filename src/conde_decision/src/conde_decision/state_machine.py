@@ -64,13 +64,19 @@ EVENTS = OrderedDict([
     ("parking_bay_south", "the parking place chosen is the south bay of the bay-parking area (every step)"),
     ("lane_aligned", "in an arc driven blind (command.radius_m), past half its command.distance_m, the cameras see "
                      "a lane with both lines and the robot heading along it (within lane_aligned_rad)"),
+    # Obstacles and the working zone (conde_decision/avoidance.py):
+    ("obstacle_ahead", "a box or cone in the robot's lane, within avoid_trigger_m ahead (conde_tracking's obstacles)"),
+    ("lane_changed", "in a state with command.lane other, the robot has reached the other lane's centre"),
+    ("obstacle_passed", "every box or cone seen in the robot's own lane is avoid_clearance_m behind the robot"),
+    ("lane_returned", "in a state with command.lane own after a lane change, the robot is back on its lane's centre"),
 ])
 
 SPEEDS = ("cruise", "stop", "stop_at_crosswalk", "creep", "reverse")
 BRANCHES = ("none", "left", "right")
+LANES = ("own", "other")  # command.lane: drive in the robot's own lane or in the other (left) lane
 TOP_KEYS = ("initial", "states")
 STATE_KEYS = ("description", "command", "on")
-COMMAND_KEYS = ("speed", "branch", "distance_m", "radius_m")
+COMMAND_KEYS = ("speed", "branch", "distance_m", "radius_m", "lane")
 RETURN = "return"  # transition target: back to the state the current one was entered from
 
 
@@ -86,6 +92,7 @@ class Command:
     branch: str = "none"  # one of BRANCHES
     distance_m: Optional[float] = None  # distance_elapsed fires after this many metres
     radius_m: Optional[float] = None  # with a branch: drive an arc of this radius toward it [m]
+    lane: str = "own"  # one of LANES: "other" moves the lateral reference onto the other lane's centre
 
 
 @dataclass(frozen=True)
@@ -242,7 +249,10 @@ def _parse_command(raw, where, fail) -> Command:
         if branch == "none":
             fail(where + ".radius_m", "an arc needs a branch (left or right) to turn toward")
         radius_m = float(radius_m)
-    return Command(speed, branch, distance_m, radius_m)
+    lane = raw.get("lane", "own")
+    if lane not in LANES:
+        fail(where + ".lane", "unknown lane '%s' (expected one of: %s)" % (lane, ", ".join(LANES)))
+    return Command(speed, branch, distance_m, radius_m, lane)
 
 
 class StateMachine:

@@ -1,0 +1,155 @@
+"""Obstacle avoidance by a lane change and back (D3), and the working zone's temporary lane (D4).
+Pure Python, no ROS.
+
+Inputs per lane measurement: the lateral offset conde_tracking measured (against the lane it
+tracks), whether it is usable, the distance driven [m], the current state's command.lane
+(own | other), and the obstacles of the measurement (boxes and cones: distance ahead to their near
+edge at the floor, lateral extent at their base from the tracked lane's centre line).
+
+* The robot's own lane is the lane it drove in before the change; the other lane is its left
+  neighbour (traffic keeps right), lane_spacing_m to the left.  An obstacle blocks the own lane
+  when its base reaches into +-block_half_width_m of the own lane's centre.
+* The offset reference moves (in the own lane's frame) toward 0 (lane own) or lane_spacing_m
+  (lane other) by lane_spacing_m per change_length_m driven: a ramp, so the robot changes lanes
+  along an S of that length.
+* conde_tracking may, while the robot crosses the dashed line, start measuring against the other
+  lane (its lines look the same, mirrored), or lose a line and fit a wrong pair for a while.  So
+  during a lane change and back the robot's offset from the own lane is dead-reckoned from the
+  distance driven and the heading error (the same against either lane: they are parallel), and
+  the tracked lane is the whole number of lane spacings (lane_shift_m) that best explains the
+  tracker's offset; a tracker offset with both lines fitted, within anchor_tolerance_m of the
+  dead-reckoned one, re-anchors it.  Offset and reference go to conde_control in the own lane's frame.
+* Events: obstacle_ahead (a blocker within avoid_trigger_m), lane_changed (lane other, the
+  reference is on the other lane and the robot within settle_tolerance_m of it), obstacle_passed
+  (lane other, every blocker seen is avoid_clearance_m behind the robot: its far end is its near
+  edge plus box_depth_m or cone_depth_m; cones in a row keep moving it on), lane_returned (lane own
+  after a change, the reference back at 0 and the robot within settle_tolerance_m of it).
+"""
+import math
+from dataclasses import dataclass, field, fields
+from typing import List, Optional, Sequence
+
+BOX = "box"
+CONE = "cone"
+
+
+@dataclass(frozen=True)
+class AvoidanceConfig:
+    """Track facts and tuning; the initial values are the defaults (the decision node's parameters
+    override them by name)."""
+
+    lane_spacing_m: float = 0.782  # own lane centre to the other lane's centre [m] (2 x lane_offset_m)
+    block_half_width_m: float = 0.25  # an obstacle reaching this close to the own lane's centre blocks it [m]
+    avoid_trigger_m: float = 1.1  # start the lane change when a blocker's near edge is this close [m]
+    change_length_m: float = 0.8  # the reference crosses one lane spacing over this distance driven [m]
+    # Return once the blockers' far ends are this far behind base_footprint [m]: Conde's footprint
+    # reaches 0.443 m behind it (base_footprint is near its front), plus a margin.
+    avoid_clearance_m: float = 0.55
+    # A blocker's far end is taken from sightings of its near edge at least this far ahead [m]
+    # (beside the robot the cameras see only the part of it still ahead: the near edge is cut).
+    edge_seen_from_m: float = 0.05
+    anchor_tolerance_m: float = 0.3  # the tracker within this of the dead-reckoned offset re-anchors it [m]
+    box_depth_m: float = 0.6  # a box's length along the road (hidden behind its near face) [m]
+    cone_depth_m: float = 0.15  # a cone's base diameter [m]
+    settle_tolerance_m: float = 0.1  # lane_changed / lane_returned within this of the lane's centre [m]
+
+    def check(self) -> "AvoidanceConfig":
+        for f in fields(self):
+            value = getattr(self, f.name)
+            if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value) or value <= 0:
+                raise ValueError("%s: expected a finite number > 0, got %r" % (f.name, value))
+        return self
+
+
+@dataclass(frozen=True)
+class Obstacle:
+    kind: str  # BOX or CONE
+    near_x_m: float  # ahead of base_footprint to the near edge at the floor [m]
+    lane_y_min_m: float  # lateral extent at the base from the tracked lane's centre line, + = left [m]
+    lane_y_max_m: float
+
+
+@dataclass
+class AvoidanceStep:
+    events: List[str] = field(default_factory=list)
+    offset_ref_m: float = 0.0  # lateral offset reference in the own lane's frame [m]
+    own_lane_offset_m: float = float("nan")  # the robot from the own lane's centre (+ = left) [m]
+    active: bool = False  # a lane change or the way back: control on own_lane_offset_m and offset_ref_m
+
+
+class Avoidance:
+    def __init__(self, config: AvoidanceConfig = AvoidanceConfig()):
+        self.config = config.check()
+        self.ref_m = 0.0  # offset reference in the own lane's frame [m]
+        self.lane_shift_m = 0.0  # the tracked lane's centre from the own lane's centre (+ = left) [m]
+        self.far_end_m: Optional[float] = None  # distance driven at which the last blocker ends [m]
+        self.changed = False  # a lane change happened and the robot is not back yet
+        self.own_offset_m: Optional[float] = None  # dead-reckoned and re-anchored, while active [m]
+        self._last_travelled_m: Optional[float] = None
+
+    @property
+    def active(self) -> bool:
+        return self.changed or self.ref_m != 0.0
+
+    def blockers(self, obstacles: Sequence[Obstacle]) -> List[Obstacle]:
+        """The obstacles that reach into the own lane (in the own lane's frame)."""
+        w, s = self.config.block_half_width_m, self.lane_shift_m
+        return [o for o in obstacles if o.lane_y_min_m + s <= w and o.lane_y_max_m + s >= -w]
+
+    def step(self, lane_offset_m: float, lane_ok: bool, travelled_m: float, lane_command: str,
+             obstacles: Sequence[Obstacle] = (), heading_error_rad: float = 0.0,
+             both_lines: bool = True) -> AvoidanceStep:
+        """One lane measurement: its offset [m], whether usable, the distance driven so far [m], the
+        state's command.lane, the obstacles, the heading error [rad] and whether both lines were
+        fitted (only such a measurement re-anchors the dead-reckoned offset)."""
+        c = self.config
+        out = AvoidanceStep()
+        driven_m = 0.0 if self._last_travelled_m is None else max(0.0, travelled_m - self._last_travelled_m)
+        self._last_travelled_m = travelled_m
+        other = lane_command == "other"
+        if other:
+            self.changed = True
+        if self.active:
+            if self.own_offset_m is None:
+                self.own_offset_m = lane_offset_m if lane_ok else 0.0
+            elif math.isfinite(heading_error_rad):
+                self.own_offset_m += driven_m * math.sin(heading_error_rad)
+            if lane_ok:
+                self.lane_shift_m = c.lane_spacing_m * round((self.own_offset_m - lane_offset_m) / c.lane_spacing_m)
+                if both_lines and abs(lane_offset_m + self.lane_shift_m - self.own_offset_m) <= c.anchor_tolerance_m:
+                    self.own_offset_m = lane_offset_m + self.lane_shift_m
+        else:
+            self.own_offset_m, self.lane_shift_m = None, 0.0
+        target_m = c.lane_spacing_m if other else 0.0
+        slew_m = c.lane_spacing_m * driven_m / c.change_length_m
+        if abs(target_m - self.ref_m) <= slew_m + 1e-9:
+            self.ref_m = target_m
+        else:
+            self.ref_m += math.copysign(slew_m, target_m - self.ref_m)
+        if self.own_offset_m is not None:
+            own_offset_m = self.own_offset_m
+        else:
+            own_offset_m = lane_offset_m if lane_ok else float("nan")
+        out.own_lane_offset_m = own_offset_m
+
+        blocking = self.blockers(obstacles)
+        for o in blocking:
+            if (other or o.near_x_m <= c.avoid_trigger_m) and o.near_x_m >= c.edge_seen_from_m:
+                end_m = travelled_m + o.near_x_m + (c.box_depth_m if o.kind == BOX else c.cone_depth_m)
+                self.far_end_m = end_m if self.far_end_m is None else max(self.far_end_m, end_m)
+        if any(o.near_x_m <= c.avoid_trigger_m for o in blocking):
+            out.events.append("obstacle_ahead")
+        settled = (math.isfinite(own_offset_m) and abs(own_offset_m - target_m) <= c.settle_tolerance_m
+                   and self.ref_m == target_m)
+        if other and settled:
+            out.events.append("lane_changed")
+        if other and self.far_end_m is not None and travelled_m >= self.far_end_m + c.avoid_clearance_m:
+            out.events.append("obstacle_passed")
+            self.far_end_m = None
+        if not other and self.changed and settled:
+            out.events.append("lane_returned")
+            self.changed = False
+            self.far_end_m = None
+        out.offset_ref_m = self.ref_m
+        out.active = self.active
+        return out
