@@ -38,10 +38,14 @@
 //   it is exact only near the centre. Pixels beyond <cutoff_angle> are black.
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/Image.h>
+#include <sensor_msgs/PointCloud2.h>
 #include <sensor_msgs/image_encodings.h>
+#include <sensor_msgs/point_cloud2_iterator.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
+#include <limits>
 #include <memory>
 #include <random>
 #include <sstream>
@@ -70,8 +74,16 @@ bool samePose(const cp::Pose& a, const cp::Pose& b) {
 
 class CameraPlugin : public SimPlugin {
  public:
+  // `sensor_types`: the <sensor> types this plugin sits in; the defaults of the colour image's
+  // topics differ between gazebo_ros_camera ("image_raw") and gazebo_ros_openni_kinect ("ir/...").
+  explicit CameraPlugin(std::vector<std::string> sensor_types = {"camera", "wideanglecamera"},
+                        std::string image_topic_default = "image_raw", std::string info_topic_default = "camera_info")
+      : sensor_types_(std::move(sensor_types)),
+        image_topic_default_(std::move(image_topic_default)),
+        info_topic_default_(std::move(info_topic_default)) {}
+
   void configure(PluginParams& params, ros::NodeHandle& nh) override {
-    link_ = params.requireSensor({"camera", "wideanglecamera"});
+    link_ = params.requireSensor(sensor_types_);
     const bool wide_angle = params.sensorType() == "wideanglecamera";
     const auto& robot = ctx_.sim->robot(ctx_.robot);
     if (robot.model.bodyIndex(link_) < 0) {
@@ -95,8 +107,8 @@ class CameraPlugin : public SimPlugin {
     baseline_m_ = params.getDouble("hackBaseline", 0.0);
     params.getDouble("CxPrime", 0.0);
     const std::string camera_name = params.getString("cameraName", "camera");
-    const std::string image_topic = params.getString("imageTopicName", "image_raw");
-    const std::string info_topic = params.getString("cameraInfoTopicName", "camera_info");
+    const std::string image_topic = params.getString("imageTopicName", image_topic_default_);
+    const std::string info_topic = params.getString("cameraInfoTopicName", info_topic_default_);
     const double sensor_rate_hz = params.sensorDouble("update_rate", 0.0);
     double rate_hz = params.getDouble("updateRate", 0.0);
     if (rate_hz < 0) throw params.error("updateRate", "must not be negative");
@@ -146,6 +158,7 @@ class CameraPlugin : public SimPlugin {
     info_pub_ = camera_nh.advertise<sensor_msgs::CameraInfo>(info_topic, 2, true);
     fillCameraInfo(model);
     info_pub_.publish(info_);
+    configureOutputs(params, camera_nh);
     ROS_INFO(
         "%s: camera on link %s: %dx%d, %s lens, hfov %.4f rad (fx %.2f px), %s distortion, %.1f Hz, %s + %s in "
         "frame %s",
@@ -157,12 +170,17 @@ class CameraPlugin : public SimPlugin {
   void afterStep() override {
     if (!frame_timer_.due(ctx_.sim->stepCount())) return;
     const bool want_image = image_pub_.getNumSubscribers() > 0;
-    if (!want_image && info_pub_.getNumSubscribers() == 0) return;
+    const bool want_depth = wantsDepth();
     const ros::Time stamp = ctx_.now();
-    if (want_image) {
+    publishExtraInfo(stamp);
+    if (!want_image && !want_depth && info_pub_.getNumSubscribers() == 0) return;
+    if (want_image || want_depth) {
       cp::RenderScene& scene = ctx_.sim->renderScene();
       const cp::Pose world_T_optical = ctx_.sim->linkPose(ctx_.robot, link_) * link_T_optical_;
-      renderer_->render(scene, world_T_optical, ctx_.robot, &rng_, image_);
+      renderer_->render(scene, world_T_optical, ctx_.robot, &rng_, image_, want_depth ? &depth_ : nullptr);
+      if (want_depth) publishDepth(stamp);  // reads image_ (the cloud's colours) before it moves
+    }
+    if (want_image) {
       sensor_msgs::Image msg;
       msg.header.stamp = stamp;
       msg.header.frame_id = frame_;
@@ -177,6 +195,19 @@ class CameraPlugin : public SimPlugin {
     info_.header.stamp = stamp;
     info_pub_.publish(info_);
   }
+
+ protected:
+  // Hooks of the depth camera: more topics at load, the depth outputs of a rendered frame.
+  virtual void configureOutputs(PluginParams& /*params*/, ros::NodeHandle& /*camera_nh*/) {}
+  virtual bool wantsDepth() const { return false; }
+  virtual void publishDepth(const ros::Time& /*stamp*/) {}
+  virtual void publishExtraInfo(const ros::Time& /*stamp*/) {}
+
+  const cp::CameraModel& model() const { return renderer_->model(); }
+  const std::string& frame() const { return frame_; }
+  const cp::RgbImage& colourImage() const { return image_; }
+  const cp::DepthImage& depthImage() const { return depth_; }
+  const sensor_msgs::CameraInfo& cameraInfo() const { return info_; }
 
  private:
   void fillCameraInfo(const cp::CameraModel& model) {
@@ -213,6 +244,8 @@ class CameraPlugin : public SimPlugin {
     }
   }
 
+  std::vector<std::string> sensor_types_;
+  std::string image_topic_default_, info_topic_default_;
   std::string link_, frame_, encoding_;
   std::string lens_type_ = "pinhole";
   cp::Pose link_T_optical_;
@@ -221,12 +254,163 @@ class CameraPlugin : public SimPlugin {
   std::unique_ptr<cp::CameraRenderer> renderer_;
   std::mt19937 rng_;
   cp::RgbImage image_;
+  cp::DepthImage depth_;
   sensor_msgs::CameraInfo info_;
   ros::Publisher image_pub_, info_pub_;
+};
+
+// libgazebo_ros_depth_camera.so and libgazebo_ros_openni_kinect.so on <sensor type="depth">: the
+// colour image and its CameraInfo as the camera above, plus from the same rendering pass
+//   <cameraName>/<depthImageTopicName>            depth image, 32FC1 in metres (the z of each pixel
+//                                                 in the optical frame; 16UC1 in millimetres with
+//                                                 <useDepth16UC1Format>, 0 = no value)
+//   <cameraName>/<depthImageCameraInfoTopicName>  its CameraInfo (the colour camera's numbers)
+//   <cameraName>/<pointCloudTopicName>            organised PointCloud2 (height x width; x y z rgb
+//                                                 float32, 32 bytes a point) in the optical frame
+// As in Gazebo, a pixel nearer than <pointCloudCutoff> [m] (default 0.4) or, on the Kinect (and on
+// the depth camera when given), not nearer than <pointCloudCutoffMax> [m] (default 5 on the
+// Kinect) is NaN in both the depth image and the cloud (is_dense false). The colour image topics
+// default to image_raw / camera_info on the depth camera and ir/image_raw / ir/camera_info on the
+// Kinect, as in gazebo_ros_pkgs. Differences, on purpose:
+// - A pixel that sees nothing (between the clips) is +inf in the 32FC1 image (REP 117) and NaN in
+//   the cloud.
+// - The rgb field is packed as PCL reads it (bytes B, G, R, 0; Gazebo writes R first, so red and
+//   blue come out swapped in its clouds).
+// - Points are back-projected through K (x = (u - cx) / fx * z); with lens distortion on the image
+//   they are the distorted pixels' depths on undistorted rays, exact only without distortion.
+// - <reflectanceTopicName>, <normalsTopicName>, <reduceNormals> (outputs of newer Gazebo's depth
+//   camera) and <baseline> (written in many Kinect URDFs, read by no gazebo_ros version; the
+//   stereo baseline is <hackBaseline>) are accepted without effect; <sensor><camera><depth_camera> too.
+class DepthCameraPlugin : public CameraPlugin {
+ public:
+  DepthCameraPlugin(bool kinect)
+      : CameraPlugin({"depth"}, kinect ? "ir/image_raw" : "image_raw", kinect ? "ir/camera_info" : "camera_info"),
+        kinect_(kinect) {}
+
+ protected:
+  void configureOutputs(PluginParams& params, ros::NodeHandle& camera_nh) override {
+    cutoff_min_m_ = params.getDouble("pointCloudCutoff", 0.4);
+    cutoff_max_m_ = params.getDouble("pointCloudCutoffMax", kinect_ ? 5.0 : std::numeric_limits<double>::infinity());
+    if (cutoff_min_m_ < 0) throw params.error("pointCloudCutoff", "must not be negative [m]");
+    if (!(cutoff_max_m_ > cutoff_min_m_)) {
+      throw params.error("pointCloudCutoffMax",
+                         "must be greater than pointCloudCutoff (" + formatNumber(cutoff_min_m_) + " m)");
+    }
+    depth_16uc1_ = params.getBool("useDepth16UC1Format", false);
+    const std::string depth_topic = params.getString("depthImageTopicName", "depth/image_raw");
+    const std::string depth_info_topic = params.getString("depthImageCameraInfoTopicName", "depth/camera_info");
+    const std::string points_topic = params.getString("pointCloudTopicName", "points");
+    params.ignore({"reflectanceTopicName", "normalsTopicName", "reduceNormals", "baseline", "camera/depth_camera"});
+    depth_pub_ = camera_nh.advertise<sensor_msgs::Image>(depth_topic, 2);
+    depth_info_pub_ = camera_nh.advertise<sensor_msgs::CameraInfo>(depth_info_topic, 2, true);
+    points_pub_ = camera_nh.advertise<sensor_msgs::PointCloud2>(points_topic, 2);
+    depth_info_pub_.publish(cameraInfo());
+    ROS_INFO("depth camera %s: %s (%s) + %s, %s; points from %.3f m to %.3f m", frame().c_str(),
+             depth_pub_.getTopic().c_str(), depth_16uc1_ ? "16UC1 mm" : "32FC1 m", depth_info_pub_.getTopic().c_str(),
+             points_pub_.getTopic().c_str(), cutoff_min_m_, cutoff_max_m_);
+  }
+
+  bool wantsDepth() const override { return depth_pub_.getNumSubscribers() > 0 || points_pub_.getNumSubscribers() > 0; }
+
+  void publishExtraInfo(const ros::Time& stamp) override {
+    if (depth_info_pub_.getNumSubscribers() == 0) return;
+    sensor_msgs::CameraInfo info = cameraInfo();
+    info.header.stamp = stamp;
+    depth_info_pub_.publish(info);
+  }
+
+  void publishDepth(const ros::Time& stamp) override {
+    if (depth_pub_.getNumSubscribers() > 0) publishDepthImage(stamp);
+    if (points_pub_.getNumSubscribers() > 0) publishPoints(stamp);
+  }
+
+ private:
+  // Gazebo's range test: only depths strictly between the two cut-offs are values.
+  bool inRange(float depth_m) const { return depth_m > cutoff_min_m_ && depth_m < cutoff_max_m_; }
+
+  void publishDepthImage(const ros::Time& stamp) {
+    const cp::DepthImage& depth = depthImage();
+    sensor_msgs::Image msg;
+    msg.header.stamp = stamp;
+    msg.header.frame_id = frame();
+    msg.width = depth.width;
+    msg.height = depth.height;
+    msg.is_bigendian = 0;
+    const size_t pixels = depth.depth_m.size();
+    if (depth_16uc1_) {
+      msg.encoding = sensor_msgs::image_encodings::TYPE_16UC1;
+      msg.step = depth.width * sizeof(std::uint16_t);
+      std::vector<std::uint16_t> mm(pixels, 0);
+      for (size_t i = 0; i < pixels; ++i) {
+        const float d = depth.depth_m[i];
+        if (inRange(d) && std::isfinite(d)) mm[i] = static_cast<std::uint16_t>(std::min(65535.0f, d * 1000.0f + 0.5f));
+      }
+      msg.data.resize(pixels * sizeof(std::uint16_t));
+      std::memcpy(msg.data.data(), mm.data(), msg.data.size());
+    } else {
+      msg.encoding = sensor_msgs::image_encodings::TYPE_32FC1;
+      msg.step = depth.width * sizeof(float);
+      std::vector<float> values(pixels);
+      for (size_t i = 0; i < pixels; ++i) {
+        const float d = depth.depth_m[i];
+        // Gazebo's depth camera (no upper cut-off) passes "nothing" on as +inf; beyond a cut-off is NaN.
+        const bool value = inRange(d) || (std::isinf(d) && std::isinf(cutoff_max_m_));
+        values[i] = value ? d : std::numeric_limits<float>::quiet_NaN();
+      }
+      msg.data.resize(pixels * sizeof(float));
+      std::memcpy(msg.data.data(), values.data(), msg.data.size());
+    }
+    depth_pub_.publish(msg);
+  }
+
+  void publishPoints(const ros::Time& stamp) {
+    const cp::DepthImage& depth = depthImage();
+    const cp::RgbImage& colour = colourImage();
+    const cp::CameraModel& m = model();
+    sensor_msgs::PointCloud2 cloud;
+    cloud.header.stamp = stamp;
+    cloud.header.frame_id = frame();
+    sensor_msgs::PointCloud2Modifier modifier(cloud);
+    modifier.setPointCloud2FieldsByString(2, "xyz", "rgb");
+    modifier.resize(static_cast<size_t>(depth.width) * depth.height);
+    cloud.width = depth.width;  // organised: one point per pixel, row by row
+    cloud.height = depth.height;
+    cloud.row_step = cloud.point_step * cloud.width;
+    cloud.is_dense = true;
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    sensor_msgs::PointCloud2Iterator<float> x(cloud, "x"), y(cloud, "y"), z(cloud, "z");
+    sensor_msgs::PointCloud2Iterator<std::uint8_t> rgb(cloud, "rgb");
+    for (int v = 0; v < depth.height; ++v) {
+      for (int u = 0; u < depth.width; ++u, ++x, ++y, ++z, ++rgb) {
+        const float d = depth.at(u, v);
+        if (inRange(d) && std::isfinite(d)) {
+          *x = static_cast<float>((u - m.cx_px) / m.fx_px * d);
+          *y = static_cast<float>((v - m.cy_px) / m.fy_px * d);
+          *z = d;
+        } else {
+          *x = *y = *z = nan;
+          cloud.is_dense = false;
+        }
+        const std::uint8_t* p = &colour.data[3 * (static_cast<size_t>(v) * colour.width + u)];
+        rgb[0] = p[2];  // little-endian 0x00RRGGBB, as PCL packs it
+        rgb[1] = p[1];
+        rgb[2] = p[0];
+        rgb[3] = 0;
+      }
+    }
+    points_pub_.publish(cloud);
+  }
+
+  bool kinect_;
+  bool depth_16uc1_ = false;
+  double cutoff_min_m_ = 0.4, cutoff_max_m_ = 5.0;
+  ros::Publisher depth_pub_, depth_info_pub_, points_pub_;
 };
 
 }  // namespace
 
 std::unique_ptr<SimPlugin> makeCameraPlugin() { return std::make_unique<CameraPlugin>(); }
+std::unique_ptr<SimPlugin> makeDepthCameraPlugin() { return std::make_unique<DepthCameraPlugin>(false); }
+std::unique_ptr<SimPlugin> makeOpenniKinectPlugin() { return std::make_unique<DepthCameraPlugin>(true); }
 
 }  // namespace conde_sim
