@@ -45,6 +45,8 @@ const std::map<std::string, PluginFactory>& pluginRegistry() {
       {"libgazebo_ros_planar_move.so", makePlanarMovePlugin},
       {"libgazebo_ros_force.so", makeForcePlugin},
       {"libgazebo_ros_f3d.so", makeF3dPlugin},
+      {"libgazebo_ros_tricycle_drive.so", makeTricycleDrivePlugin},
+      {"libgazebo_ros_joint_pose_trajectory.so", makeJointPoseTrajectoryPlugin},
   };
   return registry;
 }
