@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
-"""Checks of the tricycle drive and joint pose trajectory plugins (see joint_plugins.test): the
-tricycle drives the arc its steering angle commands and its encoder odometry follows it; the arm
-reaches the poses of a trajectory at their times. The simulation is stepped (1 ms steps)."""
+"""Checks of the tricycle drive, joint pose trajectory and force/torque sensor plugins (see
+joint_plugins.test): the tricycle drives the arc its steering angle commands and its encoder
+odometry follows it; the arm reaches the poses of a trajectory at their times; the hinge of a
+hanging mass reports its weight. The simulation is stepped (1 ms steps)."""
 import math
 import time
 import unittest
@@ -9,7 +10,8 @@ import unittest
 import rospy
 import rostest
 import tf2_ros
-from geometry_msgs.msg import Twist
+from gazebo_msgs.srv import GetPhysicsProperties
+from geometry_msgs.msg import Twist, WrenchStamped
 from nav_msgs.msg import Odometry
 from sensor_msgs.msg import JointState
 from trajectory_msgs.msg import JointTrajectory, JointTrajectoryPoint
@@ -17,6 +19,8 @@ from trajectory_msgs.msg import JointTrajectory, JointTrajectoryPoint
 from stepped_sim import Latest, ModelPoses, SteppedSim, connected, send
 
 WHEELBASE_M = 0.5  # tests/fixtures/tricycle_robot.urdf: steering axis to rear axle
+PENDULUM_MASS_KG = 2.0  # tests/fixtures/ft_pendulum.urdf
+PENDULUM_OFFSET_ALONG_AXIS_M = 0.1
 
 
 def yaw_of(q):
@@ -130,6 +134,37 @@ class JointPluginsTest(unittest.TestCase):
         for q, e in zip(positions_at(3.5), poses[-1][1]):
             self.assertAlmostEqual(q, e, delta=0.01)
         time.sleep(0.1)
+
+    def test_ft_sensor_reads_hanging_weight(self):
+        g = -rospy.ServiceProxy("/gazebo/get_physics_properties", GetPhysicsProperties)().gravity.z
+        wrenches = Latest.connected("/ft/ft_sensor_topic", WrenchStamped)
+        self.sim.step(300)  # the hinge settles (it starts at rest, in equilibrium about its axis)
+        t0 = self.sim.time_s
+        t1 = self.sim.step(500)
+        wrenches.wait_until_stamped(t1, 0.01)
+        recent = [m for m in wrenches.messages if t0 < m.header.stamp.to_sec() <= t1]
+        self.assertAlmostEqual(len(recent), 50, delta=1, msg="updateRate 100 Hz over 0.5 s")
+        self.assertEqual(recent[-1].header.frame_id, "pendulum_link")
+
+        def mean(values):
+            return sum(values) / len(values)
+
+        # The mean over 0.5 s: ODE's iterative solver scatters each step's constraint force
+        # (a few percent; Bullet's stays within 0.1 %).
+        fz = [m.wrench.force.z for m in recent]
+        ty = [m.wrench.torque.y for m in recent]
+        f_xy = math.hypot(mean([m.wrench.force.x for m in recent]), mean([m.wrench.force.y for m in recent]))
+        t_xz = math.hypot(mean([m.wrench.torque.x for m in recent]), mean([m.wrench.torque.z for m in recent]))
+        weight = PENDULUM_MASS_KG * g
+        moment = -PENDULUM_OFFSET_ALONG_AXIS_M * weight
+        rospy.loginfo("ft_sensor: force z mean %.4f N (%.4f..%.4f), torque y mean %.4f N m (%.4f..%.4f); weight "
+                      "%.4f N, expected torque y %.4f N m; |force xy| %.4f, |torque xz| %.4f", mean(fz), min(fz),
+                      max(fz), mean(ty), min(ty), max(ty), weight, moment, f_xy, t_xz)
+        self.assertAlmostEqual(mean(fz), weight, delta=0.02 * weight, msg="the hinge holds the weight up")
+        self.assertLess(f_xy, 0.02 * weight)
+        # The mass hangs 0.1 m along the hinge axis: the hinge also holds the moment m g 0.1 about y.
+        self.assertAlmostEqual(mean(ty), moment, delta=0.05 * abs(moment))
+        self.assertLess(t_xz, 0.05)
 
 
 if __name__ == "__main__":

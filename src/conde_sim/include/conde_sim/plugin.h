@@ -100,5 +100,6 @@ std::unique_ptr<SimPlugin> makeForcePlugin();
 std::unique_ptr<SimPlugin> makeF3dPlugin();
 std::unique_ptr<SimPlugin> makeTricycleDrivePlugin();
 std::unique_ptr<SimPlugin> makeJointPoseTrajectoryPlugin();
+std::unique_ptr<SimPlugin> makeFtSensorPlugin();
 
 }  // namespace conde_sim
