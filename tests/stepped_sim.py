@@ -93,3 +93,18 @@ class Latest:
         wait_for(lambda: self.messages and self.messages[-1].header.stamp.to_sec() >= time_s - period_s - 1e-6,
                  f"{self.topic} stamped {time_s:.3f} s")
         return self.messages[-1]
+
+
+class ModelPoses:
+    """Ground-truth model poses through /gazebo/get_model_state."""
+
+    def __init__(self):
+        from gazebo_msgs.srv import GetModelState
+        rospy.wait_for_service("/gazebo/get_model_state", timeout=WALL_TIMEOUT_S)
+        self._get_state = rospy.ServiceProxy("/gazebo/get_model_state", GetModelState)
+
+    def __call__(self, model):
+        """The pose of `model` in the world (geometry_msgs/Pose)."""
+        state = self._get_state(model, "")
+        assert state.success, state.status_message
+        return state.pose

@@ -11,21 +11,14 @@
 namespace conde_sim {
 
 bool DiffDriveController::setCommand(double linear_mps, double angular_radps, double time_s) {
-  if (!std::isfinite(linear_mps) || !std::isfinite(angular_radps)) return false;
-  linear_mps_ = linear_mps;
-  angular_radps_ = angular_radps;
-  command_time_s_ = time_s;
-  has_command_ = true;
-  return true;
+  return command_.set(linear_mps, angular_radps, time_s);
 }
 
-bool DiffDriveController::timedOut(double time_s) const {
-  return has_command_ && params_.command_timeout_s > 0.0 && time_s - command_time_s_ > params_.command_timeout_s;
-}
+bool DiffDriveController::timedOut(double time_s) const { return command_.timedOut(time_s, params_.command_timeout_s); }
 
 void DiffDriveController::update(double time_s, double dt_s, double& left_radps, double& right_radps) {
-  double v = linear_mps_, w = angular_radps_;
-  if (!has_command_ || timedOut(time_s)) v = w = 0.0;
+  double v = command_.first, w = command_.second;  // [m/s], [rad/s]
+  if (!command_.received || timedOut(time_s)) v = w = 0.0;
   const double left_target = v - w * params_.wheel_separation_m / 2.0;
   const double right_target = v + w * params_.wheel_separation_m / 2.0;
   if (params_.wheel_acceleration_mps2 > 0.0) {
@@ -42,9 +35,8 @@ void DiffDriveController::update(double time_s, double dt_s, double& left_radps,
 }
 
 void DiffDriveController::reset() {
-  linear_mps_ = angular_radps_ = 0.0;
+  command_.reset();
   left_mps_ = right_mps_ = 0.0;
-  has_command_ = false;
 }
 
 void DiffDriveOdometry::reset(double left_rad, double right_rad) {

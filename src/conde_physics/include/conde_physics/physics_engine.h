@@ -50,6 +50,13 @@ struct Contact {
   bool has_force = false;  // false when the backend could not tell
 };
 
+// What a joint exerts on its child body: force [N] and torque [N m] in world coordinates, the
+// torque about the child body's centre of mass.
+struct JointWrench {
+  Vec3 force_N;
+  Vec3 torque_Nm;
+};
+
 class PhysicsEngine {
  public:
   virtual ~PhysicsEngine() = default;
@@ -95,6 +102,10 @@ class PhysicsEngine {
   virtual void setJointVelocityMotor(ModelId model, int joint, double velocity, double max_effort) = 0;
   // Effort [N m or N] applied during the next step only (effort control, PID plugins).
   virtual void addJointEffort(ModelId model, int joint, double effort) = 0;
+  // The wrench the joint's constraint (with its limits and its motor, without addJointEffort)
+  // exerted on the child body during the last step; zero before the first step. Measured by the
+  // solver (ODE dJointFeedback, Bullet btJointFeedback), kept for every joint.
+  virtual JointWrench jointWrench(ModelId model, int joint) const = 0;
 
   // Casts rays against every shape (static and dynamic). `origins` and `directions` (unit) in
   // world coordinates; results have max_range_m where nothing is hit within it. A ray that

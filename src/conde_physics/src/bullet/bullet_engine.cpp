@@ -33,6 +33,7 @@
 #include <algorithm>
 #include <cmath>
 #include <deque>
+#include <memory>
 #include <string>
 #include <unordered_map>
 #include <vector>
@@ -160,6 +161,8 @@ struct Joint {
   double motor_velocity = 0.0, motor_max_effort = 0.0;
   bool motor_at_stop = false;   // hinge resting on a limit: motor applied by us, not by Bullet
   double pending_effort = 0.0;  // [N m] or [N], for the next step only
+  // Constraint forces of the last step; the solver writes them through the pointer (hence the heap).
+  std::unique_ptr<btJointFeedback> feedback = std::make_unique<btJointFeedback>();
 };
 
 struct Model {
@@ -327,6 +330,8 @@ class BulletEngine : public PhysicsEngine {
         joint.limit_window = joint.has_limits && joint.upper - joint.lower >= M_PI - 0.1;
         updateHingeLimit(joint, /*force=*/true);
       }
+      constraint->setJointFeedback(joint.feedback.get());
+      constraint->enableFeedback(true);
       world_->addConstraint(constraint, /*disableCollisionsBetweenLinkedBodies=*/false);  // the pair filter does it
       updateMotor(joint);
     }
@@ -400,6 +405,13 @@ class BulletEngine : public PhysicsEngine {
   }
 
   double jointPosition(ModelId model, int joint) const override { return jointAt(model, joint).position; }
+  // The child is body A of a hinge and body B of a slider; torques are about the centre of mass.
+  JointWrench jointWrench(ModelId model, int joint) const override {
+    const Joint& j = jointAt(model, joint);
+    const btJointFeedback& f = *j.feedback;
+    return j.hinge ? JointWrench{fromBt(f.m_appliedForceBodyA), fromBt(f.m_appliedTorqueBodyA)}
+                   : JointWrench{fromBt(f.m_appliedForceBodyB), fromBt(f.m_appliedTorqueBodyB)};
+  }
 
   double jointVelocity(ModelId model, int joint) const override { return velocityOf(jointAt(model, joint)); }
 

@@ -18,6 +18,7 @@
 #include <mutex>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "conde_physics/tyre.h"
@@ -84,6 +85,8 @@ struct MeshStore {
 
 struct JointState {
   dJointID id = nullptr;
+  // Constraint forces of the last step; ODE writes them through the pointer (hence the heap).
+  std::unique_ptr<dJointFeedback> feedback = std::make_unique<dJointFeedback>();
   bool hinge = true;            // false: slider
   double damping = 0.0;         // [N m s/rad] or [N s/m]
   double friction = 0.0;        // [N m] or [N]
@@ -128,6 +131,7 @@ class OdeEngine final : public PhysicsEngine {
   double jointVelocity(ModelId model, int joint) const override;
   void setJointVelocityMotor(ModelId model, int joint, double velocity, double max_effort) override;
   void addJointEffort(ModelId model, int joint, double effort) override;
+  JointWrench jointWrench(ModelId model, int joint) const override;
 
  private:
   static void nearCallback(void* data, dGeomID a, dGeomID b);
@@ -368,6 +372,8 @@ ModelId OdeEngine::addModel(const ArticulatedModel& model, const Pose& root_pose
       dJointAttach(joint.id, child, parent);
       dJointSetSliderAxis(joint.id, axis.x, axis.y, axis.z);
     }
+    *joint.feedback = dJointFeedback{};
+    dJointSetFeedback(joint.id, joint.feedback.get());  // the child is body 1
     if (spec.type != JointType::kContinuous && spec.has_position_limits) {
       // Lo first: ODE ignores a LoStop above the current HiStop (initially +inf).
       if (joint.hinge) {
@@ -379,7 +385,7 @@ ModelId OdeEngine::addModel(const ArticulatedModel& model, const Pose& root_pose
       }
     }
     setMotorParams(joint, 0.0, 0.0);  // motor off: friction only
-    joints_.push_back(joint);
+    joints_.push_back(std::move(joint));
   }
   models_.push_back(std::move(state));
   ray_scene_.addModel(id, model);
@@ -448,6 +454,11 @@ void OdeEngine::setJointVelocityMotor(ModelId model, int joint, double velocity,
 
 void OdeEngine::addJointEffort(ModelId model, int joint, double effort) {
   jointAt(model, joint).pending_effort += effort;
+}
+
+JointWrench OdeEngine::jointWrench(ModelId model, int joint) const {
+  const dJointFeedback& f = *jointAt(model, joint).feedback;  // ODE bodies sit at the centre of mass
+  return JointWrench{Vec3(f.f1[0], f.f1[1], f.f1[2]), Vec3(f.t1[0], f.t1[1], f.t1[2])};
 }
 
 // Called for pairs whose bounding boxes overlap; a model's space stands for all its geoms.

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "conde_physics/math.h"
+#include "conde_sim/timed_command.h"
 #include "conde_sim/update_timer.h"
 
 namespace conde_sim {
@@ -39,9 +40,7 @@ class DiffDriveController {
 
  private:
   DiffDriveParams params_;
-  double linear_mps_ = 0.0, angular_radps_ = 0.0;
-  double command_time_s_ = 0.0;
-  bool has_command_ = false;
+  TimedCommand command_;                     // linear [m/s], angular [rad/s]
   double left_mps_ = 0.0, right_mps_ = 0.0;  // ramped wheel surface speeds
 };
 

@@ -100,5 +100,8 @@ std::unique_ptr<SimPlugin> makeSkidSteerDrivePlugin();
 std::unique_ptr<SimPlugin> makePlanarMovePlugin();
 std::unique_ptr<SimPlugin> makeForcePlugin();
 std::unique_ptr<SimPlugin> makeF3dPlugin();
+std::unique_ptr<SimPlugin> makeTricycleDrivePlugin();
+std::unique_ptr<SimPlugin> makeJointPoseTrajectoryPlugin();
+std::unique_ptr<SimPlugin> makeFtSensorPlugin();
 
 }  // namespace conde_sim
