@@ -5,10 +5,11 @@ red-bordered triangles, information signs blue squares, mandatory signs blue dis
 
 1. Colour: pixels that are clearly red or clearly blue (HSV, saturation and hue), whatever the
    brightness, so a darker or brighter scene does not matter.
-2. Shape: each connected red / blue region large enough is filled (holes closed) and its fill
-   of the bounding box gives the family: triangle ~0.5 (red), disc ~0.79 and square ~1.0 (blue).
+2. Shape: each connected red / blue region large enough is filled (its convex hull) and its fill
+   of the bounding box must fit: a triangle ~0.5 (red), a disc ~0.79 or a square ~1.0 (blue).
 3. Pictogram: the region's bounding box is resampled to a small square and compared (zero-mean
-   normalised correlation) with the drawings of that family's signs cut to the same box.  The
+   normalised correlation) with the drawings of the danger signs (red) or of the information and
+   mandatory signs (blue), cut to the same box; the best match names the sign and its family.  The
    bounding box absorbs the horizontal foreshortening of a face seen at an angle.
 4. Position: the face's known height [m] and its height in pixels give the range along the ray
    through the box centre (undistorted with the camera's plumb_bob coefficients); the point is
@@ -67,7 +68,8 @@ class _Drawings:
             x, y, w, h = cv2.boundingRect(_colour_mask(img, family))
             self.templates.setdefault(family, []).append((name, _normalised(img[y:y + h, x:x + w])))
             self.height_fraction[family] = h / float(ts.SIZE_PX)
-            self.centre_offset[family] = ((ts.SIZE_PX / 2.0 - (x + w / 2.0)) / h, (ts.SIZE_PX / 2.0 - (y + h / 2.0)) / h)
+            centre = ts.SIZE_PX / 2.0
+            self.centre_offset[family] = ((centre - (x + w / 2.0)) / h, (centre - (y + h / 2.0)) / h)
 
 
 _DRAWINGS = None
@@ -99,20 +101,20 @@ def _colour_mask(image_rgb, family):
     return (coloured & hue).astype(np.uint8) * 255
 
 
-def _family_of(filled_fraction, red):
+def _shape_families(filled_fraction, red):
+    """The families a region's fill of its box allows: a triangle ~0.5 (red); a disc ~0.79 or a
+    square ~1.0 (blue), told apart by the pictogram match, since a square seen at an angle and
+    blurred fills less of its box."""
     if red:
-        return "danger" if 0.35 <= filled_fraction <= 0.68 else None
-    if filled_fraction >= 0.88:
-        return "information"
-    if 0.68 <= filled_fraction < 0.88:
-        return "mandatory"
-    return None
+        return ("danger",) if 0.35 <= filled_fraction <= 0.68 else ()
+    return ("information", "mandatory") if filled_fraction >= 0.68 else ()
 
 
-def classify_patch(patch_rgb, family):
-    """(best sign name, its score) of a patch cut to the coloured shape's bounding box."""
+def classify_patch(patch_rgb, families):
+    """(best sign name, its score) of a patch cut to the coloured shape's bounding box, among the
+    signs of `families`."""
     vector = _normalised(patch_rgb)
-    scores = [(float(vector @ t), name) for name, t in _drawings().templates[family]]
+    scores = [(float(vector @ t), name) for family in families for name, t in _drawings().templates[family]]
     score, name = max(scores)
     return name, score
 
@@ -138,8 +140,8 @@ def find_signs(image_rgb: np.ndarray, camera: Optional[Camera] = None,
                min_score: float = MIN_SCORE) -> List[SignDetection]:
     """The signs seen in an RGB image, largest first.  Without a camera the positions are NaN."""
     found = []
-    for red, families in ((True, ("danger",)), (False, ("information",))):
-        mask = _colour_mask(image_rgb, families[0])
+    for red in (True, False):
+        mask = _colour_mask(image_rgb, "danger" if red else "information")
         count, _, stats, _ = cv2.connectedComponentsWithStats(mask, connectivity=8)
         for label in range(1, count):
             x, y, w, h, area = stats[label]
@@ -151,10 +153,11 @@ def find_signs(image_rgb: np.ndarray, camera: Optional[Camera] = None,
             contours, _ = cv2.findContours(region, cv2.RETR_EXTERNAL, cv2.CHAIN_APPROX_SIMPLE)
             hull = cv2.convexHull(max(contours, key=cv2.contourArea))
             fill = cv2.contourArea(hull) / float(w * h)
-            family = _family_of(fill, red)
-            if family is None:
+            families = _shape_families(fill, red)
+            if not families:
                 continue
-            name, score = classify_patch(image_rgb[y:y + h, x:x + w], family)
+            name, score = classify_patch(image_rgb[y:y + h, x:x + w], families)
+            family = ts.FAMILY[name]
             if score < min_score:
                 continue
             if camera is not None:
@@ -164,5 +167,11 @@ def find_signs(image_rgb: np.ndarray, camera: Optional[Camera] = None,
             found.append(SignDetection(name, family, score, float(px), float(py), float(pz), distance,
                                        float(np.arctan2(py, px)), (int(x), int(y), int(w), int(h))))
     found.sort(key=lambda d: -d.box_px[3])
-    return found
+    return [d for i, d in enumerate(found) if not any(_inside(d.box_px, o.box_px) for o in found[:i])]
 
+
+def _inside(box, outer):
+    """A box within another (a blue hole of a pictogram, e.g. inside a '0', is no sign)."""
+    x, y, w, h = box
+    ox, oy, ow, oh = outer
+    return x >= ox and y >= oy and x + w <= ox + ow and y + h <= oy + oh
