@@ -30,7 +30,7 @@ TEMPLATE_PX = 32            # side of the square the pictograms are compared at
 MIN_SHAPE_PX = 10           # smallest shape height [px] looked at (about 5 m away with the top camera)
 MIN_SATURATION = 110        # HSV saturation (0..255) of a sign colour
 MIN_VALUE = 35              # HSV value (0..255): darker pixels are not judged by hue
-MIN_SCORE = 0.45            # correlation below which a shape is no sign
+MIN_SCORE = 0.3             # correlation below which a shape is no sign
 
 
 @dataclass
