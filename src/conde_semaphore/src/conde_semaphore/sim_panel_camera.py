@@ -41,16 +41,18 @@ def connect(node_name, timeout_s=60.0):
 
 
 class SimPanelCamera:
-    """set_signal(name), set_pose(x_m, y_m, yaw_rad), next_image() -> (RGB array, Image message)."""
+    """set_signal(name), set_pose(x_m, y_m, yaw_rad), next_image() -> (RGB array, Image message).
+    With panel=False no panel controller in service mode is needed (no set_signal)."""
 
-    def __init__(self, image_topic=TOP_CAMERA_TOPIC, timeout_s=60.0):
-        for service in (SET_SIGNAL_SERVICE, SET_START_POSE_SERVICE, STEP_SERVICE, PAUSE_SERVICE):
+    def __init__(self, image_topic=TOP_CAMERA_TOPIC, timeout_s=60.0, panel=True):
+        services = (SET_START_POSE_SERVICE, STEP_SERVICE, PAUSE_SERVICE) + ((SET_SIGNAL_SERVICE,) if panel else ())
+        for service in services:
             try:
                 rospy.wait_for_service(service, timeout=timeout_s)
             except rospy.ROSException:
                 raise RuntimeError("service %s did not come up within %.0f s: start conde_sim and "
                                    "signalling_panel_controller (_mode:=service)" % (service, timeout_s))
-        self.set_signal_service = rospy.ServiceProxy(SET_SIGNAL_SERVICE, SetPanelSignal)
+        self.set_signal_service = rospy.ServiceProxy(SET_SIGNAL_SERVICE, SetPanelSignal) if panel else None
         self.set_pose_service = rospy.ServiceProxy(SET_START_POSE_SERVICE, SetStartPose)
         self.step_service = rospy.ServiceProxy(STEP_SERVICE, StepSimulation)
         rospy.ServiceProxy(PAUSE_SERVICE, Empty)()  # images come only from the steps below

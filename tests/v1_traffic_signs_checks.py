@@ -1,0 +1,75 @@
+#!/usr/bin/env python3
+"""Checks of V1 (see v1_traffic_signs.test): Conde placed on the road 0.8-1.5 m in front of each sign, facing it;
+the conde_traffic_sign node reports it and the referee counts every sign right, none wrong."""
+import json
+import math
+import unittest
+
+import rospy
+import rostest
+from conde_msgs.srv import SetStartPose
+from std_msgs.msg import String
+from visualization_msgs.msg import MarkerArray
+
+from conde_referee.course import Course
+from conde_worlds import challenge_objects as co
+from conde_worlds.traffic_signs import SIGNS
+from stepped_sim import Latest, SteppedSim, wait_for
+
+LAYOUT_SEED = 3  # v1_traffic_signs.test
+COURSE = Course("V1", {"signs": "shuffle"}, LAYOUT_SEED, 300.0)
+
+
+def view_on_road(sx, sy, yaw):
+    """A robot pose (x, y, heading) on the road facing the sign face at (sx, sy, yaw): the referee
+    disqualifies a robot whose footprint leaves the road."""
+    normal = yaw - math.pi / 2  # the face points along Rz(yaw) * (0, -1, 0)
+    for distance_m in (1.0, 1.1, 1.2, 1.3, 1.4, 1.5, 0.9, 0.8):
+        for off_deg in (0, 15, -15, 30, -30, 40, -40):
+            a = normal + math.radians(off_deg)
+            x, y = sx + distance_m * math.cos(a), sy + distance_m * math.sin(a)
+            if COURSE.on_surface([[x, y]]).all():
+                return x, y, a + math.pi
+    raise AssertionError("no view of the sign at (%.2f, %.2f) from the road" % (sx, sy))
+
+
+class V1TrafficSignsTest(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        rospy.init_node("v1_traffic_signs_test")
+        cls.sim = SteppedSim()
+        cls.events = Latest("/conde_referee/events", String)
+        rospy.wait_for_service("/conde_sim/set_start_pose", timeout=60)
+        cls.set_pose = rospy.ServiceProxy("/conde_sim/set_start_pose", SetStartPose)
+
+    def test_every_sign_reported_right(self):
+        order = co.sign_order(SIGNS, LAYOUT_SEED)
+        self.assertNotEqual(order, list(SIGNS))  # the shuffled layout: names do not follow positions
+        # away from every sign until the referee is up (its latched markers) and has odometry
+        self.assertTrue(self.set_pose("", 2.14, -0.33, math.pi / 2).success)
+        markers = Latest("/conde_referee/markers", MarkerArray)
+        wait_for(lambda: markers.messages, "the referee's markers")
+        for _ in range(5):
+            self.sim.step(100)
+        judged = []
+        for i, (sx, sy, yaw) in enumerate(co.SIGN_POSES):
+            x, y, heading = view_on_road(sx, sy, yaw)
+            self.assertTrue(self.set_pose("", x, y, heading).success)
+
+            def sign_judged():
+                kinds = [json.loads(m.data) for m in self.events.messages]
+                return [e for e in kinds if e["kind"] in ("sign_right", "sign_wrong")]
+
+            self.sim.step_until(lambda: len(sign_judged()) > len(judged), "a sign report judged at sign %d (%s)"
+                                % (i + 1, order[i]), steps=34)
+            judged = sign_judged()
+            self.assertEqual(judged[-1]["kind"], "sign_right", judged[-1])
+            self.assertEqual(judged[-1]["detail"], "sign %d: %s" % (i + 1, order[i]))
+        self.sim.step(500)  # nothing more is reported
+        self.assertEqual(len(judged), 12)
+        self.assertEqual(len([json.loads(m.data) for m in self.events.messages
+                              if json.loads(m.data)["kind"] in ("sign_right", "sign_wrong")]), 12)
+
+
+if __name__ == "__main__":
+    rostest.rosrun("conde_tests", "v1_traffic_signs", V1TrafficSignsTest)
