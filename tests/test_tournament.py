@@ -194,24 +194,33 @@ def simulator_of(job_dir):
 
 def test_killed_simulator_fails_only_its_job(env, tmp_path):
     out_dir = tmp_path / "kill"
-    process = subprocess.Popen(["rosrun", "conde_tournament", "run", os.path.join(FIXTURES, "kill.yaml"), "--output",
-                                str(out_dir), "--no-progress", "--jobs", "2"],
-                               env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    # The run's output goes to a file, not a pipe: a pipe nobody reads while the test waits would stop the
+    # run once its buffer is full.
+    log_path = tmp_path / "run.log"
+    with open(log_path, "w") as log:
+        process = subprocess.Popen(["rosrun", "conde_tournament", "run", os.path.join(FIXTURES, "kill.yaml"),
+                                    "--output", str(out_dir), "--no-progress", "--jobs", "2"],
+                                   env=env, stdout=log, stderr=subprocess.STDOUT, text=True)
     victim = os.path.join(out_dir, "jobs", "reference__D1_v1_seed1__ode__r0")
     try:
         found = []
 
         def simulator_up():
             found.append(simulator_of(victim))
+            if found[-1] is None and process.poll() is not None:  # the run ended without it: say how
+                raise AssertionError("the tournament ended (exit %s) before the job's simulator was seen:\n%s"
+                                     % (process.returncode, log_path.read_text()[-4000:]))
             return found[-1] is not None
 
-        wait_until(simulator_up, "the job's simulator", timeout_s=120, poll_s=0.5)
+        # Wall-clock bound for a slow, busy machine (one CI run took more than 120 s here).
+        wait_until(simulator_up, "the job's simulator", timeout_s=300, poll_s=0.2)
         time.sleep(3.0)  # into the run
         os.kill(found[-1], signal.SIGKILL)
-        out, _ = process.communicate(timeout=TIMEOUT_S)
+        process.wait(timeout=TIMEOUT_S)
     finally:
         if process.poll() is None:
             process.kill()
+    out = log_path.read_text()
     assert process.returncode == 0, out[-4000:]
     with open(os.path.join(victim, "result.json")) as f:
         killed = json.load(f)
