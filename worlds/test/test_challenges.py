@@ -328,7 +328,7 @@ def good_data():
      "bad.yaml: format: expected 'conde_challenges/1', got 'conde_challenges/2'"),
     (lambda d: d.update(extra=1),
      "bad.yaml: top level: unknown key 'extra' (expected one of: format, base_world, start_poses, schedules, "
-     "challenges)"),
+     "challenges, placement)"),
     (lambda d: d["challenges"]["D3"]["variants"]["v1"]["obstacles"][0].update(lane="middle"),
      "bad.yaml: challenges.D3.variants.v1.obstacles[0].lane: expected one of inner, outer, got 'middle'"),
     (lambda d: d["challenges"]["D3"]["variants"]["v1"]["obstacles"][1].update(angle_deg=300),

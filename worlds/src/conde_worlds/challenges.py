@@ -15,6 +15,8 @@ from typing import Dict, List, Optional
 
 from conde_common.config_files import parse_yaml, read_text
 
+from .placement import AREA_LIMITS, NOMINAL_AREA, StartArea
+
 FORMAT = "conde_challenges/1"
 SIGNALS = ("none", "left", "right", "forward", "stop", "end_of_trial", "parking")
 LOOPS = ("north", "south")
@@ -47,6 +49,7 @@ class Challenges:
     path: str
     base_world: str
     challenges: Dict[str, Challenge]
+    start_area: StartArea = NOMINAL_AREA   # where placement seeds put the robot (placement.py)
 
     def select(self, challenge: str, variant: Optional[str] = None, seed=0):
         """(Challenge, variant name, seed) after checking all three; variant None = the first."""
@@ -212,7 +215,7 @@ def _check_random(v: _V, value, key):
 
 def parse_challenges(data, path: str) -> Challenges:
     v = _V(os.path.basename(path))
-    v.mapping(data, "top level", ("format", "base_world", "start_poses", "schedules", "challenges"))
+    v.mapping(data, "top level", ("format", "base_world", "start_poses", "schedules", "challenges"), ("placement",))
     if data["format"] != FORMAT:
         v.fail("format", "expected %r, got %r" % (FORMAT, data["format"]))
     base_world = v.string(data["base_world"], "base_world")
@@ -257,4 +260,21 @@ def parse_challenges(data, path: str) -> Challenges:
             schedule_name=ch["schedule"], schedule=schedules[ch["schedule"]],
             time_limit_s=v.number(ch["time_limit_s"], key + ".time_limit_s", 1.0),
             variants=checked, random=_check_random(v, ch.get("random", {}), key + ".random"))
-    return Challenges(path=path, base_world=base_world, challenges=challenges)
+    return Challenges(path=path, base_world=base_world, challenges=challenges,
+                      start_area=_check_placement(v, data.get("placement", {}), "placement"))
+
+
+def _check_placement(v: _V, value, key) -> StartArea:
+    """The start area of placement seeds: each axis a range [lo, hi] inside AREA_LIMITS."""
+    v.mapping(value, key, optional=tuple(AREA_LIMITS))
+    ranges = {}
+    for axis, (lo_limit, hi_limit) in AREA_LIMITS.items():
+        rng = value.get(axis, [0.0, 0.0])
+        k = "%s.%s" % (key, axis)
+        if not isinstance(rng, list) or len(rng) != 2:
+            v.fail(k, "expected [lo, hi], got %r" % (rng,))
+        lo, hi = (v.number(r, k, lo_limit, hi_limit) for r in rng)
+        if lo > hi:
+            v.fail(k, "lo %g must not be above hi %g" % (lo, hi))
+        ranges[axis] = (lo, hi)
+    return StartArea(**ranges)
