@@ -103,3 +103,27 @@ def test_summary_pages_embed_each_plot_and_link_each_report(tmp_path):
     assert '<img src="D3/challenge/referee.png" alt="D3 path">' in page
     assert '<a href="D3/challenge/referee.json">JSON</a>' in page
     assert "engine ode, track seed 3" in page and '<tr class="fail">' in page
+
+
+def test_two_challenges_at_a_time_by_default_one_with_rviz():
+    assert parse_options([]).jobs == 2
+    assert parse_options(["--jobs", "1"]).jobs == 1
+    assert parse_options(["--jobs", "3", "--rviz"]).jobs == 1  # paced runs are shown one at a time
+    with pytest.raises(OptionError) as error:
+        parse_options(["--jobs", "0"])
+    assert str(error.value) == "--jobs: expected an integer >= 1, got '0'"
+
+
+def test_timing_table_sums_the_parts_and_names_the_elapsed_time():
+    rows = [row(dict(result("D1", report(laps=2), wall_s=80.0),
+                     timing={"startup_s": 12.0, "run_s": 60.5, "stop_s": 7.5})),
+            row(dict(result("P1", report(kind="parking"), wall_s=70.0),
+                     timing={"startup_s": 10.0, "run_s": None, "stop_s": 5.0})),
+            row(result("V1", None, status="sim_failed", wall_s=3.0))]
+    lines = competition.timing_text(rows, 95.4, 2).splitlines()
+    assert lines[0].split() == ["challenge", "start-up", "[s]", "run", "[s]", "stop", "[s]", "wall", "[s]"]
+    assert lines[2].split() == ["D1", "12.0", "60.5", "7.5", "80.0"]
+    assert lines[3].split() == ["P1", "10.0", "-", "5.0", "70.0"]
+    assert lines[4].split() == ["V1", "-", "-", "-", "3.0"]
+    assert lines[6].split() == ["sum", "22.0", "60.5", "12.5", "153.0"]
+    assert lines[7] == "elapsed 95 s with 2 challenges at a time"

@@ -49,3 +49,26 @@ def test_an_overlay_is_sourced_first():
     team = Team("b", overlay="/ws b/devel/setup.bash")
     text = launch_command(Job(team, "D1", "v1", 0, "ode", 0), 1, "/o", 0.0)[2]
     assert text.startswith("source '/ws b/devel/setup.bash' && exec roslaunch ")
+
+
+def test_timing_splits_the_wall_time():
+    from conde_tournament.job import timing
+    assert timing(100.0, 112.0, 180.5, 186.0) == {"startup_s": 12.0, "run_s": 68.5, "stop_s": 5.5}
+    # never running (start-up failed): no run; no decision: the run lasts until the job ended
+    assert timing(100.0, None, None, 130.0) == {"startup_s": None, "run_s": None, "stop_s": None}
+    assert timing(100.0, 110.0, None, 130.0) == {"startup_s": 10.0, "run_s": 20.0, "stop_s": None}
+
+
+def test_the_log_watch_sees_a_mark_split_across_reads(tmp_path):
+    from conde_tournament.job import RUNNING_MARK, _LogWatch
+    path = tmp_path / "roslaunch.log"
+    watch = _LogWatch(str(path), RUNNING_MARK)
+    watch.poll(1.0)  # no file yet
+    path.write_bytes(b"[INFO] start_when_ready: every node is ")
+    watch.poll(2.0)
+    assert watch.seen_at is None
+    with open(path, "ab") as f:
+        f.write(b"up; the simulation runs\n")
+    watch.poll(3.0)
+    watch.poll(4.0)
+    assert watch.seen_at == 3.0

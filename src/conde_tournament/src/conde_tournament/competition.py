@@ -32,6 +32,7 @@ class Options:
     output_dir: str = "results/competition"
     wall_limit_s: float = 600.0
     sim_limit_s: float = 0.0   # 0 = each challenge's own end (its time limit)
+    jobs: int = 2              # challenges run at a time (lock-step: the same results with 1 or 2)
 
     def launch_args(self) -> List[str]:
         """team_run.launch arguments of every job: the track and, with --rviz, rviz paced to the wall clock."""
@@ -57,6 +58,8 @@ def _parser() -> argparse.ArgumentParser:
                         help="wall-clock limit of one challenge [s] (default 600); the run is scored as it ended")
     parser.add_argument("--sim-limit", default="0", metavar="S",
                         help="stop each run at this simulated time [s] (default 0: the challenge's own time limit)")
+    parser.add_argument("--jobs", default="2", metavar="N",
+                        help="challenges run at a time (default 2; lock-step keeps each run's result the same)")
     parser.add_argument("--check", action="store_true", help=argparse.SUPPRESS)
     return parser
 
@@ -92,8 +95,12 @@ def parse_options(argv) -> Options:
         sim_limit_s = -1.0
     if not sim_limit_s >= 0:
         raise OptionError("--sim-limit: expected a number of seconds >= 0, got %r" % args.sim_limit)
+    if not args.jobs.isdigit() or int(args.jobs) < 1:
+        raise OptionError("--jobs: expected an integer >= 1, got %r" % args.jobs)
     ordered = tuple(c for c in CHALLENGES if c in challenges) or CHALLENGES
-    return Options(ordered, args.engine, track_seed, args.rviz, args.output_dir, wall_limit_s, sim_limit_s)
+    # With rviz each run is shown paced, one window at a time.
+    jobs = 1 if args.rviz else int(args.jobs)
+    return Options(ordered, args.engine, track_seed, args.rviz, args.output_dir, wall_limit_s, sim_limit_s, jobs)
 
 
 def outcome(report: Optional[dict], laps_required: int, signs_total: int) -> Tuple[bool, str]:
@@ -129,7 +136,7 @@ def row(result: dict, laps_required: int = 2, signs_total: int = 12) -> dict:
             "time_s": report.get("driving_time_s"), "penalties": float(report.get("penalty_total", 0.0)),
             "score": float(report.get("score", 0.0)), "wall_s": float(result.get("wall_s", 0.0)),
             "events": [e.get("kind", "?") for e in report.get("events", []) if e.get("penalty")],
-            "folder": result.get("folder", result["challenge"])}
+            "folder": result.get("folder", result["challenge"]), "timing": result.get("timing") or {}}
 
 
 def totals(rows: List[dict]) -> dict:
@@ -158,6 +165,30 @@ def table_text(rows: List[dict]) -> str:
         return "  ".join(str(c).ljust(w) if i < 2 else str(c).rjust(w) for i, (c, w) in enumerate(zip(cells, widths)))
     rule = "-" * len(fmt(TABLE_COLUMNS))
     return "\n".join([fmt(TABLE_COLUMNS), rule] + [fmt(c) for c in lines[:-1]] + [rule, fmt(lines[-1])]) + "\n"
+
+
+TIMING_COLUMNS = ("challenge", "start-up [s]", "run [s]", "stop [s]", "wall [s]")
+
+
+def timing_text(rows: List[dict], elapsed_s: float, jobs: int) -> str:
+    """Where the wall time went, per challenge (job.timing: start-up until the simulation runs,
+    the run until the referee decided, the stop), their sums and the elapsed time with `jobs` at a time."""
+    def cell(value):
+        return "-" if value is None else "%.1f" % value
+
+    def total(key):
+        return sum(r["timing"].get(key) or 0.0 for r in rows)
+    lines = [TIMING_COLUMNS] + [(r["challenge"], cell(r["timing"].get("startup_s")), cell(r["timing"].get("run_s")),
+                                 cell(r["timing"].get("stop_s")), cell(r["wall_s"])) for r in rows]
+    lines.append(("sum", cell(total("startup_s")), cell(total("run_s")), cell(total("stop_s")),
+                  cell(sum(r["wall_s"] for r in rows))))
+    widths = [max(len(line[i]) for line in lines) for i in range(len(TIMING_COLUMNS))]
+    out = ["  ".join(c.ljust(w) if i == 0 else c.rjust(w) for i, (c, w) in enumerate(zip(line, widths)))
+           for line in lines]
+    out.insert(1, "-" * len(out[0]))
+    out.insert(len(out) - 1, "-" * len(out[0]))
+    out.append("elapsed %.0f s with %d challenge%s at a time" % (elapsed_s, jobs, "s" if jobs > 1 else ""))
+    return "\n".join(out) + "\n"
 
 
 def heading(options: Options) -> str:

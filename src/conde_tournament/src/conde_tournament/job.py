@@ -25,6 +25,40 @@ from conde_tournament.tournament_file import REFERENCE_NODES, Job, team_problem
 RESULT_FILE = "result.json"
 # The process whose death ends the run as the simulator's (not the team's) failure.
 SIMULATOR_NODES = ("conde_sim", "roscore", "rosmaster", "master")
+# conde_eval start_when_ready's line when it unpauses the simulation: the end of the job's start-up.
+RUNNING_MARK = b"every node is up; the simulation runs"
+
+
+class _LogWatch:
+    """When a mark first shows up in a growing log file (read in increments, never twice)."""
+
+    def __init__(self, path: str, mark: bytes):
+        self.path, self.mark, self.offset, self.tail, self.seen_at = path, mark, 0, b"", None
+
+    def poll(self, now: float):
+        if self.seen_at is not None:
+            return
+        try:
+            with open(self.path, "rb") as f:
+                f.seek(self.offset)
+                data = f.read()
+        except OSError:
+            return
+        self.offset += len(data)
+        seen = self.tail + data
+        if self.mark in seen:
+            self.seen_at = now
+        self.tail = seen[-len(self.mark):]
+
+
+def timing(started: float, running_at, decided_at, ended: float) -> dict:
+    """Where a job's wall time went [s] (pure): start-up (launch until the simulation runs), run
+    (until the referee decided, or the job ended), stop (from the decision until every process is
+    gone). None where a moment was not seen."""
+    run_end = decided_at if decided_at is not None else ended
+    return {"startup_s": None if running_at is None else round(running_at - started, 1),
+            "run_s": None if running_at is None else round(run_end - running_at, 1),
+            "stop_s": None if decided_at is None else round(ended - decided_at, 1)}
 
 
 def free_port() -> int:
@@ -162,12 +196,15 @@ def run_job(job: Job, job_dir: str, sim_limit_s: float, wall_limit_s: float, lau
     log_path = os.path.join(job_dir, "roslaunch.log")
     over_wall_limit = False
     log_bytes = None  # what roslaunch wrote before the job was stopped (then nodes die on purpose)
+    running, decided_at = _LogWatch(log_path, RUNNING_MARK), None
     with open(log_path, "w") as log:
         process = subprocess.Popen(command, stdout=log, stderr=subprocess.STDOUT, env=env, cwd=job_dir,
                                    start_new_session=True, preexec_fn=_default_signals)
         try:
             while process.poll() is None:
+                running.poll(time.monotonic())
                 if os.path.exists(report_path):
+                    decided_at = time.monotonic()
                     # The referee ended the run (end of trial, parked, disqualified, time limit);
                     # its path plot is written last.
                     _wait_for_file(report_path[:-len(".json")] + ".png", timeout_s=30.0)
@@ -175,7 +212,7 @@ def run_job(job: Job, job_dir: str, sim_limit_s: float, wall_limit_s: float, lau
                 if time.monotonic() - started > wall_limit_s:
                     over_wall_limit = True
                     break
-                time.sleep(0.5)
+                time.sleep(0.2)
         finally:
             log.flush()
             log_bytes = os.path.getsize(log_path) if process.poll() is None else None
@@ -188,8 +225,11 @@ def run_job(job: Job, job_dir: str, sim_limit_s: float, wall_limit_s: float, lau
         with open(report_path) as f:
             report = json.load(f)
     status, reason = classify(report, dead, over_wall_limit, process.returncode)
-    result.update(status=status, reason=reason, report=report, wall_s=round(time.monotonic() - started, 1),
-                  port=port)
+    ended = time.monotonic()
+    if decided_at is None and report is not None:
+        decided_at = ended  # the report came with roslaunch's own end (the simulator's time limit)
+    result.update(status=status, reason=reason, report=report, wall_s=round(ended - started, 1), port=port,
+                  timing=timing(started, running.seen_at, decided_at, ended))
     return _write_result(job_dir, result)
 
 

@@ -36,6 +36,24 @@ def run_local(jobs, out_dir, sim_limit_s, wall_limit_s, workers):
             yield future.result()
 
 
+def run_each(run, items, workers, on_start=None):
+    """Yields (item, run(item)) as each finishes, `workers` at a time on this machine, started in
+    the order of `items`; on_start(item) is called as each one starts (from its worker thread).
+    Stopped early (an interruption), the items not started are dropped and the running ones end."""
+    def call(item):
+        if on_start is not None:
+            on_start(item)
+        return run(item)
+
+    pool = ThreadPoolExecutor(max_workers=workers)
+    try:
+        futures = {pool.submit(call, item): item for item in items}
+        for future in as_completed(futures):
+            yield futures[future], future.result()
+    finally:
+        pool.shutdown(wait=True, cancel_futures=True)
+
+
 def run_job_packed(job, sim_limit_s, wall_limit_s):
     """Runs `job` in a temporary folder; returns (result, the folder as tar.gz bytes)."""
     work = tempfile.mkdtemp(prefix="conde_tournament_")

@@ -1,0 +1,31 @@
+"""Progress of a batch of runs (the competition, the robustness benchmark): on a terminal a live
+tqdm bar with the elapsed time and a line per finished run; otherwise (a log file) a line when a
+run starts and one when it ends."""
+import sys
+
+
+class Progress:
+    def __init__(self, total: int, unit: str = "run"):
+        self.total, self.started, self.bar = total, 0, None
+        if sys.stdout.isatty():
+            from tqdm import tqdm
+            self.bar = tqdm(total=total, unit=unit, dynamic_ncols=True,
+                            bar_format="{desc} {n_fmt}/{total_fmt} [{elapsed}<{remaining}]")
+
+    def start(self, name: str):
+        self.started += 1
+        if self.bar is not None:
+            self.bar.set_description("running %s" % name)
+        else:
+            print("[%d/%d] %s running ..." % (self.started, self.total, name), flush=True)
+
+    def done(self, line: str):
+        if self.bar is not None:
+            self.bar.write(line)
+            self.bar.update(1)
+        else:
+            print(line, flush=True)
+
+    def close(self):
+        if self.bar is not None:
+            self.bar.close()

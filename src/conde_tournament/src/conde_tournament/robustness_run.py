@@ -1,0 +1,67 @@
+"""Runs a robustness campaign (conde_tournament.robustness's options): the runs without a record in
+OUT/runs.jsonl, `--jobs` at a time, each an isolated tournament job (conde_tournament.job) of the
+reference Conde stack on the challenge's world with `track_seed:=T placement_seed:=P`; each finished
+run is appended to runs.jsonl at once (an interrupted campaign resumes), its job folder kept in
+OUT/jobs/<key>/. Prints the table per challenge and engine and writes OUT/robustness.md. Exit
+status: 0 when every run of the campaign has a record, 1 otherwise, 2 on bad options."""
+import os
+import shutil
+import sys
+import time
+
+from conde_tournament import robustness
+from conde_tournament.competition_run import LAPS_REQUIRED, signs_total
+from conde_tournament.job import run_job
+from conde_tournament.pools import run_each
+from conde_tournament.progress import Progress
+from conde_tournament.tournament_file import Job, Team
+
+
+def run(options: robustness.Options) -> int:
+    out_dir = os.path.abspath(options.out_dir)
+    os.makedirs(os.path.join(out_dir, "jobs"), exist_ok=True)
+    results_path = os.path.join(out_dir, robustness.RESULTS_FILE)
+    runs = options.runs()
+    records = robustness.load_records(results_path)
+    todo = robustness.pending(runs, records)
+    print("robustness: %d runs (%d done before, %d to run, %d at a time); results %s"
+          % (len(runs), len(runs) - len(todo), len(todo), options.jobs, results_path), flush=True)
+    team, total_signs = Team("reference"), signs_total()
+    progress = Progress(len(todo), unit="run")
+    started = time.monotonic()
+
+    def one(run_: robustness.Run):
+        job_dir = os.path.join(out_dir, "jobs", run_.key)
+        shutil.rmtree(job_dir, ignore_errors=True)  # what an interrupted attempt left
+        result = run_job(Job(team, run_.challenge, "", 0, run_.engine, 0), job_dir, 0.0, options.wall_limit_s,
+                         ["track_seed:=%d" % run_.track_seed, "placement_seed:=%d" % run_.placement_seed])
+        return robustness.run_record(run_, result, LAPS_REQUIRED, total_signs)
+
+    try:
+        for run_, record in run_each(one, todo, options.jobs, on_start=lambda r: progress.start(r.key)):
+            robustness.append_record(results_path, record)
+            records[run_.key] = record
+            progress.done("%s: %s, penalties %g (%.0f s wall, %.0f s in all)"
+                          % (run_.key, record["result"], record["penalties"], record["wall_s"],
+                             time.monotonic() - started))
+    except KeyboardInterrupt:
+        print("\nrobustness: interrupted; the finished runs are in %s (run the same command to resume)"
+              % results_path, flush=True)
+    finally:
+        progress.close()
+    print()
+    print(robustness.table_text(robustness.table_rows(runs, records)), end="")
+    report_path = os.path.join(out_dir, robustness.REPORT_FILE)
+    with open(report_path, "w") as f:
+        f.write(robustness.report_markdown(options, runs, records))
+    print("robustness: %.0f s wall; report %s" % (time.monotonic() - started, report_path), flush=True)
+    return 0 if not robustness.pending(runs, records) else 1
+
+
+def main(argv=None) -> int:
+    try:
+        options = robustness.parse_options(sys.argv[1:] if argv is None else argv)
+    except robustness.OptionError as error:
+        print("robustness: %s" % error, file=sys.stderr)
+        return 2
+    return run(options)

@@ -1,0 +1,126 @@
+"""The robustness benchmark's options, runs, results file (resume) and table (no ROS run here)."""
+import json
+
+import pytest
+
+from conde_tournament import robustness
+from conde_tournament.robustness import OptionError, Run, parse_options, parse_seeds
+
+
+def report(**fields):
+    base = {"challenge": "D1", "kind": "driving", "score": 0.0, "penalty_total": 0.0, "disqualified": False,
+            "end": "end of trial", "laps": 2, "parked": None, "signs_right": 0, "driving_time_s": 100.0,
+            "events": []}
+    base.update(fields)
+    return base
+
+
+def result(rep, status="ok", wall_s=60.0):
+    return {"status": status, "reason": "referee", "report": rep, "wall_s": wall_s}
+
+
+@pytest.mark.parametrize("text, seeds", [("3", (1, 2, 3)), ("0", (0,)), ("0,3,7-9", (0, 3, 7, 8, 9)),
+                                         ("2-4,3", (2, 3, 4)), (" 5 ", (1, 2, 3, 4, 5))])
+def test_seeds_are_a_count_or_a_list(text, seeds):
+    assert parse_seeds(text, "--track-seeds") == seeds
+
+
+@pytest.mark.parametrize("text", ["-1", "x", "3-1", "1,,2", "1-"])
+def test_bad_seeds_name_the_option(text):
+    with pytest.raises(OptionError) as error:
+        parse_seeds(text, "--placement-seeds")
+    assert str(error.value) == ("--placement-seeds: expected a count N (seeds 1..N), 0, or a list such as "
+                                "0,3,7-9, got %r" % text)
+
+
+def test_every_combination_in_a_stable_order():
+    options = parse_options(["--challenges", "p1,D1", "--engines", "bullet,ode", "--track-seeds", "2",
+                             "--placement-seeds", "0,5"])
+    assert (options.challenges, options.engines) == (("D1", "P1"), ("ode", "bullet"))
+    keys = [r.key for r in options.runs()]
+    assert len(keys) == 2 * 2 * 2 * 2 == len(set(keys))
+    assert keys[:4] == ["D1_ode_track1_place0", "D1_ode_track1_place5", "D1_ode_track2_place0",
+                        "D1_ode_track2_place5"]
+    assert keys[-1] == "P1_bullet_track2_place5"
+
+
+def test_paired_seeds_run_side_by_side():
+    options = parse_options(["--challenges", "D1", "--engines", "ode", "--track-seeds", "3",
+                             "--placement-seeds", "4-6", "--paired"])
+    assert [(r.track_seed, r.placement_seed) for r in options.runs()] == [(1, 4), (2, 5), (3, 6)]
+    with pytest.raises(OptionError) as error:
+        parse_options(["--track-seeds", "3", "--placement-seeds", "2", "--paired"])
+    assert str(error.value) == "--paired: 3 track seeds and 2 placement seeds (expected as many of each)"
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["--challenges", "D9"], "--challenges: unknown 'D9' (expected D1, D2, D3, D4, P1, P2, B1, B2, V1)"),
+    (["--engines", "physx"], "--engines: unknown 'physx' (expected ode, bullet)"),
+    (["--jobs", "0"], "--jobs: expected an integer >= 1, got '0'"),
+    (["--wall-limit", "x"], "--wall-limit: expected a number of seconds > 0, got 'x'"),
+])
+def test_bad_options_name_the_option(argv, message):
+    with pytest.raises(OptionError) as error:
+        parse_options(argv)
+    assert str(error.value) == message
+
+
+def test_record_of_a_run():
+    run = Run("D1", "ode", 3, 2)
+    rec = robustness.run_record(run, result(report(penalty_total=5.0, events=[
+        {"kind": "line_touch", "penalty": 5.0}, {"kind": "trial_end", "penalty": 0.0}])), 2, 12)
+    assert rec["key"] == "D1_ode_track3_place2" and rec["track_seed"] == 3 and rec["placement_seed"] == 2
+    assert rec["passed"] and rec["penalties"] == 5.0 and rec["penalty_events"] == ["line_touch"]
+    assert rec["time_s"] == 100.0 and rec["wall_s"] == 60.0
+    failed = robustness.run_record(run, result(None, status="sim_failed"), 2, 12)
+    assert not failed["passed"] and not failed["judged"] and "sim_failed" in failed["result"]
+
+
+def test_results_file_resumes_and_skips_a_torn_last_line(tmp_path):
+    path = str(tmp_path / robustness.RESULTS_FILE)
+    runs = [Run("P1", "ode", t, 0) for t in (1, 2, 3)]
+    assert robustness.load_records(path) == {}
+    robustness.append_record(path, robustness.run_record(runs[0], result(report(kind="parking", parked="p")), 2, 12))
+    robustness.append_record(path, robustness.run_record(runs[1], result(report()), 2, 12))
+    with open(path, "a") as f:
+        f.write('{"key": "P1_ode_track3_place0", "pas')  # interrupted while writing
+    records = robustness.load_records(path)
+    assert sorted(records) == ["P1_ode_track1_place0", "P1_ode_track2_place0"]
+    assert robustness.pending(runs, records) == [runs[2]]
+    # the run again (after resume) appends a whole line after the torn one: its record counts
+    robustness.append_record(path, robustness.run_record(runs[2], result(report(kind="parking")), 2, 12))
+    with open(path) as f:
+        lines = f.read().splitlines()
+    assert len(lines) == 4 and json.loads(lines[3])["key"] == "P1_ode_track3_place0"
+    assert robustness.pending(runs, robustness.load_records(path)) == []
+
+
+def test_table_per_challenge_and_engine():
+    runs = [Run("D1", e, t, 0) for e in ("ode", "bullet") for t in (1, 2, 3, 4)]
+    reports = {"D1_ode_track1_place0": report(), "D1_ode_track2_place0": report(penalty_total=5.0, driving_time_s=120),
+               "D1_ode_track3_place0": report(laps=1, disqualified=True, end="left the road", penalty_total=0.0),
+               "D1_ode_track4_place0": report(driving_time_s=110.0),
+               "D1_bullet_track1_place0": report()}  # the other bullet runs are not done yet
+    records = {r.key: robustness.run_record(r, result(reports[r.key]), 2, 12) for r in runs if r.key in reports}
+    rows = robustness.table_rows(runs, records)
+    assert [(r["challenge"], r["engine"]) for r in rows] == [("D1", "ode"), ("D1", "bullet")]
+    ode, bullet = rows
+    assert (ode["runs"], ode["passed"], ode["clean"]) == (4, 3, 2)
+    assert ode["success_pct"] == 75.0 and ode["clean_pct"] == 50.0
+    assert ode["mean_penalties"] == pytest.approx(5.0 / 4)
+    assert ode["mean_time_s"] == pytest.approx((100 + 120 + 110) / 3)
+    assert (bullet["runs"], bullet["passed"], bullet["success_pct"]) == (1, 1, 100.0)
+    text = robustness.table_text(rows)
+    assert text.splitlines()[2].split() == ["D1", "ode", "4", "3", "75", "2", "50", "1.25", "110.0"]
+    options = parse_options(["--challenges", "D1", "--track-seeds", "4", "--placement-seeds", "0"])
+    md = robustness.report_markdown(options, runs, records)
+    assert "| D1 | ode | 4 | 3 | 75 | 2 | 50 | 1.25 | 110.0 |" in md
+    assert "5 of 8 runs done" in md and "track seeds 1-4; placement seeds 0" in md
+    assert "| D1_ode_track3_place0 | FAIL (disqualified: left the road) | 0 | - |" in md
+    assert "D1_ode_track1_place0 |" not in md
+
+
+def test_an_empty_campaign_has_empty_rows():
+    rows = robustness.table_rows([Run("B1", "ode", 1, 1)], {})
+    assert rows[0]["runs"] == 0 and rows[0]["success_pct"] is None
+    assert robustness.table_text(rows).splitlines()[2].split() == ["B1", "ode", "0", "0", "-", "0", "-", "-", "-"]
