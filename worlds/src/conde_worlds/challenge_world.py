@@ -20,9 +20,8 @@ from typing import Dict, Optional, Tuple
 import yaml
 
 from . import challenge_objects as co
-from . import placement, traffic_signs
+from . import placement
 from .challenges import Challenges, load_challenges, parse_seed
-from .track_files import track_file_names, write_track_files
 from .track_render import texture_ranges
 from .track_variation import NOMINAL, TrackDimensions, track_dimensions
 
@@ -63,6 +62,7 @@ def objects_of(features: dict, seed: int, dims: TrackDimensions = NOMINAL) -> Tu
     if "occupied_bay" in features:
         objects += co.bay_box(features["occupied_bay"], dims)
     if "signs" in features:
+        from . import traffic_signs  # OpenCV: imported only when drawn (launch files run the generator 3 times)
         order = co.sign_order(traffic_signs.SIGNS, seed if features["signs"] == "shuffle" else 0)
         for i, sign in enumerate(order):
             name = "%s/sign_%s.png" % (TEXTURE_DIR, sign)
@@ -100,6 +100,7 @@ def challenge_world(challenges: Challenges, challenge: str, variant: Optional[st
     world["name"] = "challenge_%s_%s_seed%d" % (name, variant, seed)
     texture = world["ground"].get("texture")
     if not dims.is_nominal:
+        from .track_files import track_file_names
         world["name"] += "_track%d" % dims.track_seed
         x_range, y_range = texture_ranges(dims)
         world["ground"].update(texture=track_file_names(dims.track_seed)[0].replace(os.sep, "/"),
@@ -145,9 +146,12 @@ def write_challenge(challenge: str, variant: Optional[str] = None, seed=0, outpu
     dims = track_dimensions(track_seed)
     out = output_dir or default_output_dir(name, variant, seed, track_seed, placement_seed)
     os.makedirs(os.path.join(out, TEXTURE_DIR), exist_ok=True)
-    for file_name, sign in textures.items():
-        traffic_signs.write_sign(sign, os.path.join(out, file_name))
+    if textures:
+        from . import traffic_signs
+        for file_name, sign in textures.items():
+            traffic_signs.write_sign(sign, os.path.join(out, file_name))
     if track_seed:
+        from .track_files import track_file_names, write_track_files
         # launch/challenge.launch runs the generator three times: render the texture once.
         write_track_files(out, track_seed, reuse=True)
     paths = {"dir": out, "world": os.path.join(out, WORLD_FILE), "schedule": os.path.join(out, SCHEDULE_FILE),
