@@ -72,3 +72,43 @@ def test_the_log_watch_sees_a_mark_split_across_reads(tmp_path):
     watch.poll(3.0)
     watch.poll(4.0)
     assert watch.seen_at == 3.0
+
+
+def test_only_the_jobs_simulator_is_frozen(tmp_path):
+    """A stand-in process named like the simulator, one in another job and another program of the
+    job: only the first gets the signal."""
+    import os
+    import shutil
+    import signal
+    import subprocess
+    import time
+    from conde_tournament.job import SIMULATOR_PROGRAM, _signal_simulator
+    program = tmp_path / SIMULATOR_PROGRAM
+    shutil.copy("/bin/sleep", program)
+    job_dir, other_dir = str(tmp_path / "job"), str(tmp_path / "other")
+
+    def start(path, folder):
+        return subprocess.Popen([str(path), "60"], env=dict(os.environ, ROS_HOME=os.path.join(folder, "ros")))
+    sim, other_sim, node = start(program, job_dir), start(program, other_dir), start("/bin/sleep", job_dir)
+
+    def state(p):
+        with open("/proc/%d/stat" % p.pid) as f:
+            return f.read().rsplit(")", 1)[1].split()[0]
+    def wait_for(condition):
+        deadline = time.monotonic() + 10.0
+        while not condition() and time.monotonic() < deadline:
+            time.sleep(0.02)
+
+    def comm(p):
+        with open("/proc/%d/comm" % p.pid) as f:
+            return f.read().strip()
+    try:
+        wait_for(lambda: comm(sim) == comm(other_sim) == SIMULATOR_PROGRAM and comm(node) == "sleep")  # exec done
+        assert _signal_simulator(job_dir, signal.SIGSTOP) == [sim.pid]
+        wait_for(lambda: state(sim) == "T")
+        assert (state(sim), state(other_sim), state(node)) == ("T", "S", "S")
+        assert _signal_simulator(job_dir, signal.SIGCONT) == [sim.pid]
+    finally:
+        for p in (sim, other_sim, node):
+            p.kill()
+            p.wait()

@@ -25,6 +25,10 @@ from conde_tournament.tournament_file import REFERENCE_NODES, Job, team_problem
 RESULT_FILE = "result.json"
 # The process whose death ends the run as the simulator's (not the team's) failure.
 SIMULATOR_NODES = ("conde_sim", "roscore", "rosmaster", "master")
+# The simulator's executable (/proc/PID/comm): frozen (SIGSTOP) once the referee has decided, so that
+# the lock-step loop (and every node waiting on it) stops using the CPU while the referee draws its
+# plot and the job is shut down; the run after the decision is not judged.
+SIMULATOR_PROGRAM = "conde_sim_node"
 # conde_eval start_when_ready's line when it unpauses the simulation: the end of the job's start-up.
 RUNNING_MARK = b"every node is up; the simulation runs"
 
@@ -133,6 +137,21 @@ def job_processes(job_dir: str):
     return pids
 
 
+def _signal_simulator(job_dir: str, sig) -> list:
+    """Sends `sig` to the job's simulator processes (SIMULATOR_PROGRAM); returns their pids."""
+    pids = []
+    for pid in job_processes(job_dir):
+        try:
+            with open("/proc/%d/comm" % pid) as f:
+                if f.read().strip() != SIMULATOR_PROGRAM:
+                    continue
+            os.kill(pid, sig)
+            pids.append(pid)
+        except (OSError, ProcessLookupError):
+            continue
+    return pids
+
+
 def _kill_leftovers(job_dir: str):
     """SIGKILL to whatever of the job outlived roslaunch (e.g. roslaunch killed before its nodes)."""
     for pid in job_processes(job_dir):
@@ -196,7 +215,7 @@ def run_job(job: Job, job_dir: str, sim_limit_s: float, wall_limit_s: float, lau
     log_path = os.path.join(job_dir, "roslaunch.log")
     over_wall_limit = False
     log_bytes = None  # what roslaunch wrote before the job was stopped (then nodes die on purpose)
-    running, decided_at = _LogWatch(log_path, RUNNING_MARK), None
+    running, decided_at, frozen = _LogWatch(log_path, RUNNING_MARK), None, []
     with open(log_path, "w") as log:
         process = subprocess.Popen(command, stdout=log, stderr=subprocess.STDOUT, env=env, cwd=job_dir,
                                    start_new_session=True, preexec_fn=_default_signals)
@@ -205,6 +224,7 @@ def run_job(job: Job, job_dir: str, sim_limit_s: float, wall_limit_s: float, lau
                 running.poll(time.monotonic())
                 if os.path.exists(report_path):
                     decided_at = time.monotonic()
+                    frozen = _signal_simulator(job_dir, signal.SIGSTOP)
                     # The referee ended the run (end of trial, parked, disqualified, time limit);
                     # its path plot is written last.
                     _wait_for_file(report_path[:-len(".json")] + ".png", timeout_s=30.0)
@@ -216,6 +236,11 @@ def run_job(job: Job, job_dir: str, sim_limit_s: float, wall_limit_s: float, lau
         finally:
             log.flush()
             log_bytes = os.path.getsize(log_path) if process.poll() is None else None
+            for pid in frozen:  # a stopped process would not act on SIGINT
+                try:
+                    os.kill(pid, signal.SIGCONT)
+                except ProcessLookupError:
+                    pass
             _stop(process, grace_s=15.0)
             _kill_leftovers(job_dir)
     with open(log_path, "rb") as f:
