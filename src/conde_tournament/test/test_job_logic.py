@@ -94,6 +94,7 @@ def test_only_the_jobs_simulator_is_frozen(tmp_path):
     def state(p):
         with open("/proc/%d/stat" % p.pid) as f:
             return f.read().rsplit(")", 1)[1].split()[0]
+
     def wait_for(condition):
         deadline = time.monotonic() + 10.0
         while not condition() and time.monotonic() < deadline:

@@ -89,8 +89,9 @@ def start_poses(start: Dict[str, dict], dims: TrackDimensions = NOMINAL) -> Dict
 def challenge_world(challenges: Challenges, challenge: str, variant: Optional[str] = None, seed=0, track_seed=0,
                     placement_seed=0):
     """(world mapping, {texture file: sign}, resolved (challenge, variant, seed, features)).
-    A placement seed N > 0 moves the start poses within the start area (placement.py). On a varied track (track_seed > 0) the ground texture is
-    track_files.track_file_names(track_seed)[0], relative to the world file's directory."""
+    A placement seed N > 0 moves the start poses within the start area (placement.py). On a varied
+    track (track_seed > 0) the ground texture is track_files.track_file_names(track_seed)[0],
+    relative to the world file's directory."""
     resolved = layout(challenges, challenge, variant, seed)
     name, variant, seed, features = resolved
     dims = track_dimensions(parse_seed(track_seed, "track seed"))

@@ -257,7 +257,7 @@ def report_markdown(options: Options, runs: List[Run], records: Dict[str, dict])
     if failed:
         lines += ["| run | result | penalties | events |", "|---|---|---|---|"]
         lines += ["| %s | %s | %g | %s |" % (d["key"], d["result"].replace("|", "/"), d["penalties"],
-                                               ", ".join(d["penalty_events"]) or "-") for d in failed]
+                                             ", ".join(d["penalty_events"]) or "-") for d in failed]
     else:
         lines.append("none")
     return "\n".join(lines) + "\n"
