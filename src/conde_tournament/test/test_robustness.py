@@ -39,8 +39,9 @@ def test_every_combination_in_a_stable_order():
     assert (options.challenges, options.engines) == (("D1", "P1"), ("ode", "bullet"))
     keys = [r.key for r in options.runs()]
     assert len(keys) == 2 * 2 * 2 * 2 == len(set(keys))
-    assert keys[:4] == ["D1_ode_track1_place0", "D1_ode_track1_place5", "D1_ode_track2_place0",
-                        "D1_ode_track2_place5"]
+    # seed pair by seed pair over every challenge and engine: a stopped campaign has runs of each
+    assert keys[:5] == ["D1_ode_track1_place0", "D1_bullet_track1_place0", "P1_ode_track1_place0",
+                        "P1_bullet_track1_place0", "D1_ode_track1_place5"]
     assert keys[-1] == "P1_bullet_track2_place5"
 
 

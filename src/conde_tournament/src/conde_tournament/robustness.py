@@ -56,12 +56,13 @@ class Options:
     wall_limit_s: float = 900.0
 
     def runs(self) -> List[Run]:
-        """Every run of the campaign in a stable order (challenge, engine, then seeds)."""
+        """Every run of the campaign in a stable order: seed pair by seed pair, each over every
+        challenge and engine, so that a campaign stopped part-way has runs of every group."""
         if self.paired:
             seeds = list(zip(self.track_seeds, self.placement_seeds))
         else:
             seeds = [(t, p) for t in self.track_seeds for p in self.placement_seeds]
-        return [Run(c, e, t, p) for c in self.challenges for e in self.engines for t, p in seeds]
+        return [Run(c, e, t, p) for t, p in seeds for c in self.challenges for e in self.engines]
 
 
 def parse_seeds(text: str, option: str) -> Tuple[int, ...]:
