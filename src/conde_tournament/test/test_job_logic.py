@@ -113,3 +113,30 @@ def test_only_the_jobs_simulator_is_frozen(tmp_path):
         for p in (sim, other_sim, node):
             p.kill()
             p.wait()
+
+
+def test_a_master_that_did_not_come_up_in_time_is_started_again():
+    from conde_tournament.job import master_start_failed
+    log = "RLException: ERROR: could not contact master [http://127.0.0.1:59559/]\n"
+    assert master_start_failed({"status": "no_report"}, log)
+    assert not master_start_failed({"status": "no_report"}, "conde_sim died\n")
+    assert not master_start_failed({"status": "ok"}, log)  # judged: never run twice
+
+
+def test_run_job_tries_again_after_a_master_start_failure(tmp_path, monkeypatch):
+    """The attempts of run_job with a stand-in for one launch: the master fails twice, then the run is judged."""
+    from conde_tournament import job as job_module
+    outcomes = ["no_report", "no_report", "ok"]
+
+    def once(job, job_dir, sim_limit_s, wall_limit_s, launch_args=()):
+        status = outcomes.pop(0)
+        with open(job_dir + "/roslaunch.log", "w") as f:
+            f.write("RLException: ERROR: could not contact master [x]\n" if status == "no_report" else "ran\n")
+        return {"status": status, "report": None if status == "no_report" else REPORT}
+    monkeypatch.setattr(job_module, "_run_job_once", once)
+    result = job_module.run_job(Job(Team("a"), "D1", "", 0, "ode", 0), str(tmp_path), 0.0, 60.0)
+    assert (result["status"], result["attempts"]) == ("ok", 3)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["result.json", "roslaunch.attempt1.log",
+                                                          "roslaunch.attempt2.log", "roslaunch.log"]
+    outcomes[:] = ["no_report"] * 3
+    assert job_module.run_job(Job(Team("a"), "D1", "", 0, "ode", 0), str(tmp_path), 0.0, 60.0)["attempts"] == 3

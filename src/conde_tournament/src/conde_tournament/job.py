@@ -29,6 +29,10 @@ SIMULATOR_NODES = ("conde_sim", "roscore", "rosmaster", "master")
 # the lock-step loop (and every node waiting on it) stops using the CPU while the referee draws its
 # plot and the job is shut down; the run after the decision is not judged.
 SIMULATOR_PROGRAM = "conde_sim_node"
+# roslaunch's message when the master it started did not answer in time, and how often a job is
+# started in all when that happens.
+MASTER_START_FAILURE = "ERROR: could not contact master"
+MASTER_START_ATTEMPTS = 3
 # conde_eval start_when_ready's line when it unpauses the simulation: the end of the job's start-up.
 RUNNING_MARK = b"every node is up; the simulation runs"
 
@@ -192,9 +196,31 @@ def _wait_for_file(path: str, timeout_s: float, settle_s: float = 1.0):
         time.sleep(settle_s)
 
 
+def master_start_failed(result: dict, log_text: str) -> bool:
+    """Whether a job ended before anything ran because roslaunch could not reach the master it had
+    just started (a busy machine: roslaunch gives the master a fixed time): run again, not scored."""
+    return result.get("status") == "no_report" and MASTER_START_FAILURE in log_text
+
+
 def run_job(job: Job, job_dir: str, sim_limit_s: float, wall_limit_s: float, launch_args=()) -> dict:
-    """Runs one job into job_dir and returns its result (also written to job_dir/result.json).
-    launch_args: more team_run.launch arguments (launch_command)."""
+    """Runs one job into job_dir and returns its result (also written to job_dir/result.json);
+    a job whose master did not come up in time is started again (up to MASTER_START_ATTEMPTS
+    times; result "attempts"). launch_args: more team_run.launch arguments (launch_command)."""
+    for attempt in range(1, MASTER_START_ATTEMPTS + 1):
+        result = _run_job_once(job, job_dir, sim_limit_s, wall_limit_s, launch_args)
+        try:
+            with open(os.path.join(job_dir, "roslaunch.log"), errors="replace") as f:
+                log_text = f.read()
+        except OSError:
+            log_text = ""
+        if not master_start_failed(result, log_text) or attempt == MASTER_START_ATTEMPTS:
+            break
+        os.replace(os.path.join(job_dir, "roslaunch.log"), os.path.join(job_dir, "roslaunch.attempt%d.log" % attempt))
+    result["attempts"] = attempt
+    return _write_result(job_dir, result)
+
+
+def _run_job_once(job: Job, job_dir: str, sim_limit_s: float, wall_limit_s: float, launch_args=()) -> dict:
     os.makedirs(job_dir, exist_ok=True)
     result = {"job_id": job.job_id, "team": job.team.name, "challenge": job.challenge, "variant": job.variant,
               "seed": job.seed, "engine": job.engine, "repeat": job.repeat, "host": socket.gethostname()}
@@ -255,7 +281,7 @@ def run_job(job: Job, job_dir: str, sim_limit_s: float, wall_limit_s: float, lau
         decided_at = ended  # the report came with roslaunch's own end (the simulator's time limit)
     result.update(status=status, reason=reason, report=report, wall_s=round(ended - started, 1), port=port,
                   timing=timing(started, running.seen_at, decided_at, ended))
-    return _write_result(job_dir, result)
+    return result  # run_job writes it once no attempt is left
 
 
 def failed_result(job: Job, job_dir: str, reason: str, status: str = "sim_failed") -> dict:
