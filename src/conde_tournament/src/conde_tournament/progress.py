@@ -17,14 +17,15 @@ class Progress:
         if self.bar is not None:
             self.bar.set_description("running %s" % name)
         else:
-            print("[%d/%d] %s running ..." % (self.started, self.total, name), flush=True)
+            # one write per line: runs start and end from several threads
+            print("[%d/%d] %s running ...\n" % (self.started, self.total, name), end="", flush=True)
 
     def done(self, line: str):
         if self.bar is not None:
             self.bar.write(line)
             self.bar.update(1)
         else:
-            print(line, flush=True)
+            print(line + "\n", end="", flush=True)
 
     def close(self):
         if self.bar is not None:
