@@ -13,7 +13,7 @@ import rospy
 import rostest
 from sensor_msgs.msg import CameraInfo, Image
 
-from stepped_sim import Latest, SteppedSim
+from stepped_sim import settled_frame, write_png
 
 POST_DEPTH_M = 1.0
 BASELINE_M = 0.1
@@ -62,12 +62,7 @@ class MultiCameraTest(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
         rospy.init_node("multicamera_test")
-        sim = SteppedSim()
-        cls.topics = {name: Latest.connected(topic, msg_type) for name, (topic, msg_type) in TOPICS.items()}
-        sim.step(200)  # the cube settles on the ground
-        end_s = sim.run(0.3, every_s=0.1)
-        for latest in cls.topics.values():
-            latest.wait_until_stamped(end_s, 0.1)
+        cls.topics = settled_frame(TOPICS)  # the cube settles on the ground
         cls.last = {name: latest.last for name, latest in cls.topics.items()}
         folder = os.environ.get("CONDE_SAVE_IMAGES")
         if folder:
@@ -75,12 +70,9 @@ class MultiCameraTest(unittest.TestCase):
 
     @classmethod
     def save_images(cls, folder):
-        import cv2
         engine = rospy.get_param("/conde_sim/physics_engine", "engine")
         for name in ("left", "right", "pair_right"):
-            image = rgb_array(cls.last[name])[:, :, ::-1]
-            cv2.imwrite(os.path.join(folder, f"multicamera_{engine}_{name}.png"),
-                        cv2.resize(image, None, fx=4, fy=4, interpolation=cv2.INTER_NEAREST))
+            write_png(folder, f"multicamera_{engine}_{name}.png", rgb_array(cls.last[name])[:, :, ::-1], 4)
 
     def test_images_sizes_encodings_frames(self):
         for name, size, encoding, frame in (("left", (WIDTH_PX, HEIGHT_PX), "rgb8", FRAME),

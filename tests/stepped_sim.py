@@ -108,3 +108,24 @@ class ModelPoses:
         state = self._get_state(model, "")
         assert state.success, state.status_message
         return state.pose
+
+
+def settled_frame(topics, settle_steps=200, seconds=0.3, every_s=0.1):
+    """The camera tests' start: subscribes to `topics` ({name: (topic, type)}), lets the robot settle
+    for `settle_steps` steps, runs `seconds` more and waits for the message of each topic's last
+    update (`every_s` apart). Returns {name: Latest}."""
+    sim = SteppedSim()
+    latest = {name: Latest.connected(topic, msg_type) for name, (topic, msg_type) in topics.items()}
+    sim.step(settle_steps)
+    end_s = sim.run(seconds, every_s=every_s)
+    for one in latest.values():
+        one.wait_until_stamped(end_s, every_s)
+    return latest
+
+
+def write_png(folder, name, bgr, scale):
+    """Writes an image `scale` times enlarged, pixels as squares, to look at."""
+    import os
+
+    import cv2
+    cv2.imwrite(os.path.join(folder, name), cv2.resize(bgr, None, fx=scale, fy=scale, interpolation=cv2.INTER_NEAREST))
