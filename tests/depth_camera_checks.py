@@ -4,8 +4,6 @@ depth_cameras.test) against known geometry: both cameras sit 0.2 m high, 0.8 m b
 near face (0.4 m high, 1 m wide), 64 x 48 pixels, horizontal field of view 1 rad. The simulation is
 stepped. With CONDE_SAVE_IMAGES=<folder> the images are written there as PNG to look at."""
 import math
-import os
-import unittest
 
 import numpy as np
 import rospy
@@ -13,7 +11,7 @@ import rostest
 from sensor_msgs import point_cloud2
 from sensor_msgs.msg import CameraInfo, Image, PointCloud2
 
-from stepped_sim import settled_frame, write_png
+from stepped_sim import SettledFrameTest, write_png
 
 CRATE_DISTANCE_M = 0.8
 CAMERA_HEIGHT_M = 0.2
@@ -50,17 +48,10 @@ def ground_depth_m(v):
     return CAMERA_HEIGHT_M * FOCAL_PX / (v - CY_PX)
 
 
-class DepthCamerasTest(unittest.TestCase):
-    """The messages of one frame after the robot settled."""
-
-    @classmethod
-    def setUpClass(cls):
-        rospy.init_node("depth_cameras_test")
-        cls.topics = settled_frame(TOPICS)  # the cube settles on the ground
-        cls.last = {name: latest.last for name, latest in cls.topics.items()}
-        folder = os.environ.get("CONDE_SAVE_IMAGES")
-        if folder:
-            cls.save_images(folder)
+class DepthCamerasTest(SettledFrameTest):
+    """The messages of one frame after the cube settled."""
+    NODE = "depth_cameras_test"
+    TOPICS = TOPICS
 
     @classmethod
     def save_images(cls, folder):

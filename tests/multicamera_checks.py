@@ -5,15 +5,13 @@ the near face of a red post 0.1 m wide centred between them; 160 x 120 pixels, h
 view 1 rad. The simulation is stepped. With CONDE_SAVE_IMAGES=<folder> the images are written there
 as PNG to look at."""
 import math
-import os
-import unittest
 
 import numpy as np
 import rospy
 import rostest
 from sensor_msgs.msg import CameraInfo, Image
 
-from stepped_sim import settled_frame, write_png
+from stepped_sim import SettledFrameTest, write_png
 
 POST_DEPTH_M = 1.0
 BASELINE_M = 0.1
@@ -56,17 +54,10 @@ def post_centre_px(msg):
     return float(np.mean(centres))
 
 
-class MultiCameraTest(unittest.TestCase):
-    """The messages of one frame after the robot settled."""
-
-    @classmethod
-    def setUpClass(cls):
-        rospy.init_node("multicamera_test")
-        cls.topics = settled_frame(TOPICS)  # the cube settles on the ground
-        cls.last = {name: latest.last for name, latest in cls.topics.items()}
-        folder = os.environ.get("CONDE_SAVE_IMAGES")
-        if folder:
-            cls.save_images(folder)
+class MultiCameraTest(SettledFrameTest):
+    """The messages of one frame after the cube settled."""
+    NODE = "multicamera_test"
+    TOPICS = TOPICS
 
     @classmethod
     def save_images(cls, folder):

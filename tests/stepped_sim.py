@@ -1,6 +1,8 @@
 """Helpers for rostests that drive a paused conde_sim node by its step service (no sleeping on
 the wall clock for simulated time; wall-clock waits only for message delivery)."""
+import os
 import time
+import unittest
 
 import rospy
 from conde_msgs.srv import StepSimulation
@@ -123,9 +125,28 @@ def settled_frame(topics, settle_steps=200, seconds=0.3, every_s=0.1):
     return latest
 
 
+class SettledFrameTest(unittest.TestCase):
+    """Base of the camera checks: the messages of one frame after the robot settled, in cls.last
+    ({name: message}) and cls.topics ({name: Latest}). A subclass sets NODE and TOPICS, and writes
+    its images in save_images(folder) when CONDE_SAVE_IMAGES names a folder."""
+    NODE = "settled_frame_test"
+    TOPICS = {}
+
+    @classmethod
+    def setUpClass(cls):
+        rospy.init_node(cls.NODE)
+        cls.topics = settled_frame(cls.TOPICS)  # the robot settles on the ground
+        cls.last = {name: latest.last for name, latest in cls.topics.items()}
+        folder = os.environ.get("CONDE_SAVE_IMAGES")
+        if folder:
+            cls.save_images(folder)
+
+    @classmethod
+    def save_images(cls, folder):
+        pass
+
+
 def write_png(folder, name, bgr, scale):
     """Writes an image `scale` times enlarged, pixels as squares, to look at."""
-    import os
-
     import cv2
     cv2.imwrite(os.path.join(folder, name), cv2.resize(bgr, None, fx=scale, fy=scale, interpolation=cv2.INTER_NEAREST))
