@@ -4,8 +4,6 @@ depth_cameras.test) against known geometry: both cameras sit 0.2 m high, 0.8 m b
 near face (0.4 m high, 1 m wide), 64 x 48 pixels, horizontal field of view 1 rad. The simulation is
 stepped. With CONDE_SAVE_IMAGES=<folder> the images are written there as PNG to look at."""
 import math
-import os
-import unittest
 
 import numpy as np
 import rospy
@@ -13,7 +11,7 @@ import rostest
 from sensor_msgs import point_cloud2
 from sensor_msgs.msg import CameraInfo, Image, PointCloud2
 
-from stepped_sim import Latest, SteppedSim
+from stepped_sim import SettledFrameTest, write_png
 
 CRATE_DISTANCE_M = 0.8
 CAMERA_HEIGHT_M = 0.2
@@ -50,22 +48,10 @@ def ground_depth_m(v):
     return CAMERA_HEIGHT_M * FOCAL_PX / (v - CY_PX)
 
 
-class DepthCamerasTest(unittest.TestCase):
-    """The messages of one frame after the robot settled."""
-
-    @classmethod
-    def setUpClass(cls):
-        rospy.init_node("depth_cameras_test")
-        sim = SteppedSim()
-        cls.topics = {name: Latest.connected(topic, msg_type) for name, (topic, msg_type) in TOPICS.items()}
-        sim.step(200)  # the cube settles on the ground
-        end_s = sim.run(0.3, every_s=0.1)
-        for latest in cls.topics.values():
-            latest.wait_until_stamped(end_s, 0.1)
-        cls.last = {name: latest.last for name, latest in cls.topics.items()}
-        folder = os.environ.get("CONDE_SAVE_IMAGES")
-        if folder:
-            cls.save_images(folder)
+class DepthCamerasTest(SettledFrameTest):
+    """The messages of one frame after the cube settled."""
+    NODE = "depth_cameras_test"
+    TOPICS = TOPICS
 
     @classmethod
     def save_images(cls, folder):
@@ -74,19 +60,14 @@ class DepthCamerasTest(unittest.TestCase):
         for name in ("rgb", "ir"):
             msg = cls.last[name]
             rgb = np.frombuffer(msg.data, dtype=np.uint8).reshape(msg.height, msg.width, 3)
-            cls.write_png(cv2, folder, f"depth_{engine}_{name}.png", rgb[:, :, ::-1])
+            write_png(folder, f"depth_{engine}_{name}.png", rgb[:, :, ::-1], 8)
         for name in ("depth", "kinect_depth"):
             depth = depth_array(cls.last[name])
             grey = np.where(np.isfinite(depth), 255 - np.clip(depth / 2.0 * 255, 0, 255), 0).astype(np.uint8)
             grey[np.isnan(depth)] = 0
             image = cv2.cvtColor(grey, cv2.COLOR_GRAY2BGR)
             image[np.isnan(depth)] = (0, 0, 255)  # NaN in red
-            cls.write_png(cv2, folder, f"depth_{engine}_{name}.png", image)
-
-    @staticmethod
-    def write_png(cv2, folder, name, bgr):
-        """Writes the image eight times enlarged, pixels as squares."""
-        cv2.imwrite(os.path.join(folder, name), cv2.resize(bgr, None, fx=8, fy=8, interpolation=cv2.INTER_NEAREST))
+            write_png(folder, f"depth_{engine}_{name}.png", image, 8)
 
     def test_sizes_encodings_frames(self):
         for name, encoding, frame in (("rgb", "rgb8", "depth_link_optical"), ("depth", "32FC1", "depth_link_optical"),

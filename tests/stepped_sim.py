@@ -1,6 +1,8 @@
 """Helpers for rostests that drive a paused conde_sim node by its step service (no sleeping on
 the wall clock for simulated time; wall-clock waits only for message delivery)."""
+import os
 import time
+import unittest
 
 import rospy
 from conde_msgs.srv import StepSimulation
@@ -108,3 +110,43 @@ class ModelPoses:
         state = self._get_state(model, "")
         assert state.success, state.status_message
         return state.pose
+
+
+def settled_frame(topics, settle_steps=200, seconds=0.3, every_s=0.1):
+    """The camera tests' start: subscribes to `topics` ({name: (topic, type)}), lets the robot settle
+    for `settle_steps` steps, runs `seconds` more and waits for the message of each topic's last
+    update (`every_s` apart). Returns {name: Latest}."""
+    sim = SteppedSim()
+    latest = {name: Latest.connected(topic, msg_type) for name, (topic, msg_type) in topics.items()}
+    sim.step(settle_steps)
+    end_s = sim.run(seconds, every_s=every_s)
+    for one in latest.values():
+        one.wait_until_stamped(end_s, every_s)
+    return latest
+
+
+class SettledFrameTest(unittest.TestCase):
+    """Base of the camera checks: the messages of one frame after the robot settled, in cls.last
+    ({name: message}) and cls.topics ({name: Latest}). A subclass sets NODE and TOPICS, and writes
+    its images in save_images(folder) when CONDE_SAVE_IMAGES names a folder."""
+    NODE = "settled_frame_test"
+    TOPICS = {}
+
+    @classmethod
+    def setUpClass(cls):
+        rospy.init_node(cls.NODE)
+        cls.topics = settled_frame(cls.TOPICS)  # the robot settles on the ground
+        cls.last = {name: latest.last for name, latest in cls.topics.items()}
+        folder = os.environ.get("CONDE_SAVE_IMAGES")
+        if folder:
+            cls.save_images(folder)
+
+    @classmethod
+    def save_images(cls, folder):
+        pass
+
+
+def write_png(folder, name, bgr, scale):
+    """Writes an image `scale` times enlarged, pixels as squares, to look at."""
+    import cv2
+    cv2.imwrite(os.path.join(folder, name), cv2.resize(bgr, None, fx=scale, fy=scale, interpolation=cv2.INTER_NEAREST))

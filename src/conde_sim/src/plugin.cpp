@@ -34,6 +34,7 @@ const std::map<std::string, PluginFactory>& pluginRegistry() {
       {"libgazebo_ros_camera.so", makeCameraPlugin},
       {"libgazebo_ros_depth_camera.so", makeDepthCameraPlugin},
       {"libgazebo_ros_openni_kinect.so", makeOpenniKinectPlugin},
+      {"libgazebo_ros_multicamera.so", makeMultiCameraPlugin},
       {"libgazebo_ros_video.so", makeVideoPlugin},
       {"libgazebo_ros_laser.so", makeLaserPlugin},
       {"libgazebo_ros_gpu_laser.so", makeLaserPlugin},

@@ -158,7 +158,8 @@ const tinyxml2::XMLElement* PluginParams::sensorElement(const std::string& path)
   while (e && start <= path.size()) {
     const size_t slash = path.find('/', start);
     const std::string name = path.substr(start, slash == std::string::npos ? std::string::npos : slash - start);
-    e = e->FirstChildElement(name.c_str());
+    const bool selected = start == 0 && selected_child_ && name == selected_child_->Name();
+    e = selected ? selected_child_ : e->FirstChildElement(name.c_str());
     if (slash == std::string::npos) break;
     start = slash + 1;
   }
@@ -173,22 +174,38 @@ static std::string xmlPath(const std::string& path) {
 
 PluginError PluginParams::sensorError(const std::string& key, const std::string& what) const {
   const tinyxml2::XMLElement* e = sensorElement(key);
-  const int line = e ? e->GetLineNum() : (sensor_ ? sensor_->GetLineNum() : plugin_->GetLineNum());
+  const tinyxml2::XMLElement* fallback = selected_child_ ? selected_child_ : sensor_;
+  const int line = e ? e->GetLineNum() : (fallback ? fallback->GetLineNum() : plugin_->GetLineNum());
+  std::string path = xmlPath(key);
+  // Which of several children: <camera name="right"><image>.
+  const std::string first = key.substr(0, key.find('/'));
+  if (selected_child_ && first == selected_child_->Name() && selected_child_->Attribute("name")) {
+    path = "<" + first + " name=\"" + selected_child_->Attribute("name") + "\">" + path.substr(first.size() + 2);
+  }
   return PluginError(source_ + ":" + std::to_string(line) + ": sensor '" + sensorName() + "' (" + sensorType() +
-                     "): " + xmlPath(key) + ": " + what);
+                     "): " + path + ": " + what);
+}
+
+std::vector<const tinyxml2::XMLElement*> PluginParams::sensorChildren(const std::string& name) const {
+  std::vector<const tinyxml2::XMLElement*> children;
+  if (!sensor_) return children;
+  for (const auto* e = sensor_->FirstChildElement(name.c_str()); e; e = e->NextSiblingElement(name.c_str())) {
+    children.push_back(e);
+  }
+  return children;
 }
 
 bool PluginParams::sensorHas(const std::string& key) const { return sensorElement(key) != nullptr; }
 
-conde_physics::Pose PluginParams::sensorPose() {
-  const std::string text = sensorString("pose", "0 0 0 0 0 0");
+conde_physics::Pose PluginParams::sensorPose(const std::string& key) {
+  const std::string text = sensorString(key, "0 0 0 0 0 0");
   std::istringstream in(text);
   double v[6];
   std::string rest;
   for (double& x : v) {
-    if (!(in >> x)) throw sensorError("pose", "expected six numbers 'x y z roll pitch yaw', got '" + text + "'");
+    if (!(in >> x)) throw sensorError(key, "expected six numbers 'x y z roll pitch yaw', got '" + text + "'");
   }
-  if (in >> rest) throw sensorError("pose", "expected six numbers 'x y z roll pitch yaw', got '" + text + "'");
+  if (in >> rest) throw sensorError(key, "expected six numbers 'x y z roll pitch yaw', got '" + text + "'");
   return conde_physics::Pose::fromXyzRpy(v[0], v[1], v[2], v[3], v[4], v[5]);
 }
 
@@ -256,7 +273,8 @@ void PluginParams::ignore(const std::vector<std::string>& keys) {
   for (const auto& k : keys) {
     used_.insert(k);
     sensor_used_.insert(k);
-    ignored_.push_back(k);
+    // Listed once, also when several cameras of one sensor ignore the same keys.
+    if (std::find(ignored_.begin(), ignored_.end(), k) == ignored_.end()) ignored_.push_back(k);
   }
 }
 

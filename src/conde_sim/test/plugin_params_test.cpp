@@ -141,3 +141,24 @@ TEST(PluginParams, SensorPluginsNameTheSensorTheyNeed) {
   EXPECT_EQ(errorOf([&] { PluginParams(model_level.plugin, nullptr, "r.urdf", "").requireReferenceLink(); }),
             "r.urdf:1: plugin 'l' (libgazebo_ros_laser.so): must sit in <gazebo reference=\"link\">");
 }
+
+TEST(PluginParams, SeveralChildrenOfOneNameAreReadOneAtATime) {
+  Parsed p(
+      "<sensor type=\"multicamera\" name=\"stereo\">\n<camera name=\"left\"><image><width>64</width></image></camera>\n"
+      "<camera name=\"right\">\n<pose>0 -0.1 0 0 0 0</pose>\n<image><width>-2</width><fov>1</fov></image></camera>\n"
+      "<plugin name=\"p\" filename=\"libgazebo_ros_multicamera.so\"/></sensor>");
+  PluginParams params(p.plugin, p.sensor, "robot.urdf", "base");
+  const auto cameras = params.sensorChildren("camera");
+  ASSERT_EQ(cameras.size(), 2u);
+  EXPECT_DOUBLE_EQ(params.sensorDouble("camera/image/width", 1), 64);  // the first, without a selection
+  params.selectSensorChild(cameras[1]);
+  EXPECT_DOUBLE_EQ(params.sensorDouble("camera/image/width", 1), -2);
+  EXPECT_DOUBLE_EQ(params.sensorPose("camera/pose").position.y, -0.1);
+  EXPECT_EQ(params.sensorError("camera/image/width", "bad").what(),
+            std::string("robot.urdf:5: sensor 'stereo' (multicamera): <camera name=\"right\"><image><width>: bad"));
+  params.selectSensorChild(nullptr);
+  EXPECT_DOUBLE_EQ(params.sensorPose("camera/pose").position.y, 0.0);  // the left camera has none
+  // What was read counts for both cameras: only the right one's <fov> is unknown.
+  EXPECT_EQ(errorOf([&] { params.checkAllUsed(); }),
+            "robot.urdf:5: sensor 'stereo' (multicamera): unknown element <camera><image><fov>");
+}

@@ -89,6 +89,7 @@ std::unique_ptr<SimPlugin> makeImuModelPlugin();
 std::unique_ptr<SimPlugin> makeCameraPlugin();
 std::unique_ptr<SimPlugin> makeDepthCameraPlugin();
 std::unique_ptr<SimPlugin> makeOpenniKinectPlugin();
+std::unique_ptr<SimPlugin> makeMultiCameraPlugin();
 std::unique_ptr<SimPlugin> makeVideoPlugin();
 std::unique_ptr<SimPlugin> makeLaserPlugin();
 std::unique_ptr<SimPlugin> makeRosControlPlugin();

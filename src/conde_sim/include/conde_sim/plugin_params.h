@@ -59,7 +59,8 @@ class PluginParams {
   // What every sensor reads alike. The sensor's <pose> ("x y z roll pitch yaw" in the link; the
   // identity without one), and a <noise> block at `path` ("camera/noise", "ray/noise"): type
   // gaussian or none, mean, stddev >= 0 (no block: no noise).
-  conde_physics::Pose sensorPose();
+  // `key` is the element of the pose: "pose" for the sensor's, "camera/pose" for a camera's in it.
+  conde_physics::Pose sensorPose(const std::string& key = "pose");
   struct SensorNoise {
     bool gaussian = false;
     double mean = 0.0, stddev = 0.0;
@@ -71,6 +72,14 @@ class PluginParams {
   PluginError sensorError(const std::string& key, const std::string& what) const;
   std::string sensorType() const;
   std::string sensorName() const;
+
+  // Sensors with several children of one name (<sensor type="multicamera"> with one <camera> per
+  // camera): all of them, in order, and which one the sensor keys read. After
+  // selectSensorChild(e), a path that starts with e's name ("camera/image/width") walks down from
+  // e instead of the first such child; nullptr goes back to the first. Keys read count for every
+  // child of that name when unknown elements are checked.
+  std::vector<const tinyxml2::XMLElement*> sensorChildren(const std::string& name) const;
+  void selectSensorChild(const tinyxml2::XMLElement* child) { selected_child_ = child; }
 
   // Keys that Gazebo reads but that have no effect here; accepted (a sensor path accepts
   // everything below it). Those present are listed by acceptedWithoutEffect().
@@ -98,6 +107,7 @@ class PluginParams {
 
   const tinyxml2::XMLElement* plugin_;
   const tinyxml2::XMLElement* sensor_;
+  const tinyxml2::XMLElement* selected_child_ = nullptr;
   std::string source_, reference_link_, name_, filename_;
   std::set<std::string> used_, sensor_used_;
   std::vector<std::string> ignored_;

@@ -47,6 +47,7 @@
 #include <cstring>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <random>
 #include <sstream>
 
@@ -72,6 +73,15 @@ bool samePose(const cp::Pose& a, const cp::Pose& b) {
   return (a.position - b.position).norm() < kOpticalPositionTolerance_m && angle_rad < kOpticalAngleTolerance_rad;
 }
 
+// One camera of a <sensor type="multicamera"> (MultiCameraPlugin below): which <camera> element
+// it is, its topics' suffix, and the camera whose optical frame is <frameName>.
+struct StereoMember {
+  const tinyxml2::XMLElement* camera = nullptr;        // its <camera> element
+  std::string name_suffix;                             // "/left" or "/right", after <cameraName>
+  bool right = false;                                  // P[3] from <hackBaseline> (the left's is 0)
+  const tinyxml2::XMLElement* frame_camera = nullptr;  // the <camera> whose optical frame is <frameName>
+};
+
 class CameraPlugin : public SimPlugin {
  public:
   // `sensor_types`: the <sensor> types this plugin sits in; the defaults of the colour image's
@@ -81,6 +91,8 @@ class CameraPlugin : public SimPlugin {
       : sensor_types_(std::move(sensor_types)),
         image_topic_default_(std::move(image_topic_default)),
         info_topic_default_(std::move(info_topic_default)) {}
+  // A camera of a multicamera sensor.
+  explicit CameraPlugin(StereoMember member) : CameraPlugin({"multicamera"}) { member_ = std::move(member); }
 
   void configure(PluginParams& params, ros::NodeHandle& nh) override {
     link_ = params.requireSensor(sensor_types_);
@@ -91,6 +103,7 @@ class CameraPlugin : public SimPlugin {
     }
 
     // <sensor> and <camera>: size, field of view, clip, format, noise, distortion, lens.
+    if (member_) params.selectSensorChild(member_->camera);
     CameraFromSdf camera = cameraFromSdf(params);
     cp::CameraModel& model = camera.model;
     encoding_ = camera.encoding;
@@ -105,8 +118,9 @@ class CameraPlugin : public SimPlugin {
     if (cx_px > 0) model.cx_px = cx_px;
     if (cy_px > 0) model.cy_px = cy_px;
     baseline_m_ = params.getDouble("hackBaseline", 0.0);
+    if (member_ && !member_->right) baseline_m_ = 0.0;  // as gazebo_ros_multicamera: only the right one's
     params.getDouble("CxPrime", 0.0);
-    const std::string camera_name = params.getString("cameraName", "camera");
+    const std::string camera_name = params.getString("cameraName", "camera") + (member_ ? member_->name_suffix : "");
     const std::string image_topic = params.getString("imageTopicName", image_topic_default_);
     const std::string info_topic = params.getString("cameraInfoTopicName", info_topic_default_);
     const double sensor_rate_hz = params.sensorDouble("update_rate", 0.0);
@@ -119,12 +133,22 @@ class CameraPlugin : public SimPlugin {
     frame_timer_ = UpdateTimer(rate_hz, ctx_.sim->stepS());
     params.getBool("alwaysOn", true);
     params.sensorBool("always_on", true);
-    params.ignore({"visualize", "borderCrop", "autoDistortion", "camera_info_topic", "topic"});
+    params.ignore({"visualize", "borderCrop", "autoDistortion", "triggerTopicName", "camera_info_topic", "topic"});
     params.sensorString("camera/save", "");  // accepted, unused
 
-    // Where the camera sits and which frame its images carry.
+    // Where the camera sits and which frame its images carry. A camera of a multicamera sits at
+    // its <camera><pose> in the sensor, and its images carry the optical frame of the left camera
+    // (Gazebo's one <frameName>; the right camera's CameraInfo says where it is from there).
     const cp::Pose sensor_pose = params.sensorPose();
-    link_T_optical_ = sensor_pose * cp::Pose(cp::Vec3(), kLinkToOptical);
+    const cp::Pose camera_pose = member_ ? params.sensorPose("camera/pose") : cp::Pose();
+    link_T_optical_ = sensor_pose * camera_pose * cp::Pose(cp::Vec3(), kLinkToOptical);
+    cp::Pose link_T_frame = link_T_optical_;
+    const bool frame_of_other_camera = member_ && member_->frame_camera != member_->camera;
+    if (frame_of_other_camera) {
+      params.selectSensorChild(member_->frame_camera);
+      link_T_frame = sensor_pose * params.sensorPose("camera/pose") * cp::Pose(cp::Vec3(), kLinkToOptical);
+      params.selectSensorChild(member_->camera);
+    }
     const std::string frame_name = params.getString("frameName", link_ + "_optical");
     frame_ = ctx_.frame(frame_name);
     int frame_body = -1;
@@ -132,15 +156,15 @@ class CameraPlugin : public SimPlugin {
     if (robot.model.linkInBody(frame_name, frame_body, frame_in_body)) {
       int link_body = -1;
       robot.model.linkInBody(link_, link_body, link_in_body);
-      const cp::Pose expected = link_in_body * link_T_optical_;
+      const cp::Pose expected = link_in_body * link_T_frame;
       if (frame_body != link_body || !samePose(frame_in_body, expected)) {
         throw params.error("frameName", "link '" + frame_name + "' is not the optical frame of the camera on link '" +
                                             link_ +
                                             "' (REP 103: z forward, x right, y down; expected rpy -pi/2 0 "
                                             "-pi/2 from the camera link, within 0.5 degrees)");
       }
-    } else if (ctx_.static_tf) {
-      ctx_.static_tf->sendTransform(transformMessage(ctx_.now(), ctx_.frame(link_), frame_, link_T_optical_));
+    } else if (ctx_.static_tf && !frame_of_other_camera) {  // that camera publishes it
+      ctx_.static_tf->sendTransform(transformMessage(ctx_.now(), ctx_.frame(link_), frame_, link_T_frame));
     }
 
     try {
@@ -148,7 +172,7 @@ class CameraPlugin : public SimPlugin {
     } catch (const std::invalid_argument& e) {
       throw params.sensorError("camera", e.what());
     }
-    rng_.seed(std::hash<std::string>()(robot.spec.name + "/" + link_));
+    rng_.seed(std::hash<std::string>()(robot.spec.name + "/" + link_ + (member_ ? member_->name_suffix : "")));
 
     ros::NodeHandle camera_nh(nh, camera_name);
     image_pub_ = camera_nh.advertise<sensor_msgs::Image>(image_topic, 2);
@@ -245,6 +269,7 @@ class CameraPlugin : public SimPlugin {
   }
 
   std::vector<std::string> sensor_types_;
+  std::optional<StereoMember> member_;
   std::string image_topic_default_, info_topic_default_;
   std::string link_, frame_, encoding_;
   std::string lens_type_ = "pinhole";
@@ -407,10 +432,93 @@ class DepthCameraPlugin : public CameraPlugin {
   ros::Publisher depth_pub_, depth_info_pub_, points_pub_;
 };
 
+// libgazebo_ros_multicamera.so on <sensor type="multicamera">: one camera per <camera name="...">
+// (each with its own <pose> in the sensor, field of view, image, clip, noise and distortion),
+// rendered in the same step, all with the plugin's keys of libgazebo_ros_camera.so. As in
+// gazebo_ros_multicamera:
+//   <cameraName>/left/<imageTopicName>, <cameraName>/left/<cameraInfoTopicName>    camera whose name contains "left"
+//   <cameraName>/right/<imageTopicName>, <cameraName>/right/<cameraInfoTopicName>  camera whose name contains "right"
+// both stamped in <frameName>, the optical frame of the left camera, and the right camera's
+// CameraInfo has P[3] = -fx * <hackBaseline> (the left one's 0): the projection of a point given in
+// the left optical frame, as stereo_image_proc expects. Differences, on purpose:
+// - A camera whose name has neither "left" nor "right", or a second left or right one, is an error
+//   (Gazebo loads it and publishes nothing for it, or two cameras on one topic).
+// - The cameras may come in any order (Gazebo publishes the first <camera>'s frames as the left).
+// - A <hackBaseline> that differs from where the <camera><pose>s put the right camera (its x in the
+//   left optical frame) is reported once as a warning: disparities would give wrong depths.
+class MultiCameraPlugin : public SimPlugin {
+ protected:
+  void configure(PluginParams& params, ros::NodeHandle& /*nh*/) override {
+    params.requireSensor({"multicamera"});
+    std::vector<StereoMember> members;
+    const tinyxml2::XMLElement* left = nullptr;
+    for (const tinyxml2::XMLElement* camera : params.sensorChildren("camera")) {
+      const std::string name = camera->Attribute("name") ? camera->Attribute("name") : "";
+      params.selectSensorChild(camera);
+      StereoMember member;
+      member.camera = camera;
+      if (name.find("left") != std::string::npos) {
+        member.name_suffix = "/left";
+      } else if (name.find("right") != std::string::npos) {
+        member.name_suffix = "/right";
+        member.right = true;
+      } else {
+        throw params.sensorError("camera",
+                                 "a camera of libgazebo_ros_multicamera.so needs a name that contains "
+                                 "'left' or 'right' (got '" +
+                                     name + "')");
+      }
+      for (const StereoMember& other : members) {
+        if (other.name_suffix == member.name_suffix)
+          throw params.sensorError("camera", "a second " + member.name_suffix.substr(1) + " camera");
+      }
+      if (!member.right) left = camera;
+      members.push_back(member);
+    }
+    params.selectSensorChild(nullptr);
+    if (members.empty())
+      throw params.sensorError("camera",
+                               "a multicamera sensor needs <camera name=\"left\"> and/or "
+                               "<camera name=\"right\">");
+    for (StereoMember& member : members) {
+      member.frame_camera = left ? left : members.front().camera;
+      cameras_.push_back(std::make_unique<CameraPlugin>(member));
+      cameras_.back()->load(ctx_, params);
+      params.selectSensorChild(nullptr);
+    }
+    if (left && members.size() == 2) checkBaseline(params, left, members[0].right ? members[0] : members[1]);
+  }
+
+  void afterStep() override {
+    for (auto& camera : cameras_) camera->afterStep();
+  }
+
+ private:
+  // Warns when <hackBaseline> is not the right camera's x in the left optical frame.
+  static void checkBaseline(PluginParams& params, const tinyxml2::XMLElement* left, const StereoMember& right) {
+    params.selectSensorChild(left);
+    const cp::Pose left_optical = params.sensorPose("camera/pose") * cp::Pose(cp::Vec3(), kLinkToOptical);
+    params.selectSensorChild(right.camera);
+    const cp::Pose right_optical = params.sensorPose("camera/pose") * cp::Pose(cp::Vec3(), kLinkToOptical);
+    params.selectSensorChild(nullptr);
+    const double baseline_m = (left_optical.inverse() * right_optical).position.x;
+    const double hack_baseline_m = params.getDouble("hackBaseline", 0.0);
+    if (std::abs(baseline_m - hack_baseline_m) > 1e-3) {
+      ROS_WARN(
+          "%s: <hackBaseline> %s m, but the right camera is %s m right of the left one (<camera><pose>): "
+          "depths from disparity will be wrong",
+          params.where().c_str(), formatNumber(hack_baseline_m).c_str(), formatNumber(baseline_m).c_str());
+    }
+  }
+
+  std::vector<std::unique_ptr<CameraPlugin>> cameras_;
+};
+
 }  // namespace
 
 std::unique_ptr<SimPlugin> makeCameraPlugin() { return std::make_unique<CameraPlugin>(); }
 std::unique_ptr<SimPlugin> makeDepthCameraPlugin() { return std::make_unique<DepthCameraPlugin>(false); }
 std::unique_ptr<SimPlugin> makeOpenniKinectPlugin() { return std::make_unique<DepthCameraPlugin>(true); }
+std::unique_ptr<SimPlugin> makeMultiCameraPlugin() { return std::make_unique<MultiCameraPlugin>(); }
 
 }  // namespace conde_sim
