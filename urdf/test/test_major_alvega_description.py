@@ -99,10 +99,12 @@ def test_frame_tree_and_joint_names():
     assert_frame_tree(root, 'base_link', dict(
         {link: 'chassis' for link in ('top_chassis', 'bar_chassis', 'left_rear_wheel', 'right_rear_wheel',
                                       'left_steering_link', 'right_steering_link', 'camera_link', 'top_camera_link')},
-        chassis='base_link', left_front_wheel='left_steering_link', right_front_wheel='right_steering_link',
+        chassis='base_link', base_footprint='base_link',
+        left_front_wheel='left_steering_link', right_front_wheel='right_steering_link',
         camera_link_optical='camera_link', top_camera_link_optical='top_camera_link'))
     assert movable_joints(root) == MOVABLE
     np.testing.assert_allclose(pose_in_root(root, 'chassis')[0], [0, 0, 0])
+    np.testing.assert_allclose(pose_in_root(root, 'base_footprint')[0], [-WHEELBASE_M / 2, 0, 0])  # rear axle
 
 
 def test_wheelbase_track_and_wheels_on_the_ground():

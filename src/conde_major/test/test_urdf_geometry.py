@@ -71,6 +71,16 @@ def test_positions_follow_rotated_joints():
     tree = UrdfTree(robot())
     assert list(tree.position_m('lf')) == pytest.approx([1 - 0.1, 2 + 0.3, 0])
     assert tree.steering_limit_rad('lf') == 0.5
+    assert tree.steering_rate_limit_radps('lf') == 1.0
+
+
+def test_major_alvega_steering_rate_limit(major_urdf):
+    assert UrdfTree(major_urdf).steering_rate_limit_radps('left_front_wheel') == pytest.approx(4.553)
+
+
+def test_a_hinge_without_a_velocity_limit_has_none():
+    urdf = robot().replace(' velocity="1"', '')
+    assert UrdfTree(urdf).steering_rate_limit_radps('rf') == 0.0
 
 
 def test_dimensions_in_the_root_frame():

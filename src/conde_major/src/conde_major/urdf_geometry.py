@@ -76,18 +76,32 @@ class UrdfTree:
             rotation = rotation @ _rotation(*rpy)
         return position
 
-    def steering_limit_rad(self, link):
-        """The smaller of |lower| and |upper| of the nearest revolute joint above `link` (its
-        steering hinge)."""
+    def _steering_limit(self, link):
+        """(joint name, <limit> element) of the nearest revolute joint above `link` (its hinge)."""
         for joint in reversed(self._chain(link)):
             if joint.get('type') == 'revolute':
                 limit = joint.find('limit')
                 if limit is None:
                     raise GeometryError("joint '%s' has no <limit>" % joint.get('name'))
-                lower = _floats(limit.get('lower', '0'), 1, "joint '%s' <limit> lower" % joint.get('name'))[0]
-                upper = _floats(limit.get('upper', '0'), 1, "joint '%s' <limit> upper" % joint.get('name'))[0]
-                return min(abs(lower), abs(upper))
+                return joint.get('name'), limit
         raise GeometryError("no revolute (steering) joint between the root and link '%s'" % link)
+
+    def steering_limit_rad(self, link):
+        """The smaller of |lower| and |upper| of the nearest revolute joint above `link` (its
+        steering hinge)."""
+        name, limit = self._steering_limit(link)
+        lower = _floats(limit.get('lower', '0'), 1, "joint '%s' <limit> lower" % name)[0]
+        upper = _floats(limit.get('upper', '0'), 1, "joint '%s' <limit> upper" % name)[0]
+        return min(abs(lower), abs(upper))
+
+    def steering_rate_limit_radps(self, link):
+        """The <limit> velocity [rad/s] of the steering hinge above `link`; 0 when the URDF gives
+        none (URDF's default: no limit)."""
+        name, limit = self._steering_limit(link)
+        rate = _floats(limit.get('velocity', '0'), 1, "joint '%s' <limit> velocity" % name)[0]
+        if not (math.isfinite(rate) and rate >= 0):
+            raise GeometryError("joint '%s' <limit> velocity: expected a number >= 0, got %r" % (name, rate))
+        return rate
 
 
 def car_dimensions(urdf_xml, left_front, right_front, left_rear, right_rear):

@@ -14,19 +14,21 @@ from dataclasses import dataclass
 import cv2
 import numpy as np
 
+from conde_tracking.lens import optical_rays
 
-def ground_points(pixels_px, camera_matrix, dist_coeffs, T_base_optical, max_range_m=np.inf):
+
+def ground_points(pixels_px, camera_matrix, dist_coeffs, T_base_optical, max_range_m=np.inf, lens=None):
     """Ground points [m] in base_footprint for pixel coordinates (N, 2) (u right, v down).
 
     Each pixel is undistorted to a normalised ray, turned into base_footprint and intersected
     with z = 0.  Returns an (N, 2) array of (x, y); rays that do not hit the ground in front of
-    the camera, or hit it farther than max_range_m from the camera, are NaN."""
+    the camera, or hit it farther than max_range_m from the camera, are NaN.  lens: None for a
+    pinhole camera, else (image width [px], image height [px], a wide-angle lens type of lens.py)."""
     px = np.asarray(pixels_px, dtype=np.float64).reshape(-1, 1, 2)
     if len(px) == 0:
         return np.zeros((0, 2))
-    norm = cv2.undistortPoints(px, np.asarray(camera_matrix, np.float64).reshape(3, 3),
-                               np.asarray(dist_coeffs, np.float64).ravel()).reshape(-1, 2)
-    rays_optical = np.column_stack([norm, np.ones(len(norm))])
+    width_px, height_px, lens_type = lens if lens is not None else (0, 0, "pinhole")
+    rays_optical = optical_rays(px, width_px, height_px, camera_matrix, dist_coeffs, lens_type)
     T = np.asarray(T_base_optical, dtype=np.float64)
     rays = rays_optical @ T[:3, :3].T
     origin = T[:3, 3]
@@ -50,10 +52,13 @@ class GroundMap:
     xy_m: np.ndarray  # (H, W, 2)
 
     @classmethod
-    def from_camera(cls, width_px, height_px, camera_matrix, dist_coeffs, T_base_optical, max_range_m=3.0):
+    def from_camera(cls, width_px, height_px, camera_matrix, dist_coeffs, T_base_optical, max_range_m=3.0,
+                    lens="pinhole"):
+        """lens: "pinhole" or a wide-angle lens type of lens.py (CameraInfo cannot say which)."""
         u, v = np.meshgrid(np.arange(width_px, dtype=np.float64), np.arange(height_px, dtype=np.float64))
         pixels = np.column_stack([u.ravel(), v.ravel()])
-        xy = ground_points(pixels, camera_matrix, dist_coeffs, T_base_optical, max_range_m)
+        xy = ground_points(pixels, camera_matrix, dist_coeffs, T_base_optical, max_range_m,
+                           None if lens == "pinhole" else (width_px, height_px, lens))
         return cls(int(width_px), int(height_px), xy.reshape(height_px, width_px, 2))
 
     def points(self, mask):
