@@ -434,7 +434,8 @@ def with_bays(road, first_line_m=1.53, width_m=BAY_M, occupied=None, divider_see
     (1.53, BAY_M, 0, False, 1),  # ... with the divider hidden behind the box: inferred midway
     (1.75, 1.05 * BAY_M, 0, True, 1),  # a track drawn 5 % larger, the bays farther on
 ])
-def test_auto_parks_in_the_first_free_bay_seen_anchored_on_its_lines(first_line_m, width_m, occupied, divider_seen, bay):
+def test_auto_parks_in_the_first_free_bay_seen_anchored_on_its_lines(first_line_m, width_m, occupied, divider_seen,
+                                                                     bay):
     road = with_bays(make(), first_line_m, width_m, occupied, divider_seen)
     signal(road, PARKING)
     drive_to_parked(road)

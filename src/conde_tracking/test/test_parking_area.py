@@ -21,7 +21,8 @@ SEEN_X_M = (0.4, 1.5)  # a border line this far ahead is in full view
 @functools.lru_cache(maxsize=None)
 def detect(name):
     d = VIEWS[name]
-    maps = [GroundMap.from_camera(160, 120, d[f"{k}_K"], d[f"{k}_D"], d[f"{k}_T_base_optical"]) for k in ("left", "right")]
+    maps = [GroundMap.from_camera(160, 120, d[f"{k}_K"], d[f"{k}_D"], d[f"{k}_T_base_optical"])
+            for k in ("left", "right")]
     images = [d["left_image"], d["right_image"]]
     return ParkingAreaDetector(maps).detect(images), ObstacleDetector(maps).detect(images), d
 

@@ -153,7 +153,8 @@ class DecisionConfig:
     park_speed_mps: float = 0.2  # |speed| of the parking manoeuvres (speeds creep and reverse) [m/s]
     # where to park on the parking order: auto (the place seen, parking.py) | parallel | bay_north | bay_south
     parking_place: str = "auto"
-    parking_search_m: float = 0.3  # parking_parallel fires after this distance in go_to_parking (auto: no bay line seen) [m]
+    # parking_parallel fires after this distance in go_to_parking (auto: if no bay line was seen) [m]
+    parking_search_m: float = 0.3
     bay_width_min_m: float = 0.6  # neighbouring bay lines this far apart (or twice) enclose a bay ... [m]
     bay_width_max_m: float = 0.95  # ... up to this [m] (0.773 on the competition track)
     bay_line_merge_m: float = 0.1  # sightings of a bay line within this along the road are one line [m]
