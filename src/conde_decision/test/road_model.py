@@ -15,7 +15,7 @@ straight on.  (The straight before the north loop is shortened from the track's 
 the loop and the turn back onto the central road fit into the model's mean half lap.)"""
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Tuple
 
 #: Lane-centre length between two crossings: a lap is 40.66 m (geometry YAML), split 21.5 + 19.1 m
@@ -30,6 +30,7 @@ LOOP_SWEEP_RAD = 1.5 * math.pi
 NEW_LANE_SEEN_RAD = math.radians(45)  # a junction's turn shows the lane it leads to from here on
 LANE_SPACING_M = 0.782  # own lane centre to the other (left) lane's centre [m]
 OBSTACLE_VIEW_M = (-0.2, 2.5)  # x range [m] in which the ground cameras see objects on the floor
+BAY_LINE_VIEW_M = (0.3, 1.6)  # x range [m] in which conde_tracking reports the bay lines
 OFFSET_TIME_CONSTANT_S = 0.3  # with follow_reference: the lateral offset follows its reference this fast [s]
 
 
@@ -48,6 +49,8 @@ class Lane:
     obstacle_distances_m: Tuple[float, ...] = ()
     obstacle_lane_y_min_m: Tuple[float, ...] = ()
     obstacle_lane_y_max_m: Tuple[float, ...] = ()
+    obstacle_y_max_m: Tuple[float, ...] = ()  # in base_footprint (set for the bays' boxes only)
+    bay_line_distances_m: Tuple[float, ...] = ()
 
 
 @dataclass
@@ -84,6 +87,21 @@ class Road:
         self.follow_reference = False  # the lateral offset follows the logic's reference (a lane change)
         self.own_offset_m = self.lateral_offset_m  # from the own lane's centre (follow_reference)
         self.relock = True  # the tracker measures against the lane whose centre the robot is nearer
+        self.bay_lines_s = []  # the bay-parking area's lines across the road on the right, along the route [m]
+        self.bay_boxes_s = []  # near edges of boxes in its bays, along the route [m]
+
+    def _with_bay_area(self, lane):
+        """The lane measurement with the bay lines and bay boxes in view (BAY_LINE_VIEW_M ahead)."""
+        if not self.bay_lines_s and not self.bay_boxes_s:
+            return lane
+        lines = tuple(s - self.s for s in self.bay_lines_s if BAY_LINE_VIEW_M[0] <= s - self.s <= BAY_LINE_VIEW_M[1])
+        boxes = tuple(s - self.s for s in self.bay_boxes_s if OBSTACLE_VIEW_M[0] <= s - self.s <= OBSTACLE_VIEW_M[1])
+        n = len(lane.obstacle_kinds)
+        return replace(lane, bay_line_distances_m=lines, obstacle_kinds=lane.obstacle_kinds + ("box",) * len(boxes),
+                       obstacle_distances_m=lane.obstacle_distances_m + boxes,
+                       obstacle_lane_y_min_m=lane.obstacle_lane_y_min_m + (-1.6,) * len(boxes),
+                       obstacle_lane_y_max_m=lane.obstacle_lane_y_max_m + (-0.9,) * len(boxes),
+                       obstacle_y_max_m=(0.0,) * n + (-0.9,) * len(boxes))
 
     def _tracked_shift_m(self):
         """The tracked lane's centre from the own lane's centre [m]."""
@@ -125,7 +143,7 @@ class Road:
 
     def step(self):
         self.logic.on_odometry(self.yaw_rad, self.s if self.odometry_distance else None)
-        out = self.logic.on_lane(self.lane(), self.t)
+        out = self.logic.on_lane(self._with_bay_area(self.lane()), self.t)
         self.outputs.append(out)
         self.positions.append(self.s)
         for event in out.events:

@@ -9,6 +9,7 @@ from types import SimpleNamespace
 import pytest
 
 from conde_decision.avoidance import AvoidanceConfig
+from conde_decision.parking import BayFinder, bay_entry_lead_m
 from conde_decision.decision_logic import (END_OF_TRIAL, FORWARD, LEFT, NONE, PARKING, RIGHT, STOP, DecisionConfig,
                                            DecisionLogic)
 from conde_decision.state_machine import load_state_machine, parse_state_machine
@@ -334,9 +335,13 @@ def test_parking_order_drives_the_manoeuvre_of_the_place(place, states):
     road.run(100 * DT_S)
     assert signal(road, PARKING) == [("wait_for_go", "signal_parking", "go_to_parking")]
     drive_to_parked(road)
-    # go_to_parking leaves at once, in the first step, on the event of the place.
-    assert road.outputs[100].transitions == [("go_to_parking", "parking_" + place, states[1])]
-    assert states_passed(road) == ["wait_for_go"] + states[1:]
+    # go_to_parking leaves on the event of the place: at once, in the first step, for a bay; after
+    # parking_search_m for the parallel bay.
+    left = next(k for k, o in enumerate(road.outputs) if o.transitions)
+    assert road.outputs[left].transitions == [("go_to_parking", "parking_" + place, states[1])]
+    search_m = CONFIG.parking_search_m if place == "parallel" else 0.0
+    assert road.positions[left] == pytest.approx(search_m, abs=STEP_M)
+    assert states_passed(road) == ["wait_for_go"] + (states if place == "parallel" else states[1:])
     # Each manoeuvre state drives its distance (odometry path length) at its speed and curvature.
     for state in states[1:-1]:
         command = SPEC.states[state].command
@@ -404,7 +409,77 @@ def test_reverse_drives_backward_blind_and_counts_its_distance():
 def test_unknown_parking_place_is_an_error():
     with pytest.raises(ValueError) as info:
         DecisionLogic(SPEC, replace(CONFIG, parking_place="garage"))
-    assert str(info.value) == "parking_place: expected one of parallel, bay_north, bay_south, got 'garage'"
+    assert str(info.value) == "parking_place: expected one of auto, parallel, bay_north, bay_south, got 'garage'"
+
+
+# --- parking on what the cameras see (parking_place auto) -----------------------------------------
+
+BAY_M = 0.773  # a bay's width along the road on the competition track [m]
+BAY_STATES = ["go_to_parking", "bay_approach", "bay_creep", "bay_turn_in", "bay_drive_in", "parked"]
+
+
+def with_bays(road, first_line_m=1.53, width_m=BAY_M, occupied=None, divider_seen=True):
+    """The bay-parking area beside the road: lines across it at first_line_m (+ width_m, + 2 width_m;
+    the divider between only if divider_seen), a box in the `occupied` bay (0 or 1)."""
+    road.bay_lines_s = [first_line_m + k * width_m for k in range(3) if divider_seen or k != 1]
+    if occupied is not None:
+        road.bay_boxes_s = [first_line_m + (occupied + 0.2) * width_m]
+    return road
+
+
+@pytest.mark.parametrize("first_line_m, width_m, occupied, divider_seen, bay", [
+    (1.53, BAY_M, None, True, 0),  # B1: both free, the first
+    (1.53, BAY_M, 1, True, 0),  # B2 v1: the north (second) bay holds the box
+    (1.53, BAY_M, 0, True, 1),  # B2 v2: the south (first) one
+    (1.53, BAY_M, 0, False, 1),  # ... with the divider hidden behind the box: inferred midway
+    (1.75, 1.05 * BAY_M, 0, True, 1),  # a track drawn 5 % larger, the bays farther on
+])
+def test_auto_parks_in_the_first_free_bay_seen_anchored_on_its_lines(first_line_m, width_m, occupied, divider_seen,
+                                                                     bay):
+    road = with_bays(make(), first_line_m, width_m, occupied, divider_seen)
+    signal(road, PARKING)
+    drive_to_parked(road)
+    assert states_passed(road) == BAY_STATES
+    # The way in (bay_creep's straight, bay_turn_in's quarter circle) ends on the bay's centre line.
+    lead_m = SPEC.states["bay_creep"].command.distance_m + SPEC.states["bay_turn_in"].command.radius_m
+    centre_m = first_line_m + (bay + 0.5) * width_m
+    assert event_positions(road, "bay_entry_near") == [pytest.approx(centre_m - lead_m, abs=STEP_M + 1e-9)]
+
+
+def test_auto_without_bay_lines_in_view_parks_in_the_parallel_bay():
+    road = make()
+    signal(road, PARKING)
+    drive_to_parked(road)
+    assert states_passed(road) == PARALLEL_STATES
+    assert event_positions(road, "parking_parallel") == [pytest.approx(CONFIG.parking_search_m, abs=STEP_M)]
+
+
+def test_auto_with_bay_lines_in_view_does_not_take_the_parallel_bay_before_a_bay_is_known():
+    road = make()
+    road.bay_lines_s = [1.2]  # one line only: no bay yet, but the area is in view
+    signal(road, PARKING)
+    road.drive_m(1.0)
+    assert road.logic.state == "go_to_parking"
+    road.bay_lines_s = [1.2, 1.2 + BAY_M]
+    assert road.until("parking_bays_seen").transitions == [("go_to_parking", "parking_bays_seen", "bay_approach")]
+
+
+def test_a_bay_line_is_known_after_two_sightings_and_twice_a_bay_apart_are_two_bays():
+    finder = BayFinder((0.6, 0.95), 0.1, 2)
+    finder.on_lines(0.0, [1.0, 2.5])
+    assert finder.any_line_seen and finder.lines_m == [] and finder.bays() == []
+    finder.on_lines(0.2, [0.86, 2.36])  # the same lines (within 0.1 m along the road)
+    assert finder.lines_m == pytest.approx([1.03, 2.53])
+    assert [b[:2] for b in finder.bays()] == [pytest.approx((1.03, 1.78)), pytest.approx((1.78, 2.53))]
+    finder.on_box(0.5, 0.6, -0.9)  # near edge at 1.1: in the first bay
+    finder.on_box(0.5, 1.5, -0.2)  # on the road: not in a bay
+    assert [b[2] for b in finder.bays()] == [True, False]
+    assert finder.free_bay() == pytest.approx((1.78, 2.53))
+
+
+def test_bay_entry_lead_is_the_straight_and_the_turns_radius_of_the_states_it_leads_to():
+    assert bay_entry_lead_m(SPEC, "bay_approach") == pytest.approx(0.42 + 0.5)
+    assert bay_entry_lead_m(SPEC, "follow_lane") is None
 
 
 # --- lane lost ------------------------------------------------------------------------------------
@@ -545,6 +620,8 @@ def reach_before_fork(road, state, side):
 
 def parking_place_for(source, event):
     """The parking_place that leads through `source` and fires `event`."""
+    if event == "parking_bays_seen" or source == "bay_approach":
+        return "auto"
     if event.startswith("parking_"):
         return event[len("parking_"):]
     if source == "bay_drive_north":
@@ -557,6 +634,8 @@ def parking_place_for(source, event):
 def test_every_transition_fires_from_inputs(source, event, target):
     road = make(fork_forward=("straight", "straight")) if event == "merge_left" else make(
         parking_place=parking_place_for(source, event))
+    if parking_place_for(source, event) == "auto":
+        with_bays(road)
     road.new_lane_in_turns = event == "lane_aligned"
     if event in ("fork_left", "fork_right"):
         reach_before_fork(road, source, event[len("fork_"):])

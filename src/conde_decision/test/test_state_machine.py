@@ -35,8 +35,8 @@ def test_default_description():
     assert SPEC.initial == "wait_for_go"
     assert list(SPEC.states) == ["wait_for_go", "follow_lane", "turn_left", "turn_right", "approach_stop", "stopped",
                                  "approach_finish", "finished", "go_to_parking", "parked", "park_drive", "park_creep",
-                                 "park_swing_out", "park_swing_in", "bay_drive_north", "bay_drive_south", "bay_creep",
-                                 "bay_turn_in", "bay_drive_in", "avoid_change_lane",
+                                 "park_swing_out", "park_swing_in", "bay_drive_north", "bay_drive_south",
+                                 "bay_approach", "bay_creep", "bay_turn_in", "bay_drive_in", "avoid_change_lane",
                                  "avoid_pass", "avoid_return"]
     assert SPEC.states["avoid_change_lane"].command.lane == "other"
     assert SPEC.states["avoid_return"].command.lane == "own"

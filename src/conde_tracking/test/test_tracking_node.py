@@ -30,6 +30,7 @@ from nav_msgs.msg import Odometry
 from sensor_msgs.msg import CameraInfo, Image
 
 from conde_testing.ros_harness import free_port, joined_as_node
+from conde_tracking.bay_truth import lines_in_robot_frame
 from conde_worlds.track_geometry import LANE_OFFSET, X_REF, build_track
 
 DATA = os.path.join(os.path.dirname(os.path.abspath(__file__)), "data")
@@ -396,6 +397,30 @@ def test_drops_images_of_unexpected_size_or_encoding_and_measures_later_good_one
         # the periodic timing line (every 1 s here) counts the measured pairs
         wait_until(lambda: any(int(m.group(1)) > 0 for m in node.matches(TIMING_LINE)),
                    lambda: f"a periodic timing line with frames > 0\n--- node output:\n{node.output()}")
+    finally:
+        lanes.close()
+        cameras.close()
+
+
+def test_publishes_the_bay_lines_it_sees(sim, node_processes):
+    """Cameras played from a view rendered in the B2 world (south border and divider ahead, the box
+    in the north bay): /conde_lane carries both lines at their distance ahead (parking_area.py)."""
+    cameras = PlayedCameras("b2v1_bays_ahead_0_5m", Image())
+    cameras.use_good_images()
+    lanes = LaneListener()
+    try:
+        topics = cameras.topics
+        node = sim.start_node(camera_left=topics["left"][0], camera_left_info=topics["left"][1],
+                              camera_right=topics["right"][0], camera_right_info=topics["right"][1])
+        node_processes.append(node)
+        wait_until_node_ready(sim, node, (topics["left"][0], topics["right"][0]), step=False)
+        measured = wait_until(lambda: lanes.since(0.0),
+                              lambda: f"/conde_lane with the bays in view\n--- node output:\n{node.output()}")
+        truth = lines_in_robot_frame(cameras.data["pose_xy_yaw"])
+        for lane in measured:
+            assert len(lane.bay_line_distances_m) == 2, lane.bay_line_distances_m
+            assert abs(lane.bay_line_distances_m[0] - truth["south_border"]) < 0.04
+            assert abs(lane.bay_line_distances_m[1] - truth["divider"]) < 0.04
     finally:
         lanes.close()
         cameras.close()

@@ -75,8 +75,12 @@ Commands (the state's `command` in the YAML):
 * distance_m: the event distance_elapsed fires after that distance in the state (driven either
   way: forward or backward).
 
-Parking: while the current state listens to it, the event of parking_place (parking.py) fires in
-every step; go_to_parking leaves on it toward the manoeuvre of that place.
+Parking (parking.py): with parking_place set to a place, its event fires in every step while the
+current state listens to it (parking_parallel after parking_search_m in the state); with
+parking_place auto (the default) the place is the parking area the cameras show
+(conde_tracking's bay lines and boxes: parking_bays_seen, or parking_parallel when no bay line was
+seen in the first parking_search_m), and bay_entry_near fires where the way into the first free
+bay begins, anchored on its lines.
 
 Safety: when the lane confidence is below min_lane_confidence the measured offset and heading
 are replaced by their references (the robot holds its course, e.g. over the crosswalk stripes);
@@ -92,7 +96,8 @@ from conde_decision.avoidance import Avoidance, AvoidanceConfig, Obstacle
 from conde_decision.crosswalk import CrosswalkTracker
 from conde_decision.fork_navigator import ForkNavigator
 from conde_decision.lap_counter import LapCounter
-from conde_decision.parking import BLIND_SPEEDS, PARKING_PLACES, check_parking_place, parking_event
+from conde_decision.parking import (BLIND_SPEEDS, PARKING_PLACES, BayFinder, bay_entry_lead_m, check_parking_place,
+                                    parking_event)
 from conde_decision.road_distance import RoadDistance
 from conde_decision.speed_profile import SpeedProfile
 from conde_decision.state_machine import StateMachine, StateMachineSpec
@@ -146,7 +151,14 @@ class DecisionConfig:
     lane_lost_timeout_s: float = 1.0  # stop after this long without a confident lane [s]
     max_step_s: float = 1.0  # longest time step dead-reckoned at once [s] (gaps in the input)
     park_speed_mps: float = 0.2  # |speed| of the parking manoeuvres (speeds creep and reverse) [m/s]
-    parking_place: str = "parallel"  # where to park on the parking order: parallel | bay_north | bay_south
+    # where to park on the parking order: auto (the place seen, parking.py) | parallel | bay_north | bay_south
+    parking_place: str = "auto"
+    # parking_parallel fires after this distance in go_to_parking (auto: if no bay line was seen) [m]
+    parking_search_m: float = 0.3
+    bay_width_min_m: float = 0.6  # neighbouring bay lines this far apart (or twice) enclose a bay ... [m]
+    bay_width_max_m: float = 0.95  # ... up to this [m] (0.773 on the competition track)
+    bay_line_merge_m: float = 0.1  # sightings of a bay line within this along the road are one line [m]
+    bay_line_sightings: int = 2  # a bay line is known after this many sightings
 
     def check(self) -> "DecisionConfig":
         """Returns self if every value is usable, else raises ValueError naming the field."""
@@ -169,7 +181,7 @@ class DecisionConfig:
                      "expected one radius > 0 per entry of fork_sides")
             elif f.name == "parking_place":
                 need(f.name, value in PARKING_PLACES, "expected one of %s" % ", ".join(PARKING_PLACES))
-            elif f.name == "crossings_per_lap":
+            elif f.name == "crossings_per_lap" or f.name == "bay_line_sightings":
                 need(f.name, isinstance(value, int) and not isinstance(value, bool) and value >= 1,
                      "expected an integer >= 1")
             else:
@@ -185,6 +197,9 @@ class DecisionConfig:
             need(name, getattr(self, name) >= 0, "must be >= 0")
         for name in ("min_signal_confidence", "min_lane_confidence"):
             need(name, 0 <= getattr(self, name) <= 1, "must be in [0, 1]")
+        for name in ("bay_width_min_m", "bay_line_merge_m", "parking_search_m"):
+            need(name, getattr(self, name) > 0, "must be > 0")
+        need("bay_width_max_m", self.bay_width_max_m > self.bay_width_min_m, "must be > bay_width_min_m")
         need("crosswalk_zone_m", self.crosswalk_zone_m >= self.stop_margin_m,
              "must be >= stop_margin_m (%g), or a robot stopping before the crosswalk never reaches it"
              % self.stop_margin_m)
@@ -231,6 +246,8 @@ class DecisionLogic:
         self.speed = SpeedProfile(config.cruise_speed_mps, config.speed_ramp_mps2, config.brake_decel_mps2,
                                   config.stop_margin_m, config.park_speed_mps)
         self.parking_event = parking_event(check_parking_place(config.parking_place))
+        self.bays = BayFinder((config.bay_width_min_m, config.bay_width_max_m), config.bay_line_merge_m,
+                              config.bay_line_sightings)
         self.right_corner_at_m: Optional[float] = None  # travelled_m at the right-turn corner last seen
         self.last_time_s: Optional[float] = None
         self.state_entry_m = 0.0  # travelled_m when the current state was entered
@@ -286,8 +303,8 @@ class DecisionLogic:
         merge = self.forks.loop_exit(self.road.yaw_rad, self.road.travelled_m, corners)
         if merge is not None:
             self._fire(merge)
-        if self.parking_event in self.machine.spec.states[self.state].transitions:
-            self._fire(self.parking_event)
+        for event in self._parking_events(lane):
+            self._fire(event)
         command = self.machine.command
         if (command.distance_m is not None and not self.distance_fired
                 and self.road.travelled_m - self.state_entry_m >= command.distance_m - 1e-9):
@@ -374,6 +391,36 @@ class DecisionLogic:
             self.notes.append(note)
         if event is not None:
             self._fire(event)
+
+    def _parking_events(self, lane) -> List[str]:
+        """The parking events of this step (parking.py): the place's event (parking_place), or in
+        auto the place seen; bay_entry_near where the way into the first free bay begins."""
+        c = self.config
+        listens = self.machine.spec.states[self.state].transitions
+        in_state_m = self.road.travelled_m - self.state_entry_m
+        watching = any(e in listens for e in ("parking_bays_seen", "parking_parallel", "bay_entry_near"))
+        if watching:  # put what the cameras see of the bay-parking area along the road
+            travelled_m = self.road.travelled_m
+            self.bays.on_lines(travelled_m, getattr(lane, "bay_line_distances_m", ()))
+            for kind, d, y_max in zip(getattr(lane, "obstacle_kinds", ()), getattr(lane, "obstacle_distances_m", ()),
+                                      getattr(lane, "obstacle_y_max_m", ())):
+                if kind == "box":
+                    self.bays.on_box(travelled_m, float(d), float(y_max))
+        events = []
+        if self.parking_event is not None:
+            if self.parking_event in listens and (self.parking_event != "parking_parallel"
+                                                  or in_state_m >= c.parking_search_m):
+                events.append(self.parking_event)
+        elif "parking_bays_seen" in listens and self.bays.bays():
+            events.append("parking_bays_seen")
+        elif "parking_parallel" in listens and not self.bays.any_line_seen and in_state_m >= c.parking_search_m:
+            events.append("parking_parallel")
+        if "bay_entry_near" in listens:
+            free = self.bays.free_bay()
+            lead_m = bay_entry_lead_m(self.machine.spec, self.state)
+            if free is not None and lead_m is not None and self.road.travelled_m >= 0.5 * sum(free) - lead_m:
+                events.append("bay_entry_near")
+        return events
 
     def _lane_aligned_in_arc(self, lane, command) -> bool:
         """In an arc driven blind, past half its distance: the cameras see the lane the turn leads

@@ -62,6 +62,10 @@ EVENTS = OrderedDict([
     ("parking_parallel", "the parking place chosen is the parallel bay (fires in every step)"),
     ("parking_bay_north", "the parking place chosen is the north bay of the bay-parking area (every step)"),
     ("parking_bay_south", "the parking place chosen is the south bay of the bay-parking area (every step)"),
+    # Parking on what the cameras see (parking_place auto, conde_decision/parking.py):
+    ("parking_bays_seen", "parking_place auto: a bay of the bay-parking area is known (two of its lines seen)"),
+    ("bay_entry_near", "a free bay is known and the robot has reached the point before its centre line where "
+                       "the straight and the turn into it (the states this event leads to) begin"),
     ("lane_aligned", "in an arc driven blind (command.radius_m), past half its command.distance_m, the cameras see "
                      "a lane with both lines and the robot heading along it (within lane_aligned_rad)"),
     # Obstacles and the working zone (conde_decision/avoidance.py):
