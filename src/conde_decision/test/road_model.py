@@ -15,7 +15,7 @@ straight on.  (The straight before the north loop is shortened from the track's 
 the loop and the turn back onto the central road fit into the model's mean half lap.)"""
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Tuple
 
 #: Lane-centre length between two crossings: a lap is 40.66 m (geometry YAML), split 21.5 + 19.1 m
@@ -30,6 +30,7 @@ LOOP_SWEEP_RAD = 1.5 * math.pi
 NEW_LANE_SEEN_RAD = math.radians(45)  # a junction's turn shows the lane it leads to from here on
 LANE_SPACING_M = 0.782  # own lane centre to the other (left) lane's centre [m]
 OBSTACLE_VIEW_M = (-0.2, 2.5)  # x range [m] in which the ground cameras see objects on the floor
+CORNER_VIEW_M = 1.0  # a line's end is seen up to this far ahead [m] (the fit's range, less the end's gap)
 OFFSET_TIME_CONSTANT_S = 0.3  # with follow_reference: the lateral offset follows its reference this fast [s]
 
 
@@ -44,6 +45,7 @@ class Lane:
     confidence: float = 1.0
     right_line_end_m: float = float("nan")  # no junction corner in view (the model has none)
     left_line_end_m: float = float("nan")
+    far_left_line_end_m: float = float("nan")
     obstacle_kinds: Tuple[str, ...] = ()
     obstacle_distances_m: Tuple[float, ...] = ()
     obstacle_lane_y_min_m: Tuple[float, ...] = ()
@@ -84,6 +86,8 @@ class Road:
         self.follow_reference = False  # the lateral offset follows the logic's reference (a lane change)
         self.own_offset_m = self.lateral_offset_m  # from the own lane's centre (follow_reference)
         self.relock = True  # the tracker measures against the lane whose centre the robot is nearer
+        # junction corners the cameras see: (side, s of the corner, how far beyond it the line leaves its band [m])
+        self.corners = []
 
     def _tracked_shift_m(self):
         """The tracked lane's centre from the own lane's centre [m]."""
@@ -107,6 +111,15 @@ class Road:
         return edge if edge >= self.s + VIEW_M[0] else edge + HALF_LAP_M
 
     def lane(self):
+        """The lane measurement at the robot's place, with the line ends of the corners in view."""
+        lane = self._lane()
+        for side, corner_s, line_offset_m in self.corners:
+            end_m = corner_s + line_offset_m - self.s
+            if self.turned_rad == 0.0 and 0.0 < end_m <= CORNER_VIEW_M:
+                lane = replace(lane, **{"right_line_end_m" if side == "right" else "far_left_line_end_m": end_m})
+        return lane
+
+    def _lane(self):
         ahead_m = self.next_near_edge_m() - self.s
         seen = ahead_m <= VIEW_M[1]
         if self.turned_rad == 0.0:

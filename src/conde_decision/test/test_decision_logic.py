@@ -684,3 +684,47 @@ def test_a_row_of_cones_keeps_the_robot_on_the_other_lane_until_the_last():
     beside = [off for s, off in positions if first <= s <= last_end]
     assert min(beside) > 0.6  # on the other lane all along the cones
     assert states[-1] == "follow_lane"
+
+
+# --- left turns from the corner the cameras see, and the order latched at the crosswalk -------------
+
+@pytest.mark.parametrize("corner_shift_m", [-0.25, 0.2])
+def test_a_left_turn_begins_where_the_cameras_see_its_corner(corner_shift_m):
+    """The other lane's outer edge line turns left at the left turn's corner and leaves its band
+    corner_line_offset_m beyond it: fork_left fires corner_lead_m before that corner, whether it
+    lies before or after the stored fork distance (a track drawn differently)."""
+    road = make(junction_fallback_m=0.3)
+    corner_s = FORK_S + corner_shift_m
+    road.corners.append(("left", corner_s, CONFIG.corner_line_offset_m))
+    reach_before_fork(road, "follow_lane", "left")
+    out = road.until("fork_left")
+    assert out.transitions == [("follow_lane", "fork_left", "turn_left")]
+    assert road.s == pytest.approx(corner_s - CONFIG.corner_lead_m, abs=2 * STEP_M)
+    assert not any("fallback" in note for note in road.logic.notes)
+
+
+def test_a_left_turn_without_a_corner_seen_begins_at_the_fallback_and_says_so():
+    road = make(junction_fallback_m=0.3)
+    reach_before_fork(road, "follow_lane", "left")
+    out = road.until("fork_left")
+    assert road.s == pytest.approx(FORK_S + 0.3, abs=2 * STEP_M)
+    assert out.transitions == [("follow_lane", "fork_left", "turn_left")]
+    assert any(note.startswith("fork_left at the fallback") for note in road.logic.notes)
+
+
+@pytest.mark.parametrize("misread_on_the_crosswalk, fork", [(True, "fork_left"), (False, "fork_straight")])
+def test_a_panel_misread_past_the_stop_line_does_not_change_the_order(misread_on_the_crosswalk, fork):
+    """D2: "left" before the crosswalk; "forward" read on it (the panel seen at an angle) is
+    ignored and noted, and the left branch is taken.  The same read before the stop line counts."""
+    road = make()
+    signal(road, FORWARD)
+    signal(road, LEFT)
+    if not misread_on_the_crosswalk:
+        signal(road, FORWARD, 0.66)  # still standing before the stop line: a real order
+    road.drive_m(0.3)  # on the crosswalk
+    if misread_on_the_crosswalk:
+        signal(road, FORWARD, 0.66)
+        assert road.logic.notes == ["direction signal forward ignored: past the crosswalk's stop line the order "
+                                    "left is kept"]
+    events = road.until(fork).events
+    assert [e for e in events if e.startswith("fork_")] == [fork]

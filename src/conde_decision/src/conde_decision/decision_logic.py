@@ -40,8 +40,9 @@ the robot reaches it, a fork_right or merge_right fires, from junction_window_m 
 distance (fork_distance_m, loop_exit_m) on: the turn's arc begins at the corner the robot sees.
 The stored distances arm the search; junction_fallback_m after them the turn begins anyway (on a
 track seed with a 3.6 % longer y the stored fork distance came 19 cm before the corner).
-Left turns have no such mark yet (the dashed centre line ends somewhere within a dash period
-before the branch): they begin at the stored distances.
+Left turns (fork_left, merge_left) likewise from far_left_line_end_m, the other lane's outer edge
+line, which turns left at the left turn's corner with the same radius (junction_corners.py; the
+dashed centre line ends anywhere within a dash period before the branch and is no mark).
 
 Where the robot is along the road is measured by odometry (the path length on_odometry is given)
 or, without it, dead-reckoned from the speed it is commanded (ramped at speed_ramp_mps2 with
@@ -91,6 +92,7 @@ from conde_common.panel_signals import NAMES_BY_CODE, SIGNAL_CODES
 from conde_decision.avoidance import Avoidance, AvoidanceConfig, Obstacle
 from conde_decision.crosswalk import CrosswalkTracker
 from conde_decision.fork_navigator import ForkNavigator
+from conde_decision.junction_corners import JunctionCorners
 from conde_decision.lap_counter import LapCounter
 from conde_decision.parking import BLIND_SPEEDS, PARKING_PLACES, check_parking_place, parking_event
 from conde_decision.road_distance import RoadDistance
@@ -231,7 +233,7 @@ class DecisionLogic:
         self.speed = SpeedProfile(config.cruise_speed_mps, config.speed_ramp_mps2, config.brake_decel_mps2,
                                   config.stop_margin_m, config.park_speed_mps)
         self.parking_event = parking_event(check_parking_place(config.parking_place))
-        self.right_corner_at_m: Optional[float] = None  # travelled_m at the right-turn corner last seen
+        self.corners = JunctionCorners(config)  # the junctions' corners the cameras see, both sides
         self.last_time_s: Optional[float] = None
         self.state_entry_m = 0.0  # travelled_m when the current state was entered
         self.distance_fired = False  # distance_elapsed already fired in this state
@@ -261,7 +263,9 @@ class DecisionLogic:
             return []
         self.last_signal = signal
         if signal in DIRECTIONS:
-            self.forks.on_direction(DIRECTIONS[signal])
+            note = self.forks.on_direction(DIRECTIONS[signal])
+            if note:
+                self.notes.append(note)
         self._fire("signal_" + SIGNAL_NAMES[signal])
         return self._transitions
 
@@ -284,6 +288,8 @@ class DecisionLogic:
         corners = self.corners_seen(lane)
         self._crosswalk_and_fork_events(time_s, corners)
         merge = self.forks.loop_exit(self.road.yaw_rad, self.road.travelled_m, corners)
+        if self.forks.fallback_note:
+            self.notes.append(self.forks.fallback_note)
         if merge is not None:
             self._fire(merge)
         if self.parking_event in self.machine.spec.states[self.state].transitions:
@@ -345,19 +351,15 @@ class DecisionLogic:
             if self.state != before:
                 self.speed.unlatch()
 
+    @property
+    def right_corner_at_m(self) -> Optional[float]:
+        """travelled_m at the right-turn corner last seen (None: none in sight)."""
+        return self.corners.corner_at_m["right"]
+
     def corners_seen(self, lane) -> Tuple[str, ...]:
-        """("right",) when the robot is (within corner_lead_m) at the corner of a right turn that
-        the cameras showed (this lane measurement or earlier ones), else ()."""
-        c = self.config
-        end_m = getattr(lane, "right_line_end_m", float("nan"))
-        travelled_m = self.road.travelled_m
-        if c.min_line_end_m <= end_m <= c.corner_sight_m:
-            self.right_corner_at_m = travelled_m + end_m - c.corner_line_offset_m
-        elif self.right_corner_at_m is not None and travelled_m > self.right_corner_at_m + c.corner_sight_m:
-            self.right_corner_at_m = None  # long passed
-        if self.right_corner_at_m is not None and travelled_m >= self.right_corner_at_m - c.corner_lead_m:
-            return ("right",)
-        return ()
+        """The sides ("right", "left") at whose turn's corner the robot is (within corner_lead_m),
+        as the cameras showed it in this lane measurement or earlier ones (junction_corners.py)."""
+        return self.corners.update(lane, self.road.travelled_m)
 
     def _crosswalk_and_fork_events(self, time_s: float, corners: Tuple[str, ...] = ()) -> None:
         if self.crosswalk.reached():
@@ -365,6 +367,9 @@ class DecisionLogic:
             self._fire("crosswalk_reached")
             if lap_done:
                 self._fire("lap_completed")
+        if (self.crosswalk.at_crosswalk and self.crosswalk.to_near_edge_m is not None
+                and self.crosswalk.to_near_edge_m < 0.0):
+            self.forks.on_stop_line_passed()
         if self.crosswalk.left():
             self.forks.on_crosswalk_left()
             self.speed.unlatch()

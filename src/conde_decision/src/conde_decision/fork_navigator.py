@@ -7,16 +7,21 @@ junction_fallback_m (DecisionConfig; their meaning is in the docstring of decisi
 
 The last direction signal before a fork chooses: the side the fork opens to gives fork_left /
 fork_right, the other side fork_straight (with a note: that order cannot be obeyed), "forward" what
-fork_forward says for that fork.  The order is used up at the fork.  Straight on, the loop beyond
+fork_forward says for that fork.  The order is used up at the fork, and latched from the crosswalk's
+stop line (its near edge, on_stop_line_passed) to the fork: the top camera sees the panel at an
+angle while the robot drives over the crosswalk and may misread it (D2: "forward" at 0.66
+confidence read on the crosswalk while the panel showed "left"), so direction signals read there
+are ignored.  Before the stop line (also standing there) every direction signal counts.  Straight on, the loop beyond
 the fork turns toward the fork's side; once the heading has turned through the loop's sweep (less
 loop_exit_tolerance_rad) and the robot has driven loop_exit_m (plus the arc that the tolerance
 leaves at the loop's lane radius) further, merge_right / merge_left fires.
 
 What the cameras see comes first: a turn toward a side whose corners the cameras mark
-(`marked_sides`) fires when the caller passes that side in `corners_seen`, from junction_window_m
-before the stored distance on; the stored distance is then only the fallback, junction_fallback_m
-after it (on a track drawn differently the corner may lie further).  Turns to other sides fire at
-the stored distances."""
+(`marked_sides`, both by default: junction_corners.py) fires when the caller passes that side in
+`corners_seen`, from junction_window_m before the stored distance on; the stored distance is then
+only the fallback, junction_fallback_m after it (on a track drawn differently the corner may lie
+further), and a turn begun by the fallback says so (the note of at_fork, `fallback_note` after
+loop_exit).  Turns to other sides fire at the stored distances."""
 
 from dataclasses import dataclass
 from typing import Optional, Sequence, Tuple
@@ -34,17 +39,33 @@ class LoopExit:
 
 
 class ForkNavigator:
-    def __init__(self, config, marked_sides: Sequence[str] = ("right",)):
+    def __init__(self, config, marked_sides: Sequence[str] = ("right", "left")):
         self.config = config
         self.marked_sides = tuple(marked_sides)  # the sides whose corners the cameras mark
         self.direction_order = "forward"  # the last direction signal, used up at the next fork
         self.fork_pending = False  # the robot left a crosswalk and has not reached the fork after it
         self.forks_passed = 0
         self.loop: Optional[LoopExit] = None
+        self.order_latched = False  # past the crosswalk's stop line, before its fork: orders ignored
+        self.ignored_order = ""  # the last order ignored while latched
+        self.fallback_note = ""  # set by loop_exit when a merge began at the fallback, not at a corner seen
 
-    def on_direction(self, order: str) -> None:
-        """A direction signal: "forward", "left" or "right"."""
+    def on_direction(self, order: str) -> str:
+        """A direction signal: "forward", "left" or "right".  Returns a note when it is ignored
+        (the order is latched), else ""."""
+        if self.order_latched:
+            if order in (self.direction_order, self.ignored_order):  # noted once per order
+                return ""
+            self.ignored_order = order
+            return "direction signal %s ignored: past the crosswalk's stop line the order %s is kept" % (
+                order, self.direction_order)
         self.direction_order = order
+        return ""
+
+    def on_stop_line_passed(self) -> None:
+        """The robot drove past the near edge of the crosswalk it is at: the order is latched until
+        the fork after it."""
+        self.order_latched = True
 
     def on_crosswalk_left(self) -> None:
         self.fork_pending = True
@@ -74,10 +95,11 @@ class ForkNavigator:
         if not (seen or since_crosswalk_m >= due_m):
             return None, ""
         self.fork_pending = False
+        self.order_latched, self.ignored_order = False, ""
         self.forks_passed += 1
         self.direction_order = "forward"
         if order == side:
-            return "fork_" + side, ""
+            return "fork_" + side, "" if seen or not marked else fallback_note("fork_" + side, due_m)
         note = ""
         if order != "forward":
             note = "the panel ordered %s, but this fork opens to the %s: keeping straight" % (order, side)
@@ -93,6 +115,7 @@ class ForkNavigator:
         central road (up to junction_window_m earlier where the cameras see that turn's corner,
         corners_seen), else None; yaw_rad: unwrapped heading [rad], travelled_m: distance [m]."""
         c, loop = self.config, self.loop
+        self.fallback_note = ""
         if loop is None or yaw_rad is None:
             return None
         if loop.yaw0_rad is None:  # no odometry at the fork yet: count from the first heading
@@ -110,5 +133,13 @@ class ForkNavigator:
             seen, due = False, driven_m >= exit_m
         if seen or due:
             self.loop = None
+            if not seen and loop.merge in self.marked_sides:
+                self.fallback_note = fallback_note("merge_" + loop.merge, exit_m + c.junction_fallback_m,
+                                                   "past the end of the loop's sweep")
             return "merge_" + loop.merge
         return None
+
+
+def fallback_note(event: str, at_m: float, after: str = "past the crosswalk") -> str:
+    """The note of a turn begun at its stored distance's fallback: no corner was seen."""
+    return "%s at the fallback %.2f m %s: the cameras saw no corner" % (event, at_m, after)
