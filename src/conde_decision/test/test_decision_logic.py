@@ -728,3 +728,21 @@ def test_a_panel_misread_past_the_stop_line_does_not_change_the_order(misread_on
                                     "left is kept"]
     events = road.until(fork).events
     assert [e for e in events if e.startswith("fork_")] == [fork]
+
+
+def test_straight_on_at_a_right_fork_the_robot_holds_its_course_across_the_junction():
+    """"left" at the south fork (opens right) is not obeyable: straight on, and across the
+    junction the lane measurement (which would follow the edge line into the branch) is not used."""
+    road = make()
+    signal(road, FORWARD)
+    road.drive_m(HALF_LAP_M - 3.0)  # on the north loop, before the southbound crossing
+    signal(road, LEFT)
+    road.lateral_offset_m, road.heading_error_rad = 0.3, 0.2  # what a lane follower into the branch would see
+    road.until("fork_straight")
+    held = [out for s, out in zip(road.positions, road.outputs)
+            if out.heading_error_rad == out.heading_ref_rad and out.lateral_offset_m == out.lateral_offset_ref_m]
+    assert held and all(out.linear_velocity_mps > 0 and not out.lane_lost for out in held)
+    crossing_m = road.drive_m(CONFIG.straight_crossing_m - 0.05) or road.outputs[-1]
+    assert crossing_m.heading_error_rad == crossing_m.heading_ref_rad and crossing_m.state == "follow_lane"
+    road.drive_m(0.2)
+    assert road.outputs[-1].heading_error_rad == pytest.approx(0.2)  # the lane again

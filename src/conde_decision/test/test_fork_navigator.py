@@ -187,3 +187,29 @@ def test_orders_before_the_stop_line_count():
     for order in ("left", "forward", "right"):
         assert nav.on_direction(order) == ""
         assert nav.direction_order == order
+
+
+# --- straight on across a fork that opens right ------------------------------------------------------
+
+def test_the_course_is_held_across_a_right_fork_taken_straight():
+    """The lane's edge line turns away into the branch: from junction_window_m before the stored
+    fork distance to straight_crossing_m past it the robot holds its course."""
+    nav = ForkNavigator(CONFIG)
+    nav.on_crosswalk_left()
+    assert not nav.holds_course(D)  # the north fork opens left: its edge line runs on
+    assert nav.at_fork(D, 0.0)[0] == "fork_straight"
+    assert not nav.holds_course(D + 0.1)
+    nav.loop = None
+    nav.on_direction("left")  # at the south fork (opens right): not obeyable, straight on
+    nav.on_crosswalk_left()
+    assert not nav.holds_course(None)
+    assert not nav.holds_course(D - W - 0.01)
+    assert nav.holds_course(D - W)
+    assert nav.at_fork(D, 0.0)[0] == "fork_straight"
+    assert nav.holds_course(D + CONFIG.straight_crossing_m - 0.01)
+    assert not nav.holds_course(D + CONFIG.straight_crossing_m)
+    assert not nav.holds_course(D + 0.1)  # done
+    nav.on_crosswalk_left()  # the north fork again
+    nav.on_crosswalk_left()
+    nav.forks_passed = 1  # the south fork on "forward": its branch, no crossing
+    assert not nav.holds_course(D)

@@ -135,6 +135,8 @@ class DecisionConfig:
     # where the cameras mark the corner (right turns), the stored distance is the fallback this much later [m]
     junction_fallback_m: float = 0.3
     corner_sight_m: float = 0.6  # a right edge line ending within this distance ahead marks a corner [m]
+    # a fork that opens right taken straight: the course is held (no lane) this far past the stored fork distance [m]
+    straight_crossing_m: float = 1.8
     # ... the corner lies this much before the line's end: where the edge line, turning away with
     # the corner's radius (0.19 m on the competition track), leaves its band [m] (measured: 0.19-0.22)
     corner_line_offset_m: float = 0.21
@@ -182,7 +184,7 @@ class DecisionConfig:
             need(name, getattr(self, name) > 0, "must be > 0")
         for name in ("stop_margin_m", "crosswalk_rearm_m", "fork_distance_m", "branch_offset_m", "loop_sweep_rad",
                      "loop_exit_tolerance_rad", "loop_exit_m", "junction_window_m", "junction_fallback_m",
-                     "corner_sight_m",
+                     "corner_sight_m", "straight_crossing_m",
                      "corner_line_offset_m", "corner_lead_m", "min_line_end_m", "lane_aligned_rad"):
             need(name, getattr(self, name) >= 0, "must be >= 0")
         for name in ("min_signal_confidence", "min_lane_confidence"):
@@ -304,7 +306,8 @@ class DecisionLogic:
             self._fire("lane_aligned")
         command = self.machine.command
 
-        blind_arc = command.radius_m is not None or command.speed in BLIND_SPEEDS
+        blind_arc = (command.radius_m is not None or command.speed in BLIND_SPEEDS
+                     or self.forks.holds_course(self.crosswalk.since_left_m))
         lane_ok = (math.isfinite(lane.lateral_offset_m) and math.isfinite(lane.heading_error_rad)
                    and lane.confidence >= c.min_lane_confidence)
         if lane_ok or blind_arc:

@@ -47,6 +47,7 @@ class ForkNavigator:
         self.forks_passed = 0
         self.loop: Optional[LoopExit] = None
         self.order_latched = False  # past the crosswalk's stop line, before its fork: orders ignored
+        self.crossing_end_m: Optional[float] = None  # since_crosswalk_m where a right fork's junction crossed straight ends
         self.ignored_order = ""  # the last order ignored while latched
         self.fallback_note = ""  # set by loop_exit when a merge began at the fallback, not at a corner seen
 
@@ -103,11 +104,31 @@ class ForkNavigator:
         note = ""
         if order != "forward":
             note = "the panel ordered %s, but this fork opens to the %s: keeping straight" % (order, side)
+        if side == "right":
+            self.crossing_end_m = c.fork_distance_m + c.straight_crossing_m
         # Straight on: the loop turns toward the fork's side and comes back to the fork, where its
         # road joins the central road with a turn to the other side.
         self.loop = LoopExit(sign=1.0 if side == "left" else -1.0, yaw0_rad=yaw_rad, radius_m=c.loop_lane_radii_m[fork],
                              merge="right" if side == "left" else "left")
         return "fork_straight", note
+
+    def holds_course(self, since_crosswalk_m: Optional[float]) -> bool:
+        """True while the robot crosses straight on the junction of a fork that opens to the right,
+        from junction_window_m before the stored fork distance to straight_crossing_m past it: the
+        lane's right edge line turns away into the branch there (and the centre line has a gap), so
+        a lane follower would take the branch; the robot holds its course instead."""
+        c = self.config
+        if since_crosswalk_m is None:
+            return False
+        if self.crossing_end_m is not None:
+            if since_crosswalk_m < self.crossing_end_m:
+                return True
+            self.crossing_end_m = None
+            return False
+        if not self.fork_pending:
+            return False
+        _, side, order = self._next_fork()
+        return side == "right" and order != side and since_crosswalk_m >= c.fork_distance_m - c.junction_window_m
 
     def loop_exit(self, yaw_rad: Optional[float], travelled_m: float,
                   corners_seen: Sequence[str] = ()) -> Optional[str]:
