@@ -43,6 +43,8 @@ track seed with a 3.6 % longer y the stored fork distance came 19 cm before the 
 Left turns (fork_left, merge_left) likewise from far_left_line_end_m, the other lane's outer edge
 line, which turns left at the left turn's corner with the same radius (junction_corners.py; the
 dashed centre line ends anywhere within a dash period before the branch and is no mark).
+Straight on at a fork that opens right the course is held across the junction (straight_crossing_m
+past the fork: the lane's edge line turns into the branch there; ForkNavigator.holds_course).
 
 Where the robot is along the road is measured by odometry (the path length on_odometry is given)
 or, without it, dead-reckoned from the speed it is commanded (ramped at speed_ramp_mps2 with

@@ -47,7 +47,7 @@ class ForkNavigator:
         self.forks_passed = 0
         self.loop: Optional[LoopExit] = None
         self.order_latched = False  # past the crosswalk's stop line, before its fork: orders ignored
-        self.crossing_end_m: Optional[float] = None  # since_crosswalk_m where a right fork's junction crossed straight ends
+        self.crossing_end_m: Optional[float] = None  # since_crosswalk_m where a right fork crossed straight ends
         self.ignored_order = ""  # the last order ignored while latched
         self.fallback_note = ""  # set by loop_exit when a merge began at the fallback, not at a corner seen
 
