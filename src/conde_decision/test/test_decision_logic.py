@@ -10,7 +10,7 @@ import pytest
 
 from conde_decision.avoidance import AvoidanceConfig
 from conde_decision.decision_logic import (END_OF_TRIAL, FORWARD, LEFT, NONE, PARKING, RIGHT, STOP, DecisionConfig,
-                                           DecisionLogic)
+                                           DecisionLogic, nearest_lane_offset)
 from conde_decision.state_machine import load_state_machine, parse_state_machine
 from road_model import DT_S, HALF_LAP_M, LOOP_RADIUS_M, LOOP_STRAIGHT_M, Lane, Obstacle, Road
 
@@ -746,3 +746,18 @@ def test_straight_on_at_a_right_fork_the_robot_holds_its_course_across_the_junct
     assert crossing_m.heading_error_rad == crossing_m.heading_ref_rad and crossing_m.state == "follow_lane"
     road.drive_m(0.2)
     assert road.outputs[-1].heading_error_rad == pytest.approx(0.2)  # the lane again
+    # the tracker measures against the lane on the left after the crossing: taken modulo the line spacing
+    road.lateral_offset_m = -CONFIG.line_spacing_m + 0.03
+    road.drive_m(0.1)
+    assert road.outputs[-1].lateral_offset_m == pytest.approx(0.03)
+    road.until("merge_left")  # the loop's end: the offset is the tracker's again
+    road.lateral_offset_m, road.heading_error_rad = -0.5, 0.0
+    road.until("distance_elapsed")  # out of the turn
+    road.drive_m(0.1)
+    assert road.outputs[-1].lateral_offset_m == pytest.approx(-0.5)
+
+
+def test_nearest_lane_offset():
+    assert nearest_lane_offset(-0.8065 + 0.03, 0.8065) == pytest.approx(0.03)
+    assert nearest_lane_offset(0.8065 - 0.03, 0.8065) == pytest.approx(-0.03)
+    assert nearest_lane_offset(0.1, 0.8065) == pytest.approx(0.1)

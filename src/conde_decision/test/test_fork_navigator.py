@@ -207,7 +207,9 @@ def test_the_course_is_held_across_a_right_fork_taken_straight():
     assert nav.holds_course(D - W)
     assert nav.at_fork(D, 0.0)[0] == "fork_straight"
     assert nav.holds_course(D + CONFIG.straight_crossing_m - 0.01)
+    assert not nav.tracker_may_be_on_the_other_lane()  # still crossing: the lane is not used at all
     assert not nav.holds_course(D + CONFIG.straight_crossing_m)
+    assert nav.tracker_may_be_on_the_other_lane()  # until the loop's end
     assert not nav.holds_course(D + 0.1)  # done
     nav.on_crosswalk_left()  # the north fork again
     nav.on_crosswalk_left()

@@ -139,6 +139,8 @@ class DecisionConfig:
     corner_sight_m: float = 0.6  # a right edge line ending within this distance ahead marks a corner [m]
     # a fork that opens right taken straight: the course is held (no lane) this far past the stored fork distance [m]
     straight_crossing_m: float = 1.8
+    # between the lines' centres: a lane measured against the lane on the left is off by this [m]
+    line_spacing_m: float = 0.8065
     # ... the corner lies this much before the line's end: where the edge line, turning away with
     # the corner's radius (0.19 m on the competition track), leaves its band [m] (measured: 0.19-0.22)
     corner_line_offset_m: float = 0.21
@@ -187,6 +189,7 @@ class DecisionConfig:
         for name in ("stop_margin_m", "crosswalk_rearm_m", "fork_distance_m", "branch_offset_m", "loop_sweep_rad",
                      "loop_exit_tolerance_rad", "loop_exit_m", "junction_window_m", "junction_fallback_m",
                      "corner_sight_m", "straight_crossing_m",
+                     "line_spacing_m",
                      "corner_line_offset_m", "corner_lead_m", "min_line_end_m", "lane_aligned_rad"):
             need(name, getattr(self, name) >= 0, "must be >= 0")
         for name in ("min_signal_confidence", "min_lane_confidence"):
@@ -312,12 +315,15 @@ class DecisionLogic:
                      or self.forks.holds_course(self.crosswalk.since_left_m))
         lane_ok = (math.isfinite(lane.lateral_offset_m) and math.isfinite(lane.heading_error_rad)
                    and lane.confidence >= c.min_lane_confidence)
+        measured_offset_m = lane.lateral_offset_m
+        if lane_ok and self.forks.tracker_may_be_on_the_other_lane():
+            measured_offset_m = nearest_lane_offset(measured_offset_m, c.line_spacing_m)
         if lane_ok or blind_arc:
             self.lane_bad_since_s = None
         elif self.lane_bad_since_s is None:
             self.lane_bad_since_s = time_s
         lane_lost = self.lane_bad_since_s is not None and time_s - self.lane_bad_since_s >= c.lane_lost_timeout_s
-        avoid = self.avoidance.step(lane.lateral_offset_m, lane_ok and not blind_arc, self.road.travelled_m,
+        avoid = self.avoidance.step(measured_offset_m, lane_ok and not blind_arc, self.road.travelled_m,
                                     command.lane, obstacles_of(lane), lane.heading_error_rad,
                                     lane.confidence >= 1.0)
         for event in avoid.events:
@@ -337,7 +343,7 @@ class DecisionLogic:
             bias = side * self._branch_shape(command)
         offset_ref_m = bias * c.branch_offset_m + avoid.offset_ref_m
         heading_ref_rad = bias * c.branch_heading_rad
-        offset_m = lane.lateral_offset_m if lane_ok and not blind_arc else offset_ref_m
+        offset_m = measured_offset_m if lane_ok and not blind_arc else offset_ref_m
         if avoid.active and math.isfinite(avoid.own_lane_offset_m):  # a lane change: the own lane's frame
             offset_m = avoid.own_lane_offset_m
         heading_rad = lane.heading_error_rad if lane_ok and not blind_arc else heading_ref_rad
@@ -399,6 +405,12 @@ class DecisionLogic:
             return 1.0
         u = (self.road.travelled_m - self.state_entry_m) / command.distance_m
         return max(0.0, min(1.0, 4.0 * u, 2.0 * (1.0 - u)))
+
+
+def nearest_lane_offset(offset_m: float, spacing_m: float) -> float:
+    """A lateral offset [m] measured against any lane of parallel lanes spacing_m apart, as the
+    offset from the nearest lane's centre."""
+    return offset_m - spacing_m * round(offset_m / spacing_m)
 
 
 def obstacles_of(lane) -> List[Obstacle]:

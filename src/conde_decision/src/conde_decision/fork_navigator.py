@@ -36,6 +36,7 @@ class LoopExit:
     radius_m: float  # the lane's radius around the loop [m]
     merge: str  # "left" / "right": the turn onto the central road at its end
     exit_mark_m: Optional[float] = None  # distance travelled when the sweep was complete [m]
+    crossed_junction: bool = False  # entered straight across a junction whose branch opens right
 
 
 class ForkNavigator:
@@ -109,7 +110,7 @@ class ForkNavigator:
         # Straight on: the loop turns toward the fork's side and comes back to the fork, where its
         # road joins the central road with a turn to the other side.
         self.loop = LoopExit(sign=1.0 if side == "left" else -1.0, yaw0_rad=yaw_rad, radius_m=c.loop_lane_radii_m[fork],
-                             merge="right" if side == "left" else "left")
+                             merge="right" if side == "left" else "left", crossed_junction=side == "right")
         return "fork_straight", note
 
     def holds_course(self, since_crosswalk_m: Optional[float]) -> bool:
@@ -129,6 +130,13 @@ class ForkNavigator:
             return False
         _, side, order = self._next_fork()
         return side == "right" and order != side and since_crosswalk_m >= c.fork_distance_m - c.junction_window_m
+
+    def tracker_may_be_on_the_other_lane(self) -> bool:
+        """After holding the course across a right fork taken straight, until the loop beyond it
+        ends: conde_tracking, whose lines went out of sight in the junction, may have locked onto
+        the lane on the left (measured on the south fork's crossing in D2: -0.81 m, the robot
+        then swerved onto it), so the caller takes its offset modulo the line spacing."""
+        return self.loop is not None and self.loop.crossed_junction and self.crossing_end_m is None
 
     def loop_exit(self, yaw_rad: Optional[float], travelled_m: float,
                   corners_seen: Sequence[str] = ()) -> Optional[str]:
