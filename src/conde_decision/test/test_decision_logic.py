@@ -750,6 +750,7 @@ def test_straight_on_at_a_right_fork_the_robot_holds_its_course_across_the_junct
     road.lateral_offset_m = -CONFIG.line_spacing_m + 0.03
     road.drive_m(0.1)
     assert road.outputs[-1].lateral_offset_m == pytest.approx(0.03)
+    assert road.logic._tracked_lanes_left(road.lane()) == 1
     road.until("merge_left")  # the loop's end: the offset is the tracker's again
     road.lateral_offset_m, road.heading_error_rad = -0.5, 0.0
     road.until("distance_elapsed")  # out of the turn
@@ -761,3 +762,19 @@ def test_nearest_lane_offset():
     assert nearest_lane_offset(-0.8065 + 0.03, 0.8065) == pytest.approx(0.03)
     assert nearest_lane_offset(0.8065 - 0.03, 0.8065) == pytest.approx(-0.03)
     assert nearest_lane_offset(0.1, 0.8065) == pytest.approx(0.1)
+
+
+def test_the_left_turns_corner_from_the_tracked_lines_when_the_tracker_measures_the_lane_on_the_left():
+    """After a right fork crossed straight conde_tracking may measure the lane on the robot's left:
+    its left line is then the far line that marks the left turn's corner (its far line is off the
+    road), and its right line is no corner of the robot's lane."""
+    logic = DecisionLogic(SPEC, CONFIG)
+    logic.road.travelled_m = 10.0
+    assert logic.corners_seen(Lane(left_line_end_m=0.5, right_line_end_m=0.5), tracked_lanes_left=1) == ()
+    assert logic.corners.corner_at_m == {"right": None, "left": pytest.approx(10.0 + 0.5 - CONFIG.corner_line_offset_m)}
+    logic.road.travelled_m = 10.5 - CONFIG.corner_line_offset_m - CONFIG.corner_lead_m
+    assert logic.corners_seen(Lane(), tracked_lanes_left=1) == ("left",)
+    fresh = DecisionLogic(SPEC, CONFIG)
+    assert fresh.corners_seen(Lane(left_line_end_m=0.5), tracked_lanes_left=0) == ()  # own lane: the centre line
+    assert fresh.corners.corner_at_m == {"right": None, "left": None}
+    assert fresh._tracked_lanes_left(Lane(lateral_offset_m=-0.8)) == 0  # not after a right fork crossed straight

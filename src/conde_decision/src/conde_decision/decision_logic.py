@@ -292,7 +292,7 @@ class DecisionLogic:
         self.last_time_s = time_s
         self.crosswalk.advance(self.road.advance(abs(self.speed.v_mps) * dt_s))
         self.crosswalk.on_sighting(lane.crosswalk_seen, lane.crosswalk_distance_m)
-        corners = self.corners_seen(lane)
+        corners = self.corners_seen(lane, self._tracked_lanes_left(lane))
         self._crosswalk_and_fork_events(time_s, corners)
         merge = self.forks.loop_exit(self.road.yaw_rad, self.road.travelled_m, corners)
         if self.forks.fallback_note:
@@ -367,10 +367,19 @@ class DecisionLogic:
         """travelled_m at the right-turn corner last seen (None: none in sight)."""
         return self.corners.corner_at_m["right"]
 
-    def corners_seen(self, lane) -> Tuple[str, ...]:
+    def corners_seen(self, lane, tracked_lanes_left: int = 0) -> Tuple[str, ...]:
         """The sides ("right", "left") at whose turn's corner the robot is (within corner_lead_m),
         as the cameras showed it in this lane measurement or earlier ones (junction_corners.py)."""
-        return self.corners.update(lane, self.road.travelled_m)
+        return self.corners.update(lane, self.road.travelled_m, tracked_lanes_left)
+
+    def _tracked_lanes_left(self, lane) -> int:
+        """How many lanes left of the robot's own lane conde_tracking measures: 0, except after a
+        right fork crossed straight, where it may have locked onto the lane on the left."""
+        offset_m = lane.lateral_offset_m
+        if not (self.forks.tracker_may_be_on_the_other_lane() and math.isfinite(offset_m)
+                and lane.confidence >= self.config.min_lane_confidence):
+            return 0
+        return -int(round(offset_m / self.config.line_spacing_m))
 
     def _crosswalk_and_fork_events(self, time_s: float, corners: Tuple[str, ...] = ()) -> None:
         if self.crosswalk.reached():

@@ -16,6 +16,9 @@ from typing import Dict, Optional, Tuple
 
 #: the lane measurement's field that marks each side's corners
 LINE_END_FIELDS = {"right": "right_line_end_m", "left": "far_left_line_end_m"}
+#: ... when conde_tracking measures the lane on the robot's left: that lane's left line is the far line
+#: (the robot's own edge line is then not measured)
+LINE_END_FIELDS_ONE_LANE_LEFT = {"right": None, "left": "left_line_end_m"}
 SIDES = tuple(LINE_END_FIELDS)
 
 
@@ -28,15 +31,18 @@ class JunctionCorners:
         # distance travelled [m] at the corner last seen on each side (None: none in sight)
         self.corner_at_m: Dict[str, Optional[float]] = {side: None for side in SIDES}
 
-    def update(self, lane, travelled_m: float) -> Tuple[str, ...]:
+    def update(self, lane, travelled_m: float, tracked_lanes_left: int = 0) -> Tuple[str, ...]:
         """The sides ("right", "left") at whose corner the robot is now, from this lane measurement
         and earlier ones (the latest sighting is kept, since the line's end leaves the view as the
         corner comes near); a corner long passed (corner_sight_m) is forgotten.  A measurement
-        without a side's field shows no corner there."""
+        without a side's field shows no corner there.  tracked_lanes_left: 1 when the measurement is
+        against the lane on the robot's left (see DecisionLogic), 0 when against its own."""
         c = self.config
         reached = []
+        names = LINE_END_FIELDS_ONE_LANE_LEFT if tracked_lanes_left == 1 else LINE_END_FIELDS
         for side in SIDES:
-            end_m = getattr(lane, LINE_END_FIELDS[side], float("nan"))
+            end_m = getattr(lane, names[side], float("nan")) if names[side] and tracked_lanes_left in (0, 1) \
+                else float("nan")
             at_m = self.corner_at_m[side]
             if math.isfinite(end_m) and c.min_line_end_m <= end_m <= c.corner_sight_m:
                 at_m = travelled_m + end_m - c.corner_line_offset_m
