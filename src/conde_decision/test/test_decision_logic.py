@@ -751,9 +751,13 @@ def test_straight_on_at_a_right_fork_the_robot_holds_its_course_across_the_junct
     road.drive_m(0.1)
     assert road.outputs[-1].lateral_offset_m == pytest.approx(0.03)
     assert road.logic._tracked_lanes_left(road.lane()) == 1
-    road.until("merge_left")  # the loop's end: the offset is the tracker's again
-    road.lateral_offset_m, road.heading_error_rad = -0.5, 0.0
+    road.until("merge_left")  # the loop's end: still the lane on the left after the turn
     road.until("distance_elapsed")  # out of the turn
+    road.drive_m(0.1)
+    assert road.outputs[-1].lateral_offset_m == pytest.approx(0.03)
+    road.lateral_offset_m = 0.05  # the own lane measured again (both lines): the offset is the tracker's again
+    road.drive_m(0.1)
+    road.lateral_offset_m = -0.5
     road.drive_m(0.1)
     assert road.outputs[-1].lateral_offset_m == pytest.approx(-0.5)
 

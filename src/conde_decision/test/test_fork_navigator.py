@@ -209,7 +209,15 @@ def test_the_course_is_held_across_a_right_fork_taken_straight():
     assert nav.holds_course(D + CONFIG.straight_crossing_m - 0.01)
     assert not nav.tracker_may_be_on_the_other_lane()  # still crossing: the lane is not used at all
     assert not nav.holds_course(D + CONFIG.straight_crossing_m)
-    assert nav.tracker_may_be_on_the_other_lane()  # until the loop's end
+    assert nav.tracker_may_be_on_the_other_lane()
+    nav.on_lane_measured(0.05, True, 0.2)
+    assert nav.tracker_may_be_on_the_other_lane()  # in the loop: no end of the doubt
+    nav.loop = None
+    nav.on_lane_measured(-0.79, True, 0.2)
+    nav.on_lane_measured(0.05, False, 0.2)
+    assert nav.tracker_may_be_on_the_other_lane()  # the lane on the left, or one line only
+    nav.on_lane_measured(0.05, True, 0.2)
+    assert not nav.tracker_may_be_on_the_other_lane()  # the own lane again
     assert not nav.holds_course(D + 0.1)  # done
     nav.on_crosswalk_left()  # the north fork again
     nav.on_crosswalk_left()

@@ -141,6 +141,7 @@ class DecisionConfig:
     straight_crossing_m: float = 1.8
     # between the lines' centres: a lane measured against the lane on the left is off by this [m]
     line_spacing_m: float = 0.8065
+    own_lane_offset_m: float = 0.2  # ... after such a doubt, a lane measured within this is the own lane [m]
     # ... the corner lies this much before the line's end: where the edge line, turning away with
     # the corner's radius (0.19 m on the competition track), leaves its band [m] (measured: 0.19-0.22)
     corner_line_offset_m: float = 0.21
@@ -189,7 +190,7 @@ class DecisionConfig:
         for name in ("stop_margin_m", "crosswalk_rearm_m", "fork_distance_m", "branch_offset_m", "loop_sweep_rad",
                      "loop_exit_tolerance_rad", "loop_exit_m", "junction_window_m", "junction_fallback_m",
                      "corner_sight_m", "straight_crossing_m",
-                     "line_spacing_m",
+                     "line_spacing_m", "own_lane_offset_m",
                      "corner_line_offset_m", "corner_lead_m", "min_line_end_m", "lane_aligned_rad"):
             need(name, getattr(self, name) >= 0, "must be >= 0")
         for name in ("min_signal_confidence", "min_lane_confidence"):
@@ -316,6 +317,8 @@ class DecisionLogic:
         lane_ok = (math.isfinite(lane.lateral_offset_m) and math.isfinite(lane.heading_error_rad)
                    and lane.confidence >= c.min_lane_confidence)
         measured_offset_m = lane.lateral_offset_m
+        if lane_ok and not blind_arc:
+            self.forks.on_lane_measured(measured_offset_m, lane.confidence >= 1.0, c.own_lane_offset_m)
         if lane_ok and self.forks.tracker_may_be_on_the_other_lane():
             measured_offset_m = nearest_lane_offset(measured_offset_m, c.line_spacing_m)
         if lane_ok or blind_arc:

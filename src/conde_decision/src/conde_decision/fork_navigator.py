@@ -49,6 +49,7 @@ class ForkNavigator:
         self.loop: Optional[LoopExit] = None
         self.order_latched = False  # past the crosswalk's stop line, before its fork: orders ignored
         self.crossing_end_m: Optional[float] = None  # since_crosswalk_m where a right fork crossed straight ends
+        self.tracked_lane_unsure = False  # conde_tracking may measure the lane on the left (after such a crossing)
         self.ignored_order = ""  # the last order ignored while latched
         self.fallback_note = ""  # set by loop_exit when a merge began at the fallback, not at a corner seen
 
@@ -125,6 +126,7 @@ class ForkNavigator:
             if since_crosswalk_m < self.crossing_end_m:
                 return True
             self.crossing_end_m = None
+            self.tracked_lane_unsure = True
             return False
         if not self.fork_pending:
             return False
@@ -132,11 +134,19 @@ class ForkNavigator:
         return side == "right" and order != side and since_crosswalk_m >= c.fork_distance_m - c.junction_window_m
 
     def tracker_may_be_on_the_other_lane(self) -> bool:
-        """After holding the course across a right fork taken straight, until the loop beyond it
-        ends: conde_tracking, whose lines went out of sight in the junction, may have locked onto
-        the lane on the left (measured on the south fork's crossing in D2: -0.81 m, the robot
-        then swerved onto it), so the caller takes its offset modulo the line spacing."""
-        return self.loop is not None and self.loop.crossed_junction and self.crossing_end_m is None
+        """After holding the course across a right fork taken straight, until the tracker measures
+        the own lane again after the loop beyond it (on_lane_measured): conde_tracking, whose lines
+        went out of sight in the junction, may have locked onto the lane on the left (measured on
+        the south fork's crossing in D2: -0.81 m, and the robot swerved onto it; it still measured
+        that lane after the loop's left turn), so the caller takes its offset modulo the line
+        spacing."""
+        return self.tracked_lane_unsure
+
+    def on_lane_measured(self, offset_m: float, both_lines: bool, own_lane_m: float) -> None:
+        """A lane measurement's offset [m] (as measured): once the loop is over, one with both
+        lines within own_lane_m of the lane's centre is against the own lane: the doubt ends."""
+        if self.tracked_lane_unsure and self.loop is None and both_lines and abs(offset_m) <= own_lane_m:
+            self.tracked_lane_unsure = False
 
     def loop_exit(self, yaw_rad: Optional[float], travelled_m: float,
                   corners_seen: Sequence[str] = ()) -> Optional[str]:
