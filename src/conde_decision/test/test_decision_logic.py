@@ -96,7 +96,6 @@ def test_a_loop_taken_straight_ends_with_a_turn_onto_the_central_road():
     """North fork straight on: counter-clockwise around the north loop, then a right turn where the
     loop's road meets the central road; south fork straight on: clockwise, then a left turn."""
     road = make(fork_forward=("straight", "straight"))
-    road.heading_error_rad = 0.0  # the robot heads along the road (its yaw in the model): the sweep counts from it
     signal(road, FORWARD)
     for fork_side, merge, sign in (("left", "merge_right", 1.0), ("right", "merge_left", -1.0)):
         road.until("fork_straight")
@@ -738,15 +737,15 @@ def test_straight_on_at_a_right_fork_the_robot_holds_its_course_across_the_junct
     signal(road, FORWARD)
     road.drive_m(HALF_LAP_M - 3.0)  # on the north loop, before the southbound crossing
     signal(road, LEFT)
-    road.lateral_offset_m, road.heading_error_rad = 0.3, 0.0  # what a lane follower into the branch would see
+    road.lateral_offset_m, road.heading_error_rad = 0.3, 0.2  # what a lane follower into the branch would see
     road.until("fork_straight")
     held = [out for s, out in zip(road.positions, road.outputs)
             if out.heading_error_rad == out.heading_ref_rad and out.lateral_offset_m == out.lateral_offset_ref_m]
     assert held and all(out.linear_velocity_mps > 0 and not out.lane_lost for out in held)
     crossing_m = road.drive_m(CONFIG.straight_crossing_m - 0.05) or road.outputs[-1]
-    assert crossing_m.lateral_offset_m == crossing_m.lateral_offset_ref_m and crossing_m.state == "follow_lane"
+    assert crossing_m.heading_error_rad == crossing_m.heading_ref_rad and crossing_m.state == "follow_lane"
     road.drive_m(0.2)
-    assert road.outputs[-1].lateral_offset_m == pytest.approx(0.3)  # the lane again
+    assert road.outputs[-1].heading_error_rad == pytest.approx(0.2)  # the lane again
     # the tracker measures against the lane on the left after the crossing: taken modulo the line spacing
     road.lateral_offset_m = -CONFIG.line_spacing_m + 0.03
     road.drive_m(0.1)
@@ -783,14 +782,3 @@ def test_the_left_turns_corner_from_the_tracked_lines_when_the_tracker_measures_
     assert fresh.corners_seen(Lane(left_line_end_m=0.5), tracked_lanes_left=0) == ()  # own lane: the centre line
     assert fresh.corners.corner_at_m == {"right": None, "left": None}
     assert fresh._tracked_lanes_left(Lane(lateral_offset_m=-0.8)) == 0  # not after a right fork crossed straight
-
-
-def test_a_loops_sweep_counts_from_the_roads_heading_at_the_fork():
-    """The robot pointing 0.1 rad left of its lane at the fork (a wobble): the loop's start heading
-    is the road's (the robot's less the measured heading error)."""
-    road = make()
-    signal(road, FORWARD)
-    road.heading_error_rad = 0.1
-    road.yaw_rad += 0.1
-    road.until("fork_straight")
-    assert road.logic.forks.loop.yaw0_rad == pytest.approx(0.5 * math.pi)

@@ -294,7 +294,7 @@ class DecisionLogic:
         self.crosswalk.advance(self.road.advance(abs(self.speed.v_mps) * dt_s))
         self.crosswalk.on_sighting(lane.crosswalk_seen, lane.crosswalk_distance_m)
         corners = self.corners_seen(lane, self._tracked_lanes_left(lane))
-        self._crosswalk_and_fork_events(time_s, corners, self._road_yaw_rad(lane))
+        self._crosswalk_and_fork_events(time_s, corners)
         merge = self.forks.loop_exit(self.road.yaw_rad, self.road.travelled_m, corners)
         if self.forks.fallback_note:
             self.notes.append(self.forks.fallback_note)
@@ -384,17 +384,7 @@ class DecisionLogic:
             return 0
         return -int(round(offset_m / self.config.line_spacing_m))
 
-    def _road_yaw_rad(self, lane) -> Optional[float]:
-        """The road's heading [rad] (unwrapped like the robot's): the robot's less the heading error
-        of a lane measured with both lines, else the robot's.  A loop's sweep counts from it: the
-        robot's own heading wobbled 6 deg at a fork (D2) and the sweep then fell short of the mark."""
-        yaw_rad = self.road.yaw_rad
-        if yaw_rad is not None and lane.confidence >= 1.0 and math.isfinite(lane.heading_error_rad):
-            return yaw_rad - lane.heading_error_rad
-        return yaw_rad
-
-    def _crosswalk_and_fork_events(self, time_s: float, corners: Tuple[str, ...] = (),
-                                   road_yaw_rad: Optional[float] = None) -> None:
+    def _crosswalk_and_fork_events(self, time_s: float, corners: Tuple[str, ...] = ()) -> None:
         if self.crosswalk.reached():
             lap_done = self.lap_counter.on_crossing(time_s)
             self._fire("crosswalk_reached")
@@ -407,8 +397,7 @@ class DecisionLogic:
             self.forks.on_crosswalk_left()
             self.speed.unlatch()
             self._fire("crosswalk_left")
-        yaw_rad = road_yaw_rad if road_yaw_rad is not None else self.road.yaw_rad
-        event, note = self.forks.at_fork(self.crosswalk.since_left_m, yaw_rad, corners)
+        event, note = self.forks.at_fork(self.crosswalk.since_left_m, self.road.yaw_rad, corners)
         if note:
             self.notes.append(note)
         if event is not None:
