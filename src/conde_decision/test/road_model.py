@@ -31,6 +31,7 @@ NEW_LANE_SEEN_RAD = math.radians(45)  # a junction's turn shows the lane it lead
 LANE_SPACING_M = 0.782  # own lane centre to the other (left) lane's centre [m]
 OBSTACLE_VIEW_M = (-0.2, 2.5)  # x range [m] in which the ground cameras see objects on the floor
 BAY_LINE_VIEW_M = (0.3, 1.6)  # x range [m] in which conde_tracking reports the bay lines
+CORNER_VIEW_M = 1.0  # a line's end is seen up to this far ahead [m] (the fit's range, less the end's gap)
 OFFSET_TIME_CONSTANT_S = 0.3  # with follow_reference: the lateral offset follows its reference this fast [s]
 
 
@@ -45,6 +46,7 @@ class Lane:
     confidence: float = 1.0
     right_line_end_m: float = float("nan")  # no junction corner in view (the model has none)
     left_line_end_m: float = float("nan")
+    far_left_line_end_m: float = float("nan")
     obstacle_kinds: Tuple[str, ...] = ()
     obstacle_distances_m: Tuple[float, ...] = ()
     obstacle_lane_y_min_m: Tuple[float, ...] = ()
@@ -89,6 +91,8 @@ class Road:
         self.relock = True  # the tracker measures against the lane whose centre the robot is nearer
         self.bay_lines_s = []  # the bay-parking area's lines across the road on the right, along the route [m]
         self.bay_boxes_s = []  # near edges of boxes in its bays, along the route [m]
+        # junction corners the cameras see: (side, s of the corner, how far beyond it the line leaves its band [m])
+        self.corners = []
 
     def _with_bay_area(self, lane):
         """The lane measurement with the bay lines and bay boxes in view (BAY_LINE_VIEW_M ahead)."""
@@ -125,6 +129,15 @@ class Road:
         return edge if edge >= self.s + VIEW_M[0] else edge + HALF_LAP_M
 
     def lane(self):
+        """The lane measurement at the robot's place, with the line ends of the corners in view."""
+        lane = self._lane()
+        for side, corner_s, line_offset_m in self.corners:
+            end_m = corner_s + line_offset_m - self.s
+            if self.turned_rad == 0.0 and 0.0 < end_m <= CORNER_VIEW_M:
+                lane = replace(lane, **{"right_line_end_m" if side == "right" else "far_left_line_end_m": end_m})
+        return lane
+
+    def _lane(self):
         ahead_m = self.next_near_edge_m() - self.s
         seen = ahead_m <= VIEW_M[1]
         if self.turned_rad == 0.0:

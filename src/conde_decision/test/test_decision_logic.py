@@ -11,7 +11,7 @@ import pytest
 from conde_decision.avoidance import AvoidanceConfig
 from conde_decision.parking import BayFinder, bay_entry_lead_m
 from conde_decision.decision_logic import (END_OF_TRIAL, FORWARD, LEFT, NONE, PARKING, RIGHT, STOP, DecisionConfig,
-                                           DecisionLogic)
+                                           DecisionLogic, nearest_lane_offset)
 from conde_decision.state_machine import load_state_machine, parse_state_machine
 from road_model import DT_S, HALF_LAP_M, LOOP_RADIUS_M, LOOP_STRAIGHT_M, Lane, Obstacle, Road
 
@@ -763,3 +763,101 @@ def test_a_row_of_cones_keeps_the_robot_on_the_other_lane_until_the_last():
     beside = [off for s, off in positions if first <= s <= last_end]
     assert min(beside) > 0.6  # on the other lane all along the cones
     assert states[-1] == "follow_lane"
+
+
+# --- left turns from the corner the cameras see, and the order latched at the crosswalk -------------
+
+@pytest.mark.parametrize("corner_shift_m", [-0.25, 0.2])
+def test_a_left_turn_begins_where_the_cameras_see_its_corner(corner_shift_m):
+    """The other lane's outer edge line turns left at the left turn's corner and leaves its band
+    corner_line_offset_m beyond it: fork_left fires corner_lead_m before that corner, whether it
+    lies before or after the stored fork distance (a track drawn differently)."""
+    road = make(junction_fallback_m=0.3)
+    corner_s = FORK_S + corner_shift_m
+    road.corners.append(("left", corner_s, CONFIG.corner_line_offset_m))
+    reach_before_fork(road, "follow_lane", "left")
+    out = road.until("fork_left")
+    assert out.transitions == [("follow_lane", "fork_left", "turn_left")]
+    assert road.s == pytest.approx(corner_s - CONFIG.corner_lead_m, abs=2 * STEP_M)
+    assert not any("fallback" in note for note in road.logic.notes)
+
+
+def test_a_left_turn_without_a_corner_seen_begins_at_the_fallback_and_says_so():
+    road = make(junction_fallback_m=0.3)
+    reach_before_fork(road, "follow_lane", "left")
+    out = road.until("fork_left")
+    assert road.s == pytest.approx(FORK_S + 0.3, abs=2 * STEP_M)
+    assert out.transitions == [("follow_lane", "fork_left", "turn_left")]
+    assert any(note.startswith("fork_left at the fallback") for note in road.logic.notes)
+
+
+@pytest.mark.parametrize("misread_on_the_crosswalk, fork", [(True, "fork_left"), (False, "fork_straight")])
+def test_a_panel_misread_past_the_stop_line_does_not_change_the_order(misread_on_the_crosswalk, fork):
+    """D2: "left" before the crosswalk; "forward" read on it (the panel seen at an angle) is
+    ignored and noted, and the left branch is taken.  The same read before the stop line counts."""
+    road = make()
+    signal(road, FORWARD)
+    signal(road, LEFT)
+    if not misread_on_the_crosswalk:
+        signal(road, FORWARD, 0.66)  # still standing before the stop line: a real order
+    road.drive_m(0.3)  # on the crosswalk
+    if misread_on_the_crosswalk:
+        signal(road, FORWARD, 0.66)
+        assert road.logic.notes == ["direction signal forward ignored: past the crosswalk's stop line the order "
+                                    "left is kept"]
+    events = road.until(fork).events
+    assert [e for e in events if e.startswith("fork_")] == [fork]
+
+
+def test_straight_on_at_a_right_fork_the_robot_holds_its_course_across_the_junction():
+    """"left" at the south fork (opens right) is not obeyable: straight on, and across the
+    junction the lane measurement (which would follow the edge line into the branch) is not used."""
+    road = make()
+    signal(road, FORWARD)
+    road.drive_m(HALF_LAP_M - 3.0)  # on the north loop, before the southbound crossing
+    signal(road, LEFT)
+    road.lateral_offset_m, road.heading_error_rad = 0.3, 0.2  # what a lane follower into the branch would see
+    road.until("fork_straight")
+    held = [out for s, out in zip(road.positions, road.outputs)
+            if out.heading_error_rad == out.heading_ref_rad and out.lateral_offset_m == out.lateral_offset_ref_m]
+    assert held and all(out.linear_velocity_mps > 0 and not out.lane_lost for out in held)
+    crossing_m = road.drive_m(CONFIG.straight_crossing_m - 0.05) or road.outputs[-1]
+    assert crossing_m.heading_error_rad == crossing_m.heading_ref_rad and crossing_m.state == "follow_lane"
+    road.drive_m(0.2)
+    assert road.outputs[-1].heading_error_rad == pytest.approx(0.2)  # the lane again
+    # the tracker measures against the lane on the left after the crossing: taken modulo the line spacing
+    road.lateral_offset_m = -CONFIG.line_spacing_m + 0.03
+    road.drive_m(0.1)
+    assert road.outputs[-1].lateral_offset_m == pytest.approx(0.03)
+    assert road.logic._tracked_lanes_left(road.lane()) == 1
+    road.until("merge_left")  # the loop's end: still the lane on the left after the turn
+    road.until("distance_elapsed")  # out of the turn
+    road.drive_m(0.1)
+    assert road.outputs[-1].lateral_offset_m == pytest.approx(0.03)
+    road.lateral_offset_m = 0.05  # the own lane measured again (both lines): the offset is the tracker's again
+    road.drive_m(0.1)
+    road.lateral_offset_m = -0.5
+    road.drive_m(0.1)
+    assert road.outputs[-1].lateral_offset_m == pytest.approx(-0.5)
+
+
+def test_nearest_lane_offset():
+    assert nearest_lane_offset(-0.8065 + 0.03, 0.8065) == pytest.approx(0.03)
+    assert nearest_lane_offset(0.8065 - 0.03, 0.8065) == pytest.approx(-0.03)
+    assert nearest_lane_offset(0.1, 0.8065) == pytest.approx(0.1)
+
+
+def test_the_left_turns_corner_from_the_tracked_lines_when_the_tracker_measures_the_lane_on_the_left():
+    """After a right fork crossed straight conde_tracking may measure the lane on the robot's left:
+    its left line is then the far line that marks the left turn's corner (its far line is off the
+    road), and its right line is no corner of the robot's lane."""
+    logic = DecisionLogic(SPEC, CONFIG)
+    logic.road.travelled_m = 10.0
+    assert logic.corners_seen(Lane(left_line_end_m=0.5, right_line_end_m=0.5), tracked_lanes_left=1) == ()
+    assert logic.corners.corner_at_m == {"right": None, "left": pytest.approx(10.0 + 0.5 - CONFIG.corner_line_offset_m)}
+    logic.road.travelled_m = 10.5 - CONFIG.corner_line_offset_m - CONFIG.corner_lead_m
+    assert logic.corners_seen(Lane(), tracked_lanes_left=1) == ("left",)
+    fresh = DecisionLogic(SPEC, CONFIG)
+    assert fresh.corners_seen(Lane(left_line_end_m=0.5), tracked_lanes_left=0) == ()  # own lane: the centre line
+    assert fresh.corners.corner_at_m == {"right": None, "left": None}
+    assert fresh._tracked_lanes_left(Lane(lateral_offset_m=-0.8)) == 0  # not after a right fork crossed straight

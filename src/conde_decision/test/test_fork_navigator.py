@@ -25,13 +25,13 @@ def test_forward_does_what_fork_forward_says():
     nav = ForkNavigator(CONFIG)
     assert fork(nav) == ("fork_straight", "")  # north fork: straight on
     nav.loop = None
-    assert fork(nav) == ("fork_right", "")  # south fork: the branch
+    assert fork(nav)[0] == "fork_right"  # south fork: the branch (no corner seen: the fallback's note)
     assert nav.forks_passed == 2
 
 
 def test_orders_are_used_up_and_impossible_ones_noted():
     nav = ForkNavigator(CONFIG)
-    assert fork(nav, "left") == ("fork_left", "")
+    assert fork(nav, "left")[0] == "fork_left"
     assert nav.direction_order == "forward"
     assert fork(nav, "left") == ("fork_straight", "the panel ordered left, but this fork opens to the right: "
                                                   "keeping straight")
@@ -107,18 +107,20 @@ def test_a_loop_ends_where_the_cameras_see_the_corner_of_the_merge():
 
 
 def test_a_marked_turn_not_seen_falls_back_after_the_stored_distance():
-    """Right turns (the cameras mark their corners) without a sighting begin junction_fallback_m
-    after the stored distance; left turns and straight on at it."""
+    """Turns (the cameras mark the corners of both sides) without a sighting begin
+    junction_fallback_m after the stored distance, and say so; straight on at it."""
     config = DecisionConfig()
     fallback_m = config.junction_fallback_m
     assert fallback_m > 0
     nav = ForkNavigator(config)
     nav.on_direction("left")
     nav.on_crosswalk_left()
-    assert nav.at_fork(D, 0.0) == ("fork_left", "")  # not marked: at the stored distance
+    assert nav.at_fork(D + fallback_m - 0.01, 0.0) == (None, "")
+    assert nav.at_fork(D + fallback_m, 0.0) == (
+        "fork_left", "fork_left at the fallback 2.10 m past the crosswalk: the cameras saw no corner")
     nav.on_crosswalk_left()  # the south fork, "forward": its branch, to the right
     assert nav.at_fork(D + fallback_m - 0.01, 0.0) == (None, "")
-    assert nav.at_fork(D + fallback_m, 0.0) == ("fork_right", "")
+    assert nav.at_fork(D + fallback_m, 0.0)[0] == "fork_right"
     loop_nav = ForkNavigator(replace(config, loop_exit_tolerance_rad=0.0))
     loop_nav.on_crosswalk_left()
     assert loop_nav.at_fork(D, 0.0) == ("fork_straight", "")  # the north fork: the loop ends with a right merge
@@ -126,6 +128,29 @@ def test_a_marked_turn_not_seen_falls_back_after_the_stored_distance():
     exit_m = 10.0 + config.loop_exit_m
     assert loop_nav.loop_exit(config.loop_sweep_rad, exit_m + fallback_m - 0.01) is None
     assert loop_nav.loop_exit(config.loop_sweep_rad, exit_m + fallback_m) == "merge_right"
+    assert loop_nav.fallback_note.startswith("merge_right at the fallback")
+    assert loop_nav.loop_exit(config.loop_sweep_rad, exit_m + fallback_m + 0.1) is None
+    assert loop_nav.fallback_note == ""
+
+
+def test_a_left_turn_fires_where_the_cameras_see_its_corner():
+    """fork_left (north fork on "left") and merge_left (the south loop after a fork taken straight)
+    begin at the corner seen, from junction_window_m before the stored distance on."""
+    nav = ForkNavigator(replace(CONFIG, loop_exit_tolerance_rad=0.0))
+    nav.on_direction("left")
+    nav.on_crosswalk_left()
+    assert nav.at_fork(D - W - 0.01, 0.0, ("left",)) == (None, "")  # too early: not this fork's corner
+    assert nav.at_fork(D - W + 0.1, 0.0, ("right",)) == (None, "")  # the other side's corner
+    assert nav.at_fork(D - W + 0.1, 0.0, ("left",)) == ("fork_left", "")
+    nav.on_crosswalk_left()  # the south fork (opens right) on "forward" taken straight: fork_straight
+    nav.on_direction("left")  # not obeyable there: straight on, the loop ends with a left merge
+    assert nav.at_fork(D, 0.0)[0] == "fork_straight" and nav.loop.merge == "left"
+    assert nav.loop_exit(-CONFIG.loop_sweep_rad, 10.0) is None  # the south loop turns clockwise
+    exit_m = 10.0 + CONFIG.loop_exit_m
+    assert nav.loop_exit(-CONFIG.loop_sweep_rad, exit_m - W - 0.01, ("left",)) is None
+    assert nav.loop_exit(-CONFIG.loop_sweep_rad, exit_m - W + 0.1, ("right",)) is None
+    assert nav.loop_exit(-CONFIG.loop_sweep_rad, exit_m - W + 0.1, ("left",)) == "merge_left"
+    assert nav.fallback_note == ""
 
 
 def test_turns_to_unmarked_sides_ignore_corner_sightings():
@@ -135,3 +160,66 @@ def test_turns_to_unmarked_sides_ignore_corner_sightings():
     nav.on_crosswalk_left()
     assert nav.at_fork(D - 0.1, 0.0, ("right",)) == (None, "")
     assert nav.at_fork(D, 0.0, ("right",)) == ("fork_right", "")
+
+
+# --- the order latched from the crosswalk's stop line to the fork ----------------------------------
+
+def test_orders_read_past_the_stop_line_are_ignored_until_the_fork():
+    """D2: the panel misread while the robot drives over the crosswalk does not change the order
+    seen before the stop line; after the fork orders count again."""
+    nav = ForkNavigator(CONFIG)
+    nav.on_direction("left")
+    nav.on_stop_line_passed()
+    assert nav.on_direction("forward") == ("direction signal forward ignored: past the crosswalk's stop line "
+                                           "the order left is kept")
+    assert nav.on_direction("forward") == ""  # noted once
+    assert nav.on_direction("left") == "" and nav.direction_order == "left"
+    nav.on_crosswalk_left()
+    assert nav.on_direction("right") != "" and nav.direction_order == "left"
+    assert nav.at_fork(D, 0.0)[0] == "fork_left"
+    assert not nav.order_latched
+    assert nav.on_direction("right") == "" and nav.direction_order == "right"  # after the fork: counts
+
+
+def test_orders_before_the_stop_line_count():
+    """Standing before the crosswalk (stopped) or approaching it, every order replaces the last."""
+    nav = ForkNavigator(CONFIG)
+    for order in ("left", "forward", "right"):
+        assert nav.on_direction(order) == ""
+        assert nav.direction_order == order
+
+
+# --- straight on across a fork that opens right ------------------------------------------------------
+
+def test_the_course_is_held_across_a_right_fork_taken_straight():
+    """The lane's edge line turns away into the branch: from junction_window_m before the stored
+    fork distance to straight_crossing_m past it the robot holds its course."""
+    nav = ForkNavigator(CONFIG)
+    nav.on_crosswalk_left()
+    assert not nav.holds_course(D)  # the north fork opens left: its edge line runs on
+    assert nav.at_fork(D, 0.0)[0] == "fork_straight"
+    assert not nav.holds_course(D + 0.1)
+    nav.loop = None
+    nav.on_direction("left")  # at the south fork (opens right): not obeyable, straight on
+    nav.on_crosswalk_left()
+    assert not nav.holds_course(None)
+    assert not nav.holds_course(D - W - 0.01)
+    assert nav.holds_course(D - W)
+    assert nav.at_fork(D, 0.0)[0] == "fork_straight"
+    assert nav.holds_course(D + CONFIG.straight_crossing_m - 0.01)
+    assert not nav.tracker_may_be_on_the_other_lane()  # still crossing: the lane is not used at all
+    assert not nav.holds_course(D + CONFIG.straight_crossing_m)
+    assert nav.tracker_may_be_on_the_other_lane()
+    nav.on_lane_measured(0.05, True, 0.2)
+    assert nav.tracker_may_be_on_the_other_lane()  # in the loop: no end of the doubt
+    nav.loop = None
+    nav.on_lane_measured(-0.79, True, 0.2)
+    nav.on_lane_measured(0.05, False, 0.2)
+    assert nav.tracker_may_be_on_the_other_lane()  # the lane on the left, or one line only
+    nav.on_lane_measured(0.05, True, 0.2)
+    assert not nav.tracker_may_be_on_the_other_lane()  # the own lane again
+    assert not nav.holds_course(D + 0.1)  # done
+    nav.on_crosswalk_left()  # the north fork again
+    nav.on_crosswalk_left()
+    nav.forks_passed = 1  # the south fork on "forward": its branch, no crossing
+    assert not nav.holds_course(D)

@@ -247,12 +247,22 @@ def test_the_centre_line_ending_before_the_left_branch():
     assert CORNER_AHEAD_M["fork_left_corner_ahead"] - 0.2 < r.left_line_end_m < CORNER_AHEAD_M["fork_left_corner_ahead"]
 
 
+def test_the_far_line_turning_left_at_a_left_turns_corner():
+    """The other lane's outer edge line turns left at the corner where the left turn's arc begins
+    (CORNER_AHEAD_M), with the same corner radius as the edge line at a right turn."""
+    _, lm, images = load("fork_left_corner_ahead")
+    r = lm.measure(images)
+    assert r.far_left_line_end_m == pytest.approx(CORNER_AHEAD_M["fork_left_corner_ahead"] + EDGE_CORNER_RADIUS_M,
+                                                  abs=0.03)
+
+
 @pytest.mark.parametrize("name", POSES)
 def test_no_line_ends_on_the_straight(name):
     """The dashed line's gaps (0.148 m) are no end; lines running beyond the view have none."""
     _, lm, images = load(name)
     r = lm.measure(images)
     assert math.isnan(r.right_line_end_m) and math.isnan(r.left_line_end_m)
+    assert math.isnan(r.far_left_line_end_m)  # the other lane's edge line is in view and runs on
 
 
 class EdgeLineBesideABay(synthetic_views.StraightLane):

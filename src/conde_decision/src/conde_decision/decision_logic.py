@@ -40,8 +40,11 @@ the robot reaches it, a fork_right or merge_right fires, from junction_window_m 
 distance (fork_distance_m, loop_exit_m) on: the turn's arc begins at the corner the robot sees.
 The stored distances arm the search; junction_fallback_m after them the turn begins anyway (on a
 track seed with a 3.6 % longer y the stored fork distance came 19 cm before the corner).
-Left turns have no such mark yet (the dashed centre line ends somewhere within a dash period
-before the branch): they begin at the stored distances.
+Left turns (fork_left, merge_left) likewise from far_left_line_end_m, the other lane's outer edge
+line, which turns left at the left turn's corner with the same radius (junction_corners.py; the
+dashed centre line ends anywhere within a dash period before the branch and is no mark).
+Straight on at a fork that opens right the course is held across the junction (straight_crossing_m
+past the fork: the lane's edge line turns into the branch there; ForkNavigator.holds_course).
 
 Where the robot is along the road is measured by odometry (the path length on_odometry is given)
 or, without it, dead-reckoned from the speed it is commanded (ramped at speed_ramp_mps2 with
@@ -95,6 +98,7 @@ from conde_common.panel_signals import NAMES_BY_CODE, SIGNAL_CODES
 from conde_decision.avoidance import Avoidance, AvoidanceConfig, Obstacle
 from conde_decision.crosswalk import CrosswalkTracker
 from conde_decision.fork_navigator import ForkNavigator
+from conde_decision.junction_corners import JunctionCorners
 from conde_decision.lap_counter import LapCounter
 from conde_decision.parking import (BLIND_SPEEDS, PARKING_PLACES, BayFinder, bay_entry_lead_m, check_parking_place,
                                     parking_event)
@@ -138,6 +142,11 @@ class DecisionConfig:
     # where the cameras mark the corner (right turns), the stored distance is the fallback this much later [m]
     junction_fallback_m: float = 0.3
     corner_sight_m: float = 0.6  # a right edge line ending within this distance ahead marks a corner [m]
+    # a fork that opens right taken straight: the course is held (no lane) this far past the stored fork distance [m]
+    straight_crossing_m: float = 1.8
+    # between the lines' centres: a lane measured against the lane on the left is off by this [m]
+    line_spacing_m: float = 0.8065
+    own_lane_offset_m: float = 0.2  # ... after such a doubt, a lane measured within this is the own lane [m]
     # ... the corner lies this much before the line's end: where the edge line, turning away with
     # the corner's radius (0.19 m on the competition track), leaves its band [m] (measured: 0.19-0.22)
     corner_line_offset_m: float = 0.21
@@ -192,7 +201,8 @@ class DecisionConfig:
             need(name, getattr(self, name) > 0, "must be > 0")
         for name in ("stop_margin_m", "crosswalk_rearm_m", "fork_distance_m", "branch_offset_m", "loop_sweep_rad",
                      "loop_exit_tolerance_rad", "loop_exit_m", "junction_window_m", "junction_fallback_m",
-                     "corner_sight_m",
+                     "corner_sight_m", "straight_crossing_m",
+                     "line_spacing_m", "own_lane_offset_m",
                      "corner_line_offset_m", "corner_lead_m", "min_line_end_m", "lane_aligned_rad"):
             need(name, getattr(self, name) >= 0, "must be >= 0")
         for name in ("min_signal_confidence", "min_lane_confidence"):
@@ -248,7 +258,7 @@ class DecisionLogic:
         self.parking_event = parking_event(check_parking_place(config.parking_place))
         self.bays = BayFinder((config.bay_width_min_m, config.bay_width_max_m), config.bay_line_merge_m,
                               config.bay_line_sightings)
-        self.right_corner_at_m: Optional[float] = None  # travelled_m at the right-turn corner last seen
+        self.corners = JunctionCorners(config)  # the junctions' corners the cameras see, both sides
         self.last_time_s: Optional[float] = None
         self.state_entry_m = 0.0  # travelled_m when the current state was entered
         self.distance_fired = False  # distance_elapsed already fired in this state
@@ -278,7 +288,9 @@ class DecisionLogic:
             return []
         self.last_signal = signal
         if signal in DIRECTIONS:
-            self.forks.on_direction(DIRECTIONS[signal])
+            note = self.forks.on_direction(DIRECTIONS[signal])
+            if note:
+                self.notes.append(note)
         self._fire("signal_" + SIGNAL_NAMES[signal])
         return self._transitions
 
@@ -298,9 +310,11 @@ class DecisionLogic:
         self.last_time_s = time_s
         self.crosswalk.advance(self.road.advance(abs(self.speed.v_mps) * dt_s))
         self.crosswalk.on_sighting(lane.crosswalk_seen, lane.crosswalk_distance_m)
-        corners = self.corners_seen(lane)
+        corners = self.corners_seen(lane, self._tracked_lanes_left(lane))
         self._crosswalk_and_fork_events(time_s, corners)
         merge = self.forks.loop_exit(self.road.yaw_rad, self.road.travelled_m, corners)
+        if self.forks.fallback_note:
+            self.notes.append(self.forks.fallback_note)
         if merge is not None:
             self._fire(merge)
         for event in self._parking_events(lane):
@@ -315,15 +329,21 @@ class DecisionLogic:
             self._fire("lane_aligned")
         command = self.machine.command
 
-        blind_arc = command.radius_m is not None or command.speed in BLIND_SPEEDS
+        blind_arc = (command.radius_m is not None or command.speed in BLIND_SPEEDS
+                     or self.forks.holds_course(self.crosswalk.since_left_m))
         lane_ok = (math.isfinite(lane.lateral_offset_m) and math.isfinite(lane.heading_error_rad)
                    and lane.confidence >= c.min_lane_confidence)
+        measured_offset_m = lane.lateral_offset_m
+        if lane_ok and not blind_arc:
+            self.forks.on_lane_measured(measured_offset_m, lane.confidence >= 1.0, c.own_lane_offset_m)
+        if lane_ok and self.forks.tracker_may_be_on_the_other_lane():
+            measured_offset_m = nearest_lane_offset(measured_offset_m, c.line_spacing_m)
         if lane_ok or blind_arc:
             self.lane_bad_since_s = None
         elif self.lane_bad_since_s is None:
             self.lane_bad_since_s = time_s
         lane_lost = self.lane_bad_since_s is not None and time_s - self.lane_bad_since_s >= c.lane_lost_timeout_s
-        avoid = self.avoidance.step(lane.lateral_offset_m, lane_ok and not blind_arc, self.road.travelled_m,
+        avoid = self.avoidance.step(measured_offset_m, lane_ok and not blind_arc, self.road.travelled_m,
                                     command.lane, obstacles_of(lane), lane.heading_error_rad,
                                     lane.confidence >= 1.0)
         for event in avoid.events:
@@ -343,7 +363,7 @@ class DecisionLogic:
             bias = side * self._branch_shape(command)
         offset_ref_m = bias * c.branch_offset_m + avoid.offset_ref_m
         heading_ref_rad = bias * c.branch_heading_rad
-        offset_m = lane.lateral_offset_m if lane_ok and not blind_arc else offset_ref_m
+        offset_m = measured_offset_m if lane_ok and not blind_arc else offset_ref_m
         if avoid.active and math.isfinite(avoid.own_lane_offset_m):  # a lane change: the own lane's frame
             offset_m = avoid.own_lane_offset_m
         heading_rad = lane.heading_error_rad if lane_ok and not blind_arc else heading_ref_rad
@@ -362,19 +382,24 @@ class DecisionLogic:
             if self.state != before:
                 self.speed.unlatch()
 
-    def corners_seen(self, lane) -> Tuple[str, ...]:
-        """("right",) when the robot is (within corner_lead_m) at the corner of a right turn that
-        the cameras showed (this lane measurement or earlier ones), else ()."""
-        c = self.config
-        end_m = getattr(lane, "right_line_end_m", float("nan"))
-        travelled_m = self.road.travelled_m
-        if c.min_line_end_m <= end_m <= c.corner_sight_m:
-            self.right_corner_at_m = travelled_m + end_m - c.corner_line_offset_m
-        elif self.right_corner_at_m is not None and travelled_m > self.right_corner_at_m + c.corner_sight_m:
-            self.right_corner_at_m = None  # long passed
-        if self.right_corner_at_m is not None and travelled_m >= self.right_corner_at_m - c.corner_lead_m:
-            return ("right",)
-        return ()
+    @property
+    def right_corner_at_m(self) -> Optional[float]:
+        """travelled_m at the right-turn corner last seen (None: none in sight)."""
+        return self.corners.corner_at_m["right"]
+
+    def corners_seen(self, lane, tracked_lanes_left: int = 0) -> Tuple[str, ...]:
+        """The sides ("right", "left") at whose turn's corner the robot is (within corner_lead_m),
+        as the cameras showed it in this lane measurement or earlier ones (junction_corners.py)."""
+        return self.corners.update(lane, self.road.travelled_m, tracked_lanes_left)
+
+    def _tracked_lanes_left(self, lane) -> int:
+        """How many lanes left of the robot's own lane conde_tracking measures: 0, except after a
+        right fork crossed straight, where it may have locked onto the lane on the left."""
+        offset_m = lane.lateral_offset_m
+        if not (self.forks.tracker_may_be_on_the_other_lane() and math.isfinite(offset_m)
+                and lane.confidence >= self.config.min_lane_confidence):
+            return 0
+        return -int(round(offset_m / self.config.line_spacing_m))
 
     def _crosswalk_and_fork_events(self, time_s: float, corners: Tuple[str, ...] = ()) -> None:
         if self.crosswalk.reached():
@@ -382,6 +407,9 @@ class DecisionLogic:
             self._fire("crosswalk_reached")
             if lap_done:
                 self._fire("lap_completed")
+        if (self.crosswalk.at_crosswalk and self.crosswalk.to_near_edge_m is not None
+                and self.crosswalk.to_near_edge_m < 0.0):
+            self.forks.on_stop_line_passed()
         if self.crosswalk.left():
             self.forks.on_crosswalk_left()
             self.speed.unlatch()
@@ -436,6 +464,12 @@ class DecisionLogic:
             return 1.0
         u = (self.road.travelled_m - self.state_entry_m) / command.distance_m
         return max(0.0, min(1.0, 4.0 * u, 2.0 * (1.0 - u)))
+
+
+def nearest_lane_offset(offset_m: float, spacing_m: float) -> float:
+    """A lateral offset [m] measured against any lane of parallel lanes spacing_m apart, as the
+    offset from the nearest lane's centre."""
+    return offset_m - spacing_m * round(offset_m / spacing_m)
 
 
 def obstacles_of(lane) -> List[Obstacle]:

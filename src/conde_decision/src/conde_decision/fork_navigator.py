@@ -7,16 +7,21 @@ junction_fallback_m (DecisionConfig; their meaning is in the docstring of decisi
 
 The last direction signal before a fork chooses: the side the fork opens to gives fork_left /
 fork_right, the other side fork_straight (with a note: that order cannot be obeyed), "forward" what
-fork_forward says for that fork.  The order is used up at the fork.  Straight on, the loop beyond
+fork_forward says for that fork.  The order is used up at the fork, and latched from the crosswalk's
+stop line (its near edge, on_stop_line_passed) to the fork: the top camera sees the panel at an
+angle while the robot drives over the crosswalk and may misread it (D2: "forward" at 0.66
+confidence read on the crosswalk while the panel showed "left"), so direction signals read there
+are ignored.  Before the stop line (also standing there) every direction signal counts.  Straight on, the loop beyond
 the fork turns toward the fork's side; once the heading has turned through the loop's sweep (less
 loop_exit_tolerance_rad) and the robot has driven loop_exit_m (plus the arc that the tolerance
 leaves at the loop's lane radius) further, merge_right / merge_left fires.
 
 What the cameras see comes first: a turn toward a side whose corners the cameras mark
-(`marked_sides`) fires when the caller passes that side in `corners_seen`, from junction_window_m
-before the stored distance on; the stored distance is then only the fallback, junction_fallback_m
-after it (on a track drawn differently the corner may lie further).  Turns to other sides fire at
-the stored distances."""
+(`marked_sides`, both by default: junction_corners.py) fires when the caller passes that side in
+`corners_seen`, from junction_window_m before the stored distance on; the stored distance is then
+only the fallback, junction_fallback_m after it (on a track drawn differently the corner may lie
+further), and a turn begun by the fallback says so (the note of at_fork, `fallback_note` after
+loop_exit).  Turns to other sides fire at the stored distances."""
 
 from dataclasses import dataclass
 from typing import Optional, Sequence, Tuple
@@ -31,20 +36,39 @@ class LoopExit:
     radius_m: float  # the lane's radius around the loop [m]
     merge: str  # "left" / "right": the turn onto the central road at its end
     exit_mark_m: Optional[float] = None  # distance travelled when the sweep was complete [m]
+    crossed_junction: bool = False  # entered straight across a junction whose branch opens right
 
 
 class ForkNavigator:
-    def __init__(self, config, marked_sides: Sequence[str] = ("right",)):
+    def __init__(self, config, marked_sides: Sequence[str] = ("right", "left")):
         self.config = config
         self.marked_sides = tuple(marked_sides)  # the sides whose corners the cameras mark
         self.direction_order = "forward"  # the last direction signal, used up at the next fork
         self.fork_pending = False  # the robot left a crosswalk and has not reached the fork after it
         self.forks_passed = 0
         self.loop: Optional[LoopExit] = None
+        self.order_latched = False  # past the crosswalk's stop line, before its fork: orders ignored
+        self.crossing_end_m: Optional[float] = None  # since_crosswalk_m where a right fork crossed straight ends
+        self.tracked_lane_unsure = False  # conde_tracking may measure the lane on the left (after such a crossing)
+        self.ignored_order = ""  # the last order ignored while latched
+        self.fallback_note = ""  # set by loop_exit when a merge began at the fallback, not at a corner seen
 
-    def on_direction(self, order: str) -> None:
-        """A direction signal: "forward", "left" or "right"."""
+    def on_direction(self, order: str) -> str:
+        """A direction signal: "forward", "left" or "right".  Returns a note when it is ignored
+        (the order is latched), else ""."""
+        if self.order_latched:
+            if order in (self.direction_order, self.ignored_order):  # noted once per order
+                return ""
+            self.ignored_order = order
+            return "direction signal %s ignored: past the crosswalk's stop line the order %s is kept" % (
+                order, self.direction_order)
         self.direction_order = order
+        return ""
+
+    def on_stop_line_passed(self) -> None:
+        """The robot drove past the near edge of the crosswalk it is at: the order is latched until
+        the fork after it."""
+        self.order_latched = True
 
     def on_crosswalk_left(self) -> None:
         self.fork_pending = True
@@ -74,18 +98,55 @@ class ForkNavigator:
         if not (seen or since_crosswalk_m >= due_m):
             return None, ""
         self.fork_pending = False
+        self.order_latched, self.ignored_order = False, ""
         self.forks_passed += 1
         self.direction_order = "forward"
         if order == side:
-            return "fork_" + side, ""
+            return "fork_" + side, "" if seen or not marked else fallback_note("fork_" + side, due_m)
         note = ""
         if order != "forward":
             note = "the panel ordered %s, but this fork opens to the %s: keeping straight" % (order, side)
+        if side == "right":
+            self.crossing_end_m = c.fork_distance_m + c.straight_crossing_m
         # Straight on: the loop turns toward the fork's side and comes back to the fork, where its
         # road joins the central road with a turn to the other side.
         self.loop = LoopExit(sign=1.0 if side == "left" else -1.0, yaw0_rad=yaw_rad, radius_m=c.loop_lane_radii_m[fork],
-                             merge="right" if side == "left" else "left")
+                             merge="right" if side == "left" else "left", crossed_junction=side == "right")
         return "fork_straight", note
+
+    def holds_course(self, since_crosswalk_m: Optional[float]) -> bool:
+        """True while the robot crosses straight on the junction of a fork that opens to the right,
+        from junction_window_m before the stored fork distance to straight_crossing_m past it: the
+        lane's right edge line turns away into the branch there (and the centre line has a gap), so
+        a lane follower would take the branch; the robot holds its course instead."""
+        c = self.config
+        if since_crosswalk_m is None:
+            return False
+        if self.crossing_end_m is not None:
+            if since_crosswalk_m < self.crossing_end_m:
+                return True
+            self.crossing_end_m = None
+            self.tracked_lane_unsure = True
+            return False
+        if not self.fork_pending:
+            return False
+        _, side, order = self._next_fork()
+        return side == "right" and order != side and since_crosswalk_m >= c.fork_distance_m - c.junction_window_m
+
+    def tracker_may_be_on_the_other_lane(self) -> bool:
+        """After holding the course across a right fork taken straight, until the tracker measures
+        the own lane again after the loop beyond it (on_lane_measured): conde_tracking, whose lines
+        went out of sight in the junction, may have locked onto the lane on the left (measured on
+        the south fork's crossing in D2: -0.81 m, and the robot swerved onto it; it still measured
+        that lane after the loop's left turn), so the caller takes its offset modulo the line
+        spacing."""
+        return self.tracked_lane_unsure
+
+    def on_lane_measured(self, offset_m: float, both_lines: bool, own_lane_m: float) -> None:
+        """A lane measurement's offset [m] (as measured): once the loop is over, one with both
+        lines within own_lane_m of the lane's centre is against the own lane: the doubt ends."""
+        if self.tracked_lane_unsure and self.loop is None and both_lines and abs(offset_m) <= own_lane_m:
+            self.tracked_lane_unsure = False
 
     def loop_exit(self, yaw_rad: Optional[float], travelled_m: float,
                   corners_seen: Sequence[str] = ()) -> Optional[str]:
@@ -93,6 +154,7 @@ class ForkNavigator:
         central road (up to junction_window_m earlier where the cameras see that turn's corner,
         corners_seen), else None; yaw_rad: unwrapped heading [rad], travelled_m: distance [m]."""
         c, loop = self.config, self.loop
+        self.fallback_note = ""
         if loop is None or yaw_rad is None:
             return None
         if loop.yaw0_rad is None:  # no odometry at the fork yet: count from the first heading
@@ -110,5 +172,13 @@ class ForkNavigator:
             seen, due = False, driven_m >= exit_m
         if seen or due:
             self.loop = None
+            if not seen and loop.merge in self.marked_sides:
+                self.fallback_note = fallback_note("merge_" + loop.merge, exit_m + c.junction_fallback_m,
+                                                   "past the end of the loop's sweep")
             return "merge_" + loop.merge
         return None
+
+
+def fallback_note(event: str, at_m: float, after: str = "past the crosswalk") -> str:
+    """The note of a turn begun at its stored distance's fallback: no corner was seen."""
+    return "%s at the fallback %.2f m %s: the cameras saw no corner" % (event, at_m, after)

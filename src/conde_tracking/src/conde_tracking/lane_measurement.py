@@ -92,6 +92,9 @@ class LaneResult:
     crosswalk_distance_m: float = float("nan")
     right_line_end_m: float = float("nan")  # x [m] where the right (edge) line ends ahead; NaN: runs on beyond view
     left_line_end_m: float = float("nan")  # ... the left (centre) line
+    # ... the far line of the lane on the left (its outer edge line, one line separation beyond the
+    # centre line): at a junction's left turn it turns left at the corner where the turn's arc begins
+    far_left_line_end_m: float = float("nan")
     fit: Optional[LaneFit] = None
     right_points: np.ndarray = field(default_factory=lambda: np.zeros((0, 2)))
     left_points: np.ndarray = field(default_factory=lambda: np.zeros((0, 2)))
@@ -340,4 +343,18 @@ class LaneMeasurement:
         right_m, left_m = self.line_offsets(self.line_separation_m)
         right_end = self.line_end(fit.coeffs, right_m, rpts, everything)
         left_end = self.line_end(fit.coeffs, left_m, lpts, everything)
-        return LaneResult(lateral, heading, conf, seen, dist, right_end, left_end, fit, rpts, lpts)
+        far_end = self.far_left_line_end(fit, pts, everything)
+        return LaneResult(lateral, heading, conf, seen, dist, right_end, left_end, far_end, fit, rpts, lpts)
+
+    def far_left_line_end(self, fit: LaneFit, pts, everything) -> float:
+        """x [m] where the other lane's outer (left) edge line ends ahead, or NaN (runs on, not
+        seen, or the lane's left line not fitted, which places it).  The line lies one line
+        separation left of the centre line; the lane fit does not use it."""
+        c = self.config
+        if not fit.left_found:
+            return float("nan")
+        far_m = self.line_offsets(self.line_separation_m)[1] + self.line_separation_m
+        x = pts[:, 0]
+        band = ((x >= c.fit_range_m[0]) & (x <= c.fit_range_m[1])
+                & (np.abs(pts[:, 1] - _line_positions(fit.coeffs, x, far_m)) < c.line_window_m))
+        return self.line_end(fit.coeffs, far_m, pts[band], everything)

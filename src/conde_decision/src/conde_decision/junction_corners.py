@@ -1,0 +1,54 @@
+"""The corners of the junctions' turns, placed along the road from the line ends the cameras see.
+Pure Python, no ROS.
+
+At a junction the line on the outside of the robot's lane toward the turn turns away around the
+turn's corner: for a right turn the lane's own edge line (conde_tracking's right_line_end_m), for
+a left turn the outer edge line of the lane on the left (far_left_line_end_m: the dashed centre
+line's end is no mark, it ends anywhere within a dash period before the branch).  Both turn away
+with the same radius (the fork's radius less the line spacing, 0.19 m on the competition track),
+so each leaves its band corner_line_offset_m beyond the corner where the turn's arc begins.
+
+`config` is any object with the fields min_line_end_m, corner_sight_m, corner_line_offset_m and
+corner_lead_m (DecisionConfig)."""
+
+import math
+from typing import Dict, Optional, Tuple
+
+#: the lane measurement's field that marks each side's corners
+LINE_END_FIELDS = {"right": "right_line_end_m", "left": "far_left_line_end_m"}
+#: ... when conde_tracking measures the lane on the robot's left: that lane's left line is the far line
+#: (the robot's own edge line is then not measured)
+LINE_END_FIELDS_ONE_LANE_LEFT = {"right": None, "left": "left_line_end_m"}
+SIDES = tuple(LINE_END_FIELDS)
+
+
+class JunctionCorners:
+    """Call update() with each lane measurement and the distance driven [m]: it returns the sides
+    whose corner the robot has reached (within corner_lead_m)."""
+
+    def __init__(self, config):
+        self.config = config
+        # distance travelled [m] at the corner last seen on each side (None: none in sight)
+        self.corner_at_m: Dict[str, Optional[float]] = {side: None for side in SIDES}
+
+    def update(self, lane, travelled_m: float, tracked_lanes_left: int = 0) -> Tuple[str, ...]:
+        """The sides ("right", "left") at whose corner the robot is now, from this lane measurement
+        and earlier ones (the latest sighting is kept, since the line's end leaves the view as the
+        corner comes near); a corner long passed (corner_sight_m) is forgotten.  A measurement
+        without a side's field shows no corner there.  tracked_lanes_left: 1 when the measurement is
+        against the lane on the robot's left (see DecisionLogic), 0 when against its own."""
+        c = self.config
+        reached = []
+        names = LINE_END_FIELDS_ONE_LANE_LEFT if tracked_lanes_left == 1 else LINE_END_FIELDS
+        for side in SIDES:
+            end_m = getattr(lane, names[side], float("nan")) if names[side] and tracked_lanes_left in (0, 1) \
+                else float("nan")
+            at_m = self.corner_at_m[side]
+            if math.isfinite(end_m) and c.min_line_end_m <= end_m <= c.corner_sight_m:
+                at_m = travelled_m + end_m - c.corner_line_offset_m
+            elif at_m is not None and travelled_m > at_m + c.corner_sight_m:
+                at_m = None
+            self.corner_at_m[side] = at_m
+            if at_m is not None and travelled_m >= at_m - c.corner_lead_m:
+                reached.append(side)
+        return tuple(reached)
