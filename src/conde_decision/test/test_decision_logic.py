@@ -684,3 +684,18 @@ def test_a_row_of_cones_keeps_the_robot_on_the_other_lane_until_the_last():
     beside = [off for s, off in positions if first <= s <= last_end]
     assert min(beside) > 0.6  # on the other lane all along the cones
     assert states[-1] == "follow_lane"
+
+
+def test_a_fork_met_on_the_other_lane_is_taken_after_the_return():
+    """A box just before the fork (left ordered): fork_left comes while the robot passes the box, is
+    kept, and fires once follow_lane is back (lane_returned) within AvoidanceConfig.max_delay_m."""
+    road = make()
+    road.follow_reference = True
+    signal(road, LEFT)
+    road.obstacles.append(Obstacle("box", FORK_S - 1.2, -0.3, 0.3))
+    road.until("lane_returned")
+    came, fired = event_positions(road, "fork_left")
+    assert [t for out in road.outputs[:-1] for t in out.transitions if t[1] == "fork_left"] == []  # kept
+    assert road.outputs[-1].transitions[-2:] == [("avoid_return", "lane_returned", "follow_lane"),
+                                                 ("follow_lane", "fork_left", "turn_left")]
+    assert 0 < fired - came <= AvoidanceConfig().max_delay_m

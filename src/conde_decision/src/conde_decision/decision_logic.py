@@ -88,7 +88,7 @@ from dataclasses import dataclass, field, fields
 from typing import List, Optional, Tuple
 
 from conde_common.panel_signals import NAMES_BY_CODE, SIGNAL_CODES
-from conde_decision.avoidance import Avoidance, AvoidanceConfig, Obstacle
+from conde_decision.avoidance import Avoidance, AvoidanceConfig, EventDelay, Obstacle
 from conde_decision.crosswalk import CrosswalkTracker
 from conde_decision.fork_navigator import ForkNavigator
 from conde_decision.lap_counter import LapCounter
@@ -222,6 +222,7 @@ class DecisionLogic:
                  avoidance_config: AvoidanceConfig = AvoidanceConfig()):
         self.config = config.check()
         self.avoidance = Avoidance(avoidance_config)  # obstacles and the working zone: command.lane
+        self.delayed = EventDelay(avoidance_config.max_delay_m)  # a fork / merge met on the other lane
         self.machine = StateMachine(spec)
         self.road = RoadDistance()
         self.crosswalk = CrosswalkTracker(config.crosswalk_length_m, config.crosswalk_zone_m,
@@ -308,9 +309,15 @@ class DecisionLogic:
         lane_lost = self.lane_bad_since_s is not None and time_s - self.lane_bad_since_s >= c.lane_lost_timeout_s
         avoid = self.avoidance.step(lane.lateral_offset_m, lane_ok and not blind_arc, self.road.travelled_m,
                                     command.lane, obstacles_of(lane), lane.heading_error_rad,
-                                    lane.confidence >= 1.0)
+                                    lane.confidence >= 1.0, getattr(lane, "lane_index", -1),
+                                    getattr(lane, "lane_spacing_m", float("nan")), self.road.yaw_rad)
         for event in avoid.events:
             self._fire(event)
+        delayed, note = self.delayed.due(self.road.travelled_m, self._takes)
+        if note:
+            self.notes.append(note)
+        if delayed is not None:
+            self._fire(delayed)
         command = self.machine.command
 
         v_mps = self.speed.step(command.speed, self.crosswalk.to_near_edge_m, dt_s, hold=lane_lost)
@@ -335,8 +342,13 @@ class DecisionLogic:
 
     # --- internals ------------------------------------------------------------------------------
 
+    def _takes(self, event: str) -> bool:
+        return event in self.machine.spec.states[self.state].transitions
+
     def _fire(self, event: str) -> None:
         self._events.append(event)
+        # kept only when the avoidance is why the state cannot take it
+        self.delayed.offer(event, self.road.travelled_m, self._takes(event) or not self.avoidance.active)
         before = self.state
         if self.machine.handle(event) is not None:
             self._transitions.append((before, event, self.state))
