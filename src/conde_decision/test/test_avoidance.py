@@ -121,3 +121,13 @@ def test_a_delayed_event_waits_for_a_state_that_takes_it_or_is_dropped():
     d.offer("fork_straight", 20.0, taken=False)
     event, note = d.due(22.1, lambda e: False)
     assert event is None and "fork_straight dropped" in note
+
+
+def test_the_heading_reference_is_the_ramps_direction_while_it_moves():
+    a = Avoidance()
+    a.step(0.0, True, 0.0, "own", lane_spacing_m=0.8)
+    ramp_rad = math.atan(0.8 / C.change_length_m)
+    assert a.step(0.0, True, 0.1, "other", lane_index=0).heading_ref_rad == pytest.approx(ramp_rad)
+    assert a.step(0.8, True, 0.1 + C.change_length_m, "other", lane_index=1).heading_ref_rad == 0.0  # on the lane
+    assert a.step(0.0, True, 0.2 + C.change_length_m, "own", lane_index=1).heading_ref_rad == pytest.approx(-ramp_rad)
+    assert a.step(0.0, True, 0.2 + 2 * C.change_length_m, "own", lane_index=0).heading_ref_rad == 0.0

@@ -12,7 +12,10 @@ edge at the floor, lateral extent at their base from the tracked lane's centre l
   obstacle blocks the own lane when its base reaches into +-block_half_width_m of the own lane's centre.
 * The offset reference moves (in the own lane's frame) toward 0 (lane own) or the spacing (lane
   other) by one spacing per change_length_m driven: a ramp, so the robot changes lanes along an S
-  of that length.
+  of that length; while it moves, the heading reference is the ramp's direction (atan(spacing /
+  change_length_m), about 33 deg), so that the control law follows the ramp instead of fighting
+  it with its heading term (without it the robot lagged, then turned 60-70 deg off the lane, where
+  the lane measurement fails).
 * conde_tracking says which lane it measured (lane_index: 0 the right lane, 1 the left one, -1 not
   known): during a lane change and back, the tracked lane's centre lies lane_index spacings left of
   the own lane's (lane_shift_m), and the robot's offset from the own lane is the tracker's plus
@@ -47,8 +50,8 @@ class AvoidanceConfig:
     # own lane centre to the other lane's centre [m] (2 x lane_offset_m): only until conde_tracking measured it
     lane_spacing_m: float = 0.782
     block_half_width_m: float = 0.25  # an obstacle reaching this close to the own lane's centre blocks it [m]
-    avoid_trigger_m: float = 1.1  # start the lane change when a blocker's near edge is this close [m]
-    change_length_m: float = 0.8  # the reference crosses one lane spacing over this distance driven [m]
+    avoid_trigger_m: float = 1.3  # start the lane change when a blocker's near edge is this close [m]
+    change_length_m: float = 1.2  # the reference crosses one lane spacing over this distance driven [m]
     # Return once the blockers' far ends are this far behind base_footprint [m]: Conde's footprint
     # reaches 0.443 m behind it (base_footprint is near its front), plus a margin.
     avoid_clearance_m: float = 0.55
@@ -81,6 +84,7 @@ class Obstacle:
 class AvoidanceStep:
     events: List[str] = field(default_factory=list)
     offset_ref_m: float = 0.0  # lateral offset reference in the own lane's frame [m]
+    heading_ref_rad: float = 0.0  # heading reference: the ramp's direction while it moves (+ = left) [rad]
     own_lane_offset_m: float = float("nan")  # the robot from the own lane's centre (+ = left) [m]
     active: bool = False  # a lane change or the way back: control on own_lane_offset_m and offset_ref_m
 
@@ -146,6 +150,8 @@ class Avoidance:
             self.ref_m = target_m
         else:
             self.ref_m += math.copysign(slew_m, target_m - self.ref_m)
+        if self.ref_m != target_m:
+            out.heading_ref_rad = math.copysign(math.atan(spacing_m / c.change_length_m), target_m - self.ref_m)
         if self.own_offset_m is not None:
             own_offset_m = self.own_offset_m
         else:
