@@ -140,7 +140,9 @@ class Road:
         if self.follow_reference:
             # the reference is in the own lane's frame while the logic changes lanes, else the tracked lane's
             wanted_m = out.lateral_offset_ref_m + (0.0 if self.logic.avoidance.active else self._tracked_shift_m())
-            moved_m = (wanted_m - self.own_offset_m) * min(1.0, DT_S / OFFSET_TIME_CONSTANT_S)
+            # ... plus the heading reference's drift (the lane change's ramp: the control follows it)
+            moved_m = ((wanted_m - self.own_offset_m) * min(1.0, DT_S / OFFSET_TIME_CONSTANT_S)
+                       + ds * math.tan(out.heading_ref_rad))
             self.own_offset_m += moved_m
             self.heading_error_rad = math.atan2(moved_m, ds) if ds > 0 else 0.0
         self.turned_rad = self.turned_rad + out.path_curvature_per_m * ds if out.path_curvature_per_m != 0.0 else 0.0

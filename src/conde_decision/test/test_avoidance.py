@@ -55,7 +55,7 @@ def test_passed_after_the_far_end_and_back_on_the_own_lane():
     assert "obstacle_passed" not in a.step(C.lane_spacing_m, True, far_m - 0.01, "other").events
     assert "obstacle_passed" in a.step(C.lane_spacing_m, True, far_m, "other").events
     a.step(0.4, True, far_m + C.change_length_m / 2, "own", heading_error_rad=-0.9)  # and back
-    back = a.step(0.0, True, far_m + C.change_length_m, "own")
+    back = a.step(0.0, True, far_m + C.change_length_m, "own", lane_index=0)  # the tracker: on the own lane
     assert back.events == ["lane_returned"] and not a.active
 
 
@@ -131,3 +131,18 @@ def test_the_heading_reference_is_the_ramps_direction_while_it_moves():
     assert a.step(0.8, True, 0.1 + C.change_length_m, "other", lane_index=1).heading_ref_rad == 0.0  # on the lane
     assert a.step(0.0, True, 0.2 + C.change_length_m, "own", lane_index=1).heading_ref_rad == pytest.approx(-ramp_rad)
     assert a.step(0.0, True, 0.2 + 2 * C.change_length_m, "own", lane_index=0).heading_ref_rad == 0.0
+
+
+def test_the_control_is_given_a_reference_near_the_robot():
+    """The ramp runs ahead of a robot that lags: the control's reference stays within
+    max_offset_error_m of the robot's offset (so that the control law does not turn it far off the
+    lane); the ramp itself (offset_ref_m) goes on."""
+    a = Avoidance()
+    a.step(0.0, True, 0.0, "own")
+    out = a.step(0.0, True, C.change_length_m / 2, "other", lane_index=0)
+    assert out.offset_ref_m == pytest.approx(C.lane_spacing_m / 2)
+    assert out.control_ref_m == pytest.approx(C.max_offset_error_m)
+    out = a.step(0.5, True, C.change_length_m, "other", lane_index=0)
+    assert out.control_ref_m == pytest.approx(0.5 + C.max_offset_error_m)
+    out = a.step(-0.04, True, C.change_length_m + 0.1, "other", lane_index=1)
+    assert out.offset_ref_m == out.control_ref_m == pytest.approx(C.lane_spacing_m)

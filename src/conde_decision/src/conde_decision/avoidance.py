@@ -13,9 +13,11 @@ edge at the floor, lateral extent at their base from the tracked lane's centre l
 * The offset reference moves (in the own lane's frame) toward 0 (lane own) or the spacing (lane
   other) by one spacing per change_length_m driven: a ramp, so the robot changes lanes along an S
   of that length; while it moves, the heading reference is the ramp's direction (atan(spacing /
-  change_length_m), about 33 deg), so that the control law follows the ramp instead of fighting
-  it with its heading term (without it the robot lagged, then turned 60-70 deg off the lane, where
-  the lane measurement fails).
+  change_length_m), about 28 deg), so that the control law follows the ramp instead of fighting
+  it with its heading term, and the reference given to the control is at most max_offset_error_m
+  from the robot's offset: the control law (offset gain 3.6 times its heading gain) then turns the
+  robot at most about 8 deg more than the ramp.  Without these the robot lagged, then turned
+  60-70 deg off the lane, where the lane measurement's offset is tens of cm off.
 * conde_tracking says which lane it measured (lane_index: 0 the right lane, 1 the left one, -1 not
   known): during a lane change and back, the tracked lane's centre lies lane_index spacings left of
   the own lane's (lane_shift_m), and the robot's offset from the own lane is the tracker's plus
@@ -50,8 +52,11 @@ class AvoidanceConfig:
     # own lane centre to the other lane's centre [m] (2 x lane_offset_m): only until conde_tracking measured it
     lane_spacing_m: float = 0.782
     block_half_width_m: float = 0.25  # an obstacle reaching this close to the own lane's centre blocks it [m]
-    avoid_trigger_m: float = 1.3  # start the lane change when a blocker's near edge is this close [m]
-    change_length_m: float = 1.2  # the reference crosses one lane spacing over this distance driven [m]
+    # start the lane change when a blocker's near edge is this close [m] (seen up to 2 m; in a curve its
+    # lane extents from the fitted lane, 1.3 m long, are off to the curve's inside beyond about 1.8 m)
+    avoid_trigger_m: float = 1.6
+    change_length_m: float = 1.5  # the reference crosses one lane spacing over this distance driven [m]
+    max_offset_error_m: float = 0.04  # the reference given to the control is at most this far from the robot [m]
     # Return once the blockers' far ends are this far behind base_footprint [m]: Conde's footprint
     # reaches 0.443 m behind it (base_footprint is near its front), plus a margin.
     avoid_clearance_m: float = 0.55
@@ -84,6 +89,7 @@ class Obstacle:
 class AvoidanceStep:
     events: List[str] = field(default_factory=list)
     offset_ref_m: float = 0.0  # lateral offset reference in the own lane's frame [m]
+    control_ref_m: float = 0.0  # ... for the control: within max_offset_error_m of own_lane_offset_m [m]
     heading_ref_rad: float = 0.0  # heading reference: the ramp's direction while it moves (+ = left) [rad]
     own_lane_offset_m: float = float("nan")  # the robot from the own lane's centre (+ = left) [m]
     active: bool = False  # a lane change or the way back: control on own_lane_offset_m and offset_ref_m
@@ -176,7 +182,10 @@ class Avoidance:
             out.events.append("lane_returned")
             self.changed = False
             self.far_end_m = None
-        out.offset_ref_m = self.ref_m
+        out.offset_ref_m = out.control_ref_m = self.ref_m
+        if self.active and math.isfinite(own_offset_m):
+            limit_m = c.max_offset_error_m
+            out.control_ref_m = own_offset_m + min(max(self.ref_m - own_offset_m, -limit_m), limit_m)
         out.active = self.active
         return out
 

@@ -331,7 +331,7 @@ class DecisionLogic:
             curvature_per_m = side / command.radius_m if command.radius_m is not None else 0.0
         else:
             bias = side * self._branch_shape(command)
-        offset_ref_m = bias * c.branch_offset_m + avoid.offset_ref_m
+        offset_ref_m = bias * c.branch_offset_m + avoid.control_ref_m
         heading_ref_rad = bias * c.branch_heading_rad + avoid.heading_ref_rad
         offset_m = lane.lateral_offset_m if lane_ok and not blind_arc else offset_ref_m
         if avoid.active and math.isfinite(avoid.own_lane_offset_m):  # a lane change: the own lane's frame
