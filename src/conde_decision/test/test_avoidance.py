@@ -129,8 +129,10 @@ def test_the_heading_reference_is_the_ramps_direction_while_it_moves():
     ramp_rad = math.atan(0.8 / C.change_length_m)
     assert a.step(0.0, True, 0.1, "other", lane_index=0).heading_ref_rad == pytest.approx(ramp_rad)
     assert a.step(0.8, True, 0.1 + C.change_length_m, "other", lane_index=1).heading_ref_rad == 0.0  # on the lane
-    assert a.step(0.0, True, 0.2 + C.change_length_m, "own", lane_index=1).heading_ref_rad == pytest.approx(-ramp_rad)
-    assert a.step(0.0, True, 0.2 + 2 * C.change_length_m, "own", lane_index=0).heading_ref_rad == 0.0
+    back_rad = math.atan(0.8 / C.return_length_m)  # the way back is steeper
+    assert a.step(0.0, True, 0.2 + C.change_length_m, "own", lane_index=1).heading_ref_rad == pytest.approx(-back_rad)
+    assert a.step(0.0, True, 0.2 + C.change_length_m + C.return_length_m, "own",
+                  lane_index=0).heading_ref_rad == 0.0
 
 
 def test_the_control_is_given_a_reference_near_the_robot():
@@ -146,3 +148,9 @@ def test_the_control_is_given_a_reference_near_the_robot():
     assert out.control_ref_m == pytest.approx(0.5 + C.max_offset_error_m)
     out = a.step(-0.04, True, C.change_length_m + 0.1, "other", lane_index=1)
     assert out.offset_ref_m == out.control_ref_m == pytest.approx(C.lane_spacing_m)
+
+
+def test_a_blocker_beside_the_robot_is_not_ahead():
+    a = Avoidance()
+    assert a.step(0.0, True, 0.0, "own", [Obstacle("box", 0.0, -0.3, 0.3)]).events == []
+    assert a.step(0.0, True, 0.1, "own", [Obstacle("box", C.edge_seen_from_m, -0.3, 0.3)]).events == ["obstacle_ahead"]

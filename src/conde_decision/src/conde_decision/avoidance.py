@@ -11,7 +11,7 @@ edge at the floor, lateral extent at their base from the tracked lane's centre l
   measured (from the line separation), lane_spacing_m of the config until it measured one.  An
   obstacle blocks the own lane when its base reaches into +-block_half_width_m of the own lane's centre.
 * The offset reference moves (in the own lane's frame) toward 0 (lane own) or the spacing (lane
-  other) by one spacing per change_length_m driven: a ramp, so the robot changes lanes along an S
+  other) by one spacing per change_length_m (on the way back return_length_m) driven: a ramp, so the robot changes lanes along an S
   of that length; while it moves, the heading reference is the ramp's direction (atan(spacing /
   change_length_m), about 28 deg), so that the control law follows the ramp instead of fighting
   it with its heading term, and the reference given to the control is at most max_offset_error_m
@@ -28,7 +28,7 @@ edge at the floor, lateral extent at their base from the tracked lane's centre l
   dead-reckoned one re-anchors it.  Without a usable lane the heading error is the last usable
   one plus the turn since then by odometry (not integrated at all without odometry).  Offset and
   reference go to conde_control in the own lane's frame.
-* Events: obstacle_ahead (a blocker within avoid_trigger_m), lane_changed (lane other, the
+* Events: obstacle_ahead (a blocker's near edge ahead, within edge_seen_from_m..avoid_trigger_m), lane_changed (lane other, the
   reference is on the other lane and the robot within settle_tolerance_m of it), obstacle_passed
   (lane other, every blocker seen is avoid_clearance_m behind the robot: its far end is its near
   edge plus box_depth_m or cone_depth_m; cones in a row keep moving it on), lane_returned (lane own
@@ -56,10 +56,14 @@ class AvoidanceConfig:
     # lane extents from the fitted lane, 1.3 m long, are off to the curve's inside beyond about 1.8 m)
     avoid_trigger_m: float = 1.6
     change_length_m: float = 1.5  # the reference crosses one lane spacing over this distance driven [m]
+    # ... and back over this one: the referee allows the other lane only within 1.5 m of arc of the box
+    return_length_m: float = 1.0
     max_offset_error_m: float = 0.04  # the reference given to the control is at most this far from the robot [m]
     # Return once the blockers' far ends are this far behind base_footprint [m]: Conde's footprint
-    # reaches 0.443 m behind it (base_footprint is near its front), plus a margin.
-    avoid_clearance_m: float = 0.55
+    # reaches 0.443 m behind it (base_footprint is near its front), but the way back is a ramp: its
+    # rear is past the far end before the robot is half way back, and turning right swings the rear
+    # away from the blocker.
+    avoid_clearance_m: float = 0.15
     # A blocker's far end is taken from sightings of its near edge at least this far ahead [m]
     # (beside the robot the cameras see only the part of it still ahead: the near edge is cut).
     edge_seen_from_m: float = 0.05
@@ -151,13 +155,14 @@ class Avoidance:
         else:
             self.own_offset_m, self.lane_shift_m = None, 0.0
         target_m = spacing_m if other else 0.0
-        slew_m = spacing_m * driven_m / c.change_length_m
+        ramp_length_m = c.change_length_m if other else c.return_length_m
+        slew_m = spacing_m * driven_m / ramp_length_m
         if abs(target_m - self.ref_m) <= slew_m + 1e-9:
             self.ref_m = target_m
         else:
             self.ref_m += math.copysign(slew_m, target_m - self.ref_m)
         if self.ref_m != target_m:
-            out.heading_ref_rad = math.copysign(math.atan(spacing_m / c.change_length_m), target_m - self.ref_m)
+            out.heading_ref_rad = math.copysign(math.atan(spacing_m / ramp_length_m), target_m - self.ref_m)
         if self.own_offset_m is not None:
             own_offset_m = self.own_offset_m
         else:
@@ -169,7 +174,8 @@ class Avoidance:
             if (other or o.near_x_m <= c.avoid_trigger_m) and o.near_x_m >= c.edge_seen_from_m:
                 end_m = travelled_m + o.near_x_m + (c.box_depth_m if o.kind == BOX else c.cone_depth_m)
                 self.far_end_m = end_m if self.far_end_m is None else max(self.far_end_m, end_m)
-        if any(o.near_x_m <= c.avoid_trigger_m for o in blocking):
+        # ahead: its near edge seen in front (beside the robot the cameras see the rest of a box it passes)
+        if any(c.edge_seen_from_m <= o.near_x_m <= c.avoid_trigger_m for o in blocking):
             out.events.append("obstacle_ahead")
         settled = (math.isfinite(own_offset_m) and abs(own_offset_m - target_m) <= c.settle_tolerance_m
                    and self.ref_m == target_m)
