@@ -11,8 +11,8 @@ edge at the floor, lateral extent at their base from the tracked lane's centre l
   measured (from the line separation), lane_spacing_m of the config until it measured one.  An
   obstacle blocks the own lane when its base reaches into +-block_half_width_m of the own lane's centre.
 * The offset reference moves (in the own lane's frame) toward 0 (lane own) or the spacing (lane
-  other) by one spacing per change_length_m (on the way back return_length_m) driven: a ramp, so the robot changes lanes along an S
-  of that length; while it moves, the heading reference is the ramp's direction (atan(spacing /
+  other) by one spacing per change_length_m (on the way back return_length_m) driven: a ramp, so
+  the robot changes lanes along an S of that length; while it moves, the heading reference is the ramp's direction (atan(spacing /
   change_length_m), about 28 deg), so that the control law follows the ramp instead of fighting
   it with its heading term, and the reference given to the control is at most max_offset_error_m
   from the robot's offset: the control law (offset gain 3.6 times its heading gain) then turns the
@@ -28,8 +28,8 @@ edge at the floor, lateral extent at their base from the tracked lane's centre l
   dead-reckoned one re-anchors it.  Without a usable lane the heading error is the last usable
   one plus the turn since then by odometry (not integrated at all without odometry).  Offset and
   reference go to conde_control in the own lane's frame.
-* Events: obstacle_ahead (a blocker's near edge ahead, within edge_seen_from_m..avoid_trigger_m), lane_changed (lane other, the
-  reference is on the other lane and the robot within settle_tolerance_m of it), obstacle_passed
+* Events: obstacle_ahead (a blocker's near edge ahead, within edge_seen_from_m..avoid_trigger_m),
+  lane_changed (lane other, the reference is on the other lane and the robot within settle_tolerance_m of it), obstacle_passed
   (lane other, every blocker seen is avoid_clearance_m behind the robot: its far end is its near
   edge plus box_depth_m or cone_depth_m; cones in a row keep moving it on), lane_returned (lane own
   after a change, the reference back at 0 and the robot within settle_tolerance_m of it).
