@@ -7,34 +7,37 @@ tracks), whether it is usable, the distance driven [m], the current state's comm
 edge at the floor, lateral extent at their base from the tracked lane's centre line).
 
 * The robot's own lane is the lane it drove in before the change (the right lane: traffic keeps
-  right); the other lane is its left neighbour, lane_spacing_m to the left: the spacing conde_tracking
-  measured (from the line separation), lane_spacing_m of the config until it measured one.  An
-  obstacle blocks the own lane when its base reaches into +-block_half_width_m of the own lane's centre.
+  right); the other lane is its left neighbour, lane_spacing_m to the left: the spacing
+  conde_tracking measured (from the line separation), lane_spacing_m of the config until it
+  measured one.  An obstacle blocks the own lane when its base reaches into +-block_half_width_m
+  of the own lane's centre.
 * The offset reference moves (in the own lane's frame) toward 0 (lane own) or the spacing (lane
   other) by one spacing per change_length_m (on the way back return_length_m) driven: a ramp, so
-  the robot changes lanes along an S of that length; while it moves, the heading reference is the ramp's direction (atan(spacing /
-  change_length_m), about 28 deg), so that the control law follows the ramp instead of fighting
-  it with its heading term, and the reference given to the control is at most max_offset_error_m
-  from the robot's offset: the control law (offset gain 3.6 times its heading gain) then turns the
-  robot at most about 8 deg more than the ramp.  Without these the robot lagged, then turned
-  60-70 deg off the lane, where the lane measurement's offset is tens of cm off.
+  the robot changes lanes along an S of that length; while it moves, the heading reference is the
+  ramp's direction (atan(spacing / change_length_m), about 28 deg), so that the control law
+  follows the ramp instead of fighting it with its heading term, and the reference given to the
+  control is at most max_offset_error_m from the robot's offset: the control law (offset gain 3.6
+  times its heading gain) then turns the robot at most about 8 deg more than the ramp.  Without
+  these the robot lagged, then turned 60-70 deg off the lane, where the lane measurement's offset
+  is tens of cm off.
 * conde_tracking says which lane it measured (lane_index: 0 the right lane, 1 the left one, -1 not
-  known): during a lane change and back, the tracked lane's centre lies lane_index spacings left of
-  the own lane's (lane_shift_m), and the robot's offset from the own lane is the tracker's plus
+  known): during a lane change and back, the tracked lane's centre lies lane_index spacings left
+  of the own lane's (lane_shift_m), and the robot's offset from the own lane is the tracker's plus
   that.  Where the lane is not known (lines seen too briefly, a junction), the offset is
   dead-reckoned from the distance driven and the heading error (the same against either lane: they
   are parallel), the tracked lane taken as the whole number of spacings that best explains the
   tracker's offset, and a tracker offset with both lines fitted within anchor_tolerance_m of the
-  dead-reckoned one re-anchors it.  Without a usable lane the heading error is the last usable
-  one plus the turn since then by odometry (not integrated at all without odometry).  Offset and
+  dead-reckoned one re-anchors it.  Without a usable lane the heading error is the last usable one
+  plus the turn since then by odometry (not integrated at all without odometry).  Offset and
   reference go to conde_control in the own lane's frame.
 * Events: obstacle_ahead (a blocker's near edge ahead, within edge_seen_from_m..avoid_trigger_m),
-  lane_changed (lane other, the reference is on the other lane and the robot within settle_tolerance_m of it), obstacle_passed
-  (lane other, every blocker seen is avoid_clearance_m behind the robot: its far end is its near
-  edge plus box_depth_m or cone_depth_m; cones in a row keep moving it on), lane_returned (lane own
-  after a change, the reference back at 0 and the robot within settle_tolerance_m of it).
-* Events the avoid states cannot take (a fork or a loop's end met on the other lane: DELAYED_EVENTS)
-  wait in EventDelay until a state takes them, for at most max_delay_m driven.
+  lane_changed (lane other, the reference is on the other lane and the robot within
+  settle_tolerance_m of it), obstacle_passed (lane other, every blocker seen is avoid_clearance_m
+  behind the robot: its far end is its near edge plus box_depth_m or cone_depth_m; cones in a row
+  keep moving it on), lane_returned (lane own after a change, the reference back at 0 and the
+  robot within settle_tolerance_m of it).
+* Events the avoid states cannot take (a fork or a loop's end met on the other lane:
+  DELAYED_EVENTS) wait in EventDelay until a state takes them, for at most max_delay_m driven.
 """
 import math
 from dataclasses import dataclass, field, fields
