@@ -83,6 +83,7 @@ class Road:
         self.obstacles = []  # Obstacle on the route
         self.follow_reference = False  # the lateral offset follows the logic's reference (a lane change)
         self.own_offset_m = self.lateral_offset_m  # from the own lane's centre (follow_reference)
+        self.path_m = start_s  # the robot's path length (odometry) [m]: s, less inside curves when offset
         self.relock = True  # the tracker measures against the lane whose centre the robot is nearer
 
     def _tracked_shift_m(self):
@@ -124,7 +125,7 @@ class Road:
         return Lane(self.lateral_offset_m, -remaining, False, 0.0, 1.0)
 
     def step(self):
-        self.logic.on_odometry(self.yaw_rad, self.s if self.odometry_distance else None)
+        self.logic.on_odometry(self.yaw_rad, self.path_m if self.odometry_distance else None)
         out = self.logic.on_lane(self.lane(), self.t)
         self.outputs.append(out)
         self.positions.append(self.s)
@@ -150,10 +151,14 @@ class Road:
             self.yaw_rad += out.path_curvature_per_m * ds
         elif self.loop is not None:
             start, end, curvature = self.loop
-            self.yaw_rad += curvature * max(0.0, min(self.s + ds, end) - max(self.s, start))
+            loop_turn_rad = curvature * max(0.0, min(self.s + ds, end) - max(self.s, start))
+            self.yaw_rad += loop_turn_rad
+            if self.follow_reference:  # beside the own lane, inside a curve the robot drives a shorter arc
+                self.path_m -= self.own_offset_m * loop_turn_rad
             if self.s + ds >= end:
                 self.loop = None
         self.s += ds
+        self.path_m += ds
         self.t += DT_S
         return out
 

@@ -154,3 +154,23 @@ def test_a_blocker_beside_the_robot_is_not_ahead():
     a = Avoidance()
     assert a.step(0.0, True, 0.0, "own", [Obstacle("box", 0.0, -0.3, 0.3)]).events == []
     assert a.step(0.0, True, 0.1, "own", [Obstacle("box", C.edge_seen_from_m, -0.3, 0.3)]).events == ["obstacle_ahead"]
+
+
+def test_in_a_left_curve_the_box_is_passed_after_a_shorter_drive_beside_it():
+    """On the other lane, 0.8 m inside a left curve of the own lane of radius 2.6 m (the robot's arc
+    1.8 m): a box's depth along the own lane is passed after 1.8 / 2.6 of it driven."""
+    far_by_arc = []
+    for turning in (False, True):
+        a = Avoidance()
+        a.step(0.0, True, 0.0, "own", [Obstacle("box", 1.0, -0.3, 0.3)], lane_index=0, lane_spacing_m=0.8, yaw_rad=0.0)
+        s_m = 0.0
+        while True:  # on the other lane from the start (a robot that changed lanes at once)
+            s_m += 0.01
+            out = a.step(-0.0, True, s_m, "other", lane_index=1, lane_spacing_m=0.8,
+                         yaw_rad=s_m / 1.8 if turning else 0.0)
+            if "obstacle_passed" in out.events:
+                break
+        far_by_arc.append(s_m)
+    straight_m, curve_m = far_by_arc
+    assert straight_m == pytest.approx(1.0 + C.box_depth_m + C.avoid_clearance_m, abs=0.02)
+    assert curve_m == pytest.approx(straight_m * 1.8 / 2.6, abs=0.03)

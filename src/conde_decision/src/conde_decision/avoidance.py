@@ -33,8 +33,9 @@ edge at the floor, lateral extent at their base from the tracked lane's centre l
 * Events: obstacle_ahead (a blocker's near edge ahead, within edge_seen_from_m..avoid_trigger_m),
   lane_changed (lane other, the reference is on the other lane and the robot within
   settle_tolerance_m of it), obstacle_passed (lane other, every blocker seen is avoid_clearance_m
-  behind the robot: its far end is its near edge plus box_depth_m or cone_depth_m; cones in a row
-  keep moving it on), lane_returned (lane own after a change, the reference back at 0 and the
+  behind the robot along the own lane (own_arc_m): its far end is its near edge plus box_depth_m or
+  cone_depth_m; cones in a row keep moving it on), lane_returned (lane own after a change, the
+  reference back at 0 and the
   robot within settle_tolerance_m of it).
 * Events the avoid states cannot take (a fork or a loop's end met on the other lane:
   DELAYED_EVENTS) wait in EventDelay until a state takes them, for at most max_delay_m driven.
@@ -107,7 +108,12 @@ class Avoidance:
         self.config = config.check()
         self.ref_m = 0.0  # offset reference in the own lane's frame [m]
         self.lane_shift_m = 0.0  # the tracked lane's centre from the own lane's centre (+ = left) [m]
-        self.far_end_m: Optional[float] = None  # distance driven at which the last blocker ends [m]
+        self.far_end_m: Optional[float] = None  # own_arc_m at which the last blocker ends [m]
+        # Distance along the own lane [m]: the distance driven, plus the offset from the own lane times
+        # the turn by odometry (in a left curve the robot on the other lane, inside, drives a shorter
+        # arc than the own lane's: a box's depth along the own lane is a shorter drive beside it).
+        self.own_arc_m = 0.0
+        self._last_yaw_rad: Optional[float] = None
         self.changed = False  # a lane change happened and the robot is not back yet
         self.own_offset_m: Optional[float] = None  # dead-reckoned and re-anchored, while active [m]
         self.spacing_m = config.lane_spacing_m  # the lanes' centres apart: the last measured [m]
@@ -136,6 +142,12 @@ class Avoidance:
         out = AvoidanceStep()
         driven_m = 0.0 if self._last_travelled_m is None else max(0.0, travelled_m - self._last_travelled_m)
         self._last_travelled_m = travelled_m
+        turned_rad = 0.0 if yaw_rad is None or self._last_yaw_rad is None else yaw_rad - self._last_yaw_rad
+        self._last_yaw_rad = yaw_rad
+        if self.own_offset_m is not None and driven_m > 0.0:
+            self.own_arc_m += max(0.0, driven_m + self.own_offset_m * turned_rad)
+        else:
+            self.own_arc_m += driven_m
         if lane_ok and math.isfinite(lane_spacing_m) and lane_spacing_m > 0:
             self.spacing_m = lane_spacing_m
         spacing_m = self.spacing_m
@@ -175,7 +187,7 @@ class Avoidance:
         blocking = self.blockers(obstacles)
         for o in blocking:
             if (other or o.near_x_m <= c.avoid_trigger_m) and o.near_x_m >= c.edge_seen_from_m:
-                end_m = travelled_m + o.near_x_m + (c.box_depth_m if o.kind == BOX else c.cone_depth_m)
+                end_m = self.own_arc_m + o.near_x_m + (c.box_depth_m if o.kind == BOX else c.cone_depth_m)
                 self.far_end_m = end_m if self.far_end_m is None else max(self.far_end_m, end_m)
         # ahead: its near edge seen in front (beside the robot the cameras see the rest of a box it passes)
         if any(c.edge_seen_from_m <= o.near_x_m <= c.avoid_trigger_m for o in blocking):
@@ -184,7 +196,7 @@ class Avoidance:
                    and self.ref_m == target_m)
         if other and settled:
             out.events.append("lane_changed")
-        if other and self.far_end_m is not None and travelled_m >= self.far_end_m + c.avoid_clearance_m:
+        if other and self.far_end_m is not None and self.own_arc_m >= self.far_end_m + c.avoid_clearance_m:
             out.events.append("obstacle_passed")
             self.far_end_m = None
         if not other and self.changed and settled:
