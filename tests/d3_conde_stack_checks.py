@@ -10,7 +10,7 @@ import rostest
 from std_msgs.msg import String
 
 REPORT_TOPIC = "/conde_referee/report"
-WAIT_S = 1100.0  # wall clock: the lock-step run's speed depends on the machine's load
+WAIT_S = 1500.0  # wall clock: the lock-step run's speed depends on the machine's load
 
 
 class D3CondeStackTest(unittest.TestCase):

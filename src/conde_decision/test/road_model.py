@@ -88,6 +88,7 @@ class Road:
         self.obstacles = []  # Obstacle on the route
         self.follow_reference = False  # the lateral offset follows the logic's reference (a lane change)
         self.own_offset_m = self.lateral_offset_m  # from the own lane's centre (follow_reference)
+        self.path_m = start_s  # the robot's path length (odometry) [m]: s, less inside curves when offset
         self.relock = True  # the tracker measures against the lane whose centre the robot is nearer
         self.bay_lines_s = []  # the bay-parking area's lines across the road on the right, along the route [m]
         self.bay_boxes_s = []  # near edges of boxes in its bays, along the route [m]
@@ -155,7 +156,7 @@ class Road:
         return Lane(self.lateral_offset_m, -remaining, False, 0.0, 1.0)
 
     def step(self):
-        self.logic.on_odometry(self.yaw_rad, self.s if self.odometry_distance else None)
+        self.logic.on_odometry(self.yaw_rad, self.path_m if self.odometry_distance else None)
         out = self.logic.on_lane(self._with_bay_area(self.lane()), self.t)
         self.outputs.append(out)
         self.positions.append(self.s)
@@ -171,7 +172,9 @@ class Road:
         if self.follow_reference:
             # the reference is in the own lane's frame while the logic changes lanes, else the tracked lane's
             wanted_m = out.lateral_offset_ref_m + (0.0 if self.logic.avoidance.active else self._tracked_shift_m())
-            moved_m = (wanted_m - self.own_offset_m) * min(1.0, DT_S / OFFSET_TIME_CONSTANT_S)
+            # ... plus the heading reference's drift (the lane change's ramp: the control follows it)
+            moved_m = ((wanted_m - self.own_offset_m) * min(1.0, DT_S / OFFSET_TIME_CONSTANT_S)
+                       + ds * math.tan(out.heading_ref_rad))
             self.own_offset_m += moved_m
             self.heading_error_rad = math.atan2(moved_m, ds) if ds > 0 else 0.0
         self.turned_rad = self.turned_rad + out.path_curvature_per_m * ds if out.path_curvature_per_m != 0.0 else 0.0
@@ -179,10 +182,14 @@ class Road:
             self.yaw_rad += out.path_curvature_per_m * ds
         elif self.loop is not None:
             start, end, curvature = self.loop
-            self.yaw_rad += curvature * max(0.0, min(self.s + ds, end) - max(self.s, start))
+            loop_turn_rad = curvature * max(0.0, min(self.s + ds, end) - max(self.s, start))
+            self.yaw_rad += loop_turn_rad
+            if self.follow_reference:  # beside the own lane, inside a curve the robot drives a shorter arc
+                self.path_m -= self.own_offset_m * loop_turn_rad
             if self.s + ds >= end:
                 self.loop = None
         self.s += ds
+        self.path_m += ds
         self.t += DT_S
         return out
 

@@ -4,7 +4,7 @@ import math
 
 import pytest
 
-from conde_decision.avoidance import Avoidance, AvoidanceConfig, Obstacle
+from conde_decision.avoidance import Avoidance, AvoidanceConfig, EventDelay, Obstacle
 
 C = AvoidanceConfig()
 
@@ -55,7 +55,7 @@ def test_passed_after_the_far_end_and_back_on_the_own_lane():
     assert "obstacle_passed" not in a.step(C.lane_spacing_m, True, far_m - 0.01, "other").events
     assert "obstacle_passed" in a.step(C.lane_spacing_m, True, far_m, "other").events
     a.step(0.4, True, far_m + C.change_length_m / 2, "own", heading_error_rad=-0.9)  # and back
-    back = a.step(0.0, True, far_m + C.change_length_m, "own")
+    back = a.step(0.0, True, far_m + C.change_length_m, "own", lane_index=0)  # the tracker: on the own lane
     assert back.events == ["lane_returned"] and not a.active
 
 
@@ -69,3 +69,108 @@ def test_outside_a_lane_change_the_tracker_is_passed_on():
 def test_bad_config_names_the_field():
     with pytest.raises(ValueError, match="change_length_m"):
         AvoidanceConfig(change_length_m=0.0).check()
+
+
+# --- the lane conde_tracking says it measured, the measured spacing, a lost lane ---------------------
+
+def test_the_lane_index_places_the_robot_whatever_the_dead_reckoning_says():
+    """The tracker on the other lane right after the change began (a 0.2 m offset: rounding the
+    dead-reckoned offset would take it for the own lane): lane_index 1 puts it 0.2 m left of the
+    own lane's centre; back on the own lane's lines, lane_index 0."""
+    a = Avoidance()
+    a.step(0.0, True, 0.0, "own")
+    out = a.step(0.2 - 0.8, True, 0.1, "other", heading_error_rad=0.0, lane_index=1, lane_spacing_m=0.8)
+    assert a.lane_shift_m == pytest.approx(0.8) and out.own_lane_offset_m == pytest.approx(0.2)
+    out = a.step(0.25, True, 0.2, "other", lane_index=0, lane_spacing_m=0.8)
+    assert a.lane_shift_m == 0.0 and out.own_lane_offset_m == pytest.approx(0.25)
+
+
+def test_the_other_lane_is_the_measured_spacing_away():
+    a = Avoidance()
+    a.step(0.0, True, 0.0, "own", lane_spacing_m=0.82)
+    out = a.step(0.0, True, 10.0, "other", lane_index=0, lane_spacing_m=0.82)
+    assert out.offset_ref_m == pytest.approx(0.82)
+    assert a.step(0.0, True, 10.1, "other", lane_index=1, lane_spacing_m=0.82).events == ["lane_changed"]
+
+
+def test_without_a_usable_lane_the_offset_is_dead_reckoned_from_the_odometrys_turn():
+    """The tracker republishes the last good heading (0.3 rad) when it loses the lane; the avoidance
+    takes the lane's direction from that frame's odometry instead: the robot has turned back parallel
+    to the lane (yaw 1.0 -> 0.7 rad), so the offset stays; without odometry it is held."""
+    for yaw_rad in (1.0, None):
+        a = Avoidance()
+        a.step(0.1, True, 0.0, "other", heading_error_rad=0.3, lane_index=0, yaw_rad=yaw_rad)
+        out = a.step(0.1, False, 0.5, "other", heading_error_rad=0.3, yaw_rad=None if yaw_rad is None else 0.7)
+        assert out.own_lane_offset_m == pytest.approx(0.1)
+    a = Avoidance()
+    a.step(0.1, True, 0.0, "other", heading_error_rad=0.3, lane_index=0, yaw_rad=1.0)
+    out = a.step(0.1, False, 0.5, "other", heading_error_rad=0.3, yaw_rad=1.0)  # still 0.3 rad to the lane
+    assert out.own_lane_offset_m == pytest.approx(0.1 + 0.5 * math.sin(0.3))
+
+
+def test_a_delayed_event_waits_for_a_state_that_takes_it_or_is_dropped():
+    d = EventDelay(2.0)
+    d.offer("fork_left", 10.0, taken=True)
+    assert d.due(10.1, lambda e: True) == (None, "")  # taken at once: not kept
+    d.offer("signal_stop", 10.0, taken=False)
+    assert d.due(10.1, lambda e: True) == (None, "")  # not a fork or merge
+    d.offer("merge_right", 10.0, taken=False)
+    assert d.due(11.0, lambda e: False) == (None, "")
+    assert d.due(11.5, lambda e: e == "merge_right") == ("merge_right", "")
+    assert d.due(11.6, lambda e: True) == (None, "")  # fired once
+    d.offer("fork_straight", 20.0, taken=False)
+    event, note = d.due(22.1, lambda e: False)
+    assert event is None and "fork_straight dropped" in note
+
+
+def test_the_heading_reference_is_the_ramps_direction_while_it_moves():
+    a = Avoidance()
+    a.step(0.0, True, 0.0, "own", lane_spacing_m=0.8)
+    ramp_rad = math.atan(0.8 / C.change_length_m)
+    assert a.step(0.0, True, 0.1, "other", lane_index=0).heading_ref_rad == pytest.approx(ramp_rad)
+    assert a.step(0.8, True, 0.1 + C.change_length_m, "other", lane_index=1).heading_ref_rad == 0.0  # on the lane
+    back_rad = math.atan(0.8 / C.return_length_m)  # the way back is steeper
+    assert a.step(0.0, True, 0.2 + C.change_length_m, "own", lane_index=1).heading_ref_rad == pytest.approx(-back_rad)
+    assert a.step(0.0, True, 0.2 + C.change_length_m + C.return_length_m, "own",
+                  lane_index=0).heading_ref_rad == 0.0
+
+
+def test_the_control_is_given_a_reference_near_the_robot():
+    """The ramp runs ahead of a robot that lags: the control's reference stays within
+    max_offset_error_m of the robot's offset (so that the control law does not turn it far off the
+    lane); the ramp itself (offset_ref_m) goes on."""
+    a = Avoidance()
+    a.step(0.0, True, 0.0, "own")
+    out = a.step(0.0, True, C.change_length_m / 2, "other", lane_index=0)
+    assert out.offset_ref_m == pytest.approx(C.lane_spacing_m / 2)
+    assert out.control_ref_m == pytest.approx(C.max_offset_error_m)
+    out = a.step(0.5, True, C.change_length_m, "other", lane_index=0)
+    assert out.control_ref_m == pytest.approx(0.5 + C.max_offset_error_m)
+    out = a.step(-0.04, True, C.change_length_m + 0.1, "other", lane_index=1)
+    assert out.offset_ref_m == out.control_ref_m == pytest.approx(C.lane_spacing_m)
+
+
+def test_a_blocker_beside_the_robot_is_not_ahead():
+    a = Avoidance()
+    assert a.step(0.0, True, 0.0, "own", [Obstacle("box", 0.0, -0.3, 0.3)]).events == []
+    assert a.step(0.0, True, 0.1, "own", [Obstacle("box", C.edge_seen_from_m, -0.3, 0.3)]).events == ["obstacle_ahead"]
+
+
+def test_in_a_left_curve_the_box_is_passed_after_a_shorter_drive_beside_it():
+    """On the other lane, 0.8 m inside a left curve of the own lane of radius 2.6 m (the robot's arc
+    1.8 m): a box's depth along the own lane is passed after 1.8 / 2.6 of it driven."""
+    far_by_arc = []
+    for turning in (False, True):
+        a = Avoidance()
+        a.step(0.0, True, 0.0, "own", [Obstacle("box", 1.0, -0.3, 0.3)], lane_index=0, lane_spacing_m=0.8, yaw_rad=0.0)
+        s_m = 0.0
+        while True:  # on the other lane from the start (a robot that changed lanes at once)
+            s_m += 0.01
+            out = a.step(-0.0, True, s_m, "other", lane_index=1, lane_spacing_m=0.8,
+                         yaw_rad=s_m / 1.8 if turning else 0.0)
+            if "obstacle_passed" in out.events:
+                break
+        far_by_arc.append(s_m)
+    straight_m, curve_m = far_by_arc
+    assert straight_m == pytest.approx(1.0 + C.box_depth_m + C.avoid_clearance_m, abs=0.02)
+    assert curve_m == pytest.approx(straight_m * 1.8 / 2.6, abs=0.03)

@@ -861,3 +861,18 @@ def test_the_left_turns_corner_from_the_tracked_lines_when_the_tracker_measures_
     assert fresh.corners_seen(Lane(left_line_end_m=0.5), tracked_lanes_left=0) == ()  # own lane: the centre line
     assert fresh.corners.corner_at_m == {"right": None, "left": None}
     assert fresh._tracked_lanes_left(Lane(lateral_offset_m=-0.8)) == 0  # not after a right fork crossed straight
+
+
+def test_a_fork_met_on_the_other_lane_is_taken_after_the_return():
+    """A box just before the fork (left ordered): fork_left comes while the robot passes the box, is
+    kept, and fires once follow_lane is back (lane_returned) within AvoidanceConfig.max_delay_m."""
+    road = make()
+    road.follow_reference = True
+    signal(road, LEFT)
+    road.obstacles.append(Obstacle("box", FORK_S - 1.2, -0.3, 0.3))
+    road.until("lane_returned")
+    came, fired = event_positions(road, "fork_left")
+    assert [t for out in road.outputs[:-1] for t in out.transitions if t[1] == "fork_left"] == []  # kept
+    assert road.outputs[-1].transitions[-2:] == [("avoid_return", "lane_returned", "follow_lane"),
+                                                 ("follow_lane", "fork_left", "turn_left")]
+    assert 0 < fired - came <= AvoidanceConfig().max_delay_m

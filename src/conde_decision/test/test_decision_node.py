@@ -89,3 +89,9 @@ def test_missing_state_machine_file_exits_with_the_message(core):
 def test_bad_parameter_exits_with_the_message(core):
     assert startup_error(core, cruise_speed_mps=-1.0) == (
         "parameter /conde_decision/cruise_speed_mps: must be > 0, got -1.0")
+
+
+def test_bad_avoidance_parameter_exits_with_the_message(core):
+    """AvoidanceConfig's fields are the node's parameters too."""
+    assert startup_error(core, avoid_trigger_m=0.0) == (
+        "parameter /conde_decision/avoid_trigger_m: expected a finite number > 0, got 0.0")

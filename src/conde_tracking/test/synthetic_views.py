@@ -54,3 +54,19 @@ def render(fine_map, lane, lateral_offset_m, heading_error_rad, light=1.0):
     h, w = grey.shape[0] // n, grey.shape[1] // n
     grey = grey.reshape(h, n, w, n).mean(axis=(1, 3))
     return np.repeat(np.clip(np.round(grey), 0, 255).astype(np.uint8)[..., None], 3, axis=2)
+
+
+@dataclass
+class TwoLaneRoad(StraightLane):
+    """Both lanes of a straight road: StraightLane's (the right lane, its centre at left_m = 0), its
+    dashed centre line, and the left lane beyond it, as wide, with a solid edge line as the right one."""
+
+    @property
+    def lane_spacing_m(self):
+        """The left lane's centre from the right lane's [m]."""
+        return self.lane_width_m + self.left_width_m
+
+    def paint(self, along_m, left_m):
+        left_edge_m = self.lane_width_m / 2 + self.lane_spacing_m  # inner edge of the left lane's edge line
+        far = (left_m >= left_edge_m) & (left_m <= left_edge_m + self.right_width_m)
+        return np.where(far, self.white, super().paint(along_m, left_m))

@@ -8,7 +8,8 @@ import numpy as np
 import pytest
 
 from conde_tracking.ipm import GroundMap
-from conde_tracking.lane_measurement import LaneMeasurement, LaneResult, line_mask, white_mask
+from conde_tracking.lane_measurement import (DASHED, LEFT_LANE, RIGHT_LANE, SOLID, UNKNOWN_LANE, LaneMeasurement,
+                                             LaneResult, line_mask, white_mask)
 
 import synthetic_views
 
@@ -295,3 +296,74 @@ def test_a_prior_whose_lines_are_gone_falls_back_to_a_fresh_search():
     r = lm.measure(images, prior=np.array([5.0, 0.0, 0.0]))  # bands 5 m to the left: nothing there
     assert r.confidence == 1.0 and abs(r.lateral_offset_m - float(d["lateral_offset_m"])) < 0.005
     assert lm.next_prior(LaneResult()) is None
+
+
+# --- which lane ---------------------------------------------------------------------------------
+
+@pytest.mark.parametrize("name", POSES + ["merge_right_corner_ahead", "fork_right_corner_ahead", "d4_in_tunnel",
+                                          "d4_box_ahead_1m", "d4_cones_ahead"])
+def test_in_the_right_lane_the_edge_line_is_solid_and_the_centre_line_dashed(name):
+    _, lm, images = load(name)
+    r = lm.measure(images)
+    assert (r.right_line_style, r.left_line_style, r.lane_index) == (SOLID, DASHED, RIGHT_LANE)
+
+
+@pytest.mark.parametrize("name", ["d4_box_beside", "d4_cones_beside"])
+def test_in_the_left_lane_of_a_loop_the_dashed_line_is_on_the_right(name):
+    """Rendered in the north loop's inner lane, driving the outer lane's way round (passing the box or
+    the cones): the ground truth is against the inner lane's own direction (heading 180 deg)."""
+    d, lm, images = load(name)
+    r = lm.measure(images)
+    assert (r.right_line_style, r.left_line_style, r.lane_index) == (DASHED, SOLID, LEFT_LANE)
+    assert abs(r.lateral_offset_m + float(d["lateral_offset_m"])) < 0.005
+    assert abs(math.degrees(r.heading_error_rad - (float(d["heading_error_rad"]) - math.pi))) < 3.0
+
+
+def test_the_centre_line_ending_at_a_fork_leaves_the_lane_unknown():
+    """Both lines have gaps where the left branch opens: no guess."""
+    _, lm, images = load("fork_left_corner_ahead")
+    assert lm.measure(images).lane_index == UNKNOWN_LANE
+
+
+@pytest.mark.parametrize("lane_width_m", [0.709, 0.746, 0.783])  # nominal +- 5 %
+@pytest.mark.parametrize("right_width_m, left_width_m", [(0.085, 0.036), (0.05, 0.10), (0.10, 0.05)])
+def test_either_lane_of_a_two_lane_road_is_told_apart(lane_width_m, right_width_m, left_width_m):
+    """The whole road drawn (both lanes); the robot in the right lane, then in the left one, at the
+    same offsets and headings from its lane's centre: each view names its lane, and measures the
+    offset from that lane's own centre; the lane spacing, once the line separation is learnt, is the
+    drawn one within 1 cm plus what the lines' widths (not measured) put it off: half the difference of
+    the widths from the nominal one."""
+    fine, maps = synthetic_setup()
+    road = synthetic_views.TwoLaneRoad(lane_width_m=lane_width_m, right_width_m=right_width_m,
+                                       left_width_m=left_width_m)
+    for lane_index, shift_m in ((RIGHT_LANE, 0.0), (LEFT_LANE, road.lane_spacing_m)):
+        lm = LaneMeasurement(maps)
+        for offset_m, heading_rad in VIEWS:
+            r = lm.measure([synthetic_views.render(f, road, shift_m + offset_m, heading_rad) for f in fine])
+            assert r.lane_index == lane_index, (offset_m, heading_rad)
+            assert abs(r.lateral_offset_m - offset_m) < 0.03
+            assert abs(math.degrees(r.heading_error_rad - heading_rad)) < 3.0
+        centred = [synthetic_views.render(f, road, shift_m, 0.0) for f in fine]
+        for _ in range(15):
+            r = lm.measure(centred)
+        widths_off_m = abs((left_width_m - right_width_m) - (0.036 - 0.085)) / 2
+        assert r.lane_spacing_m == pytest.approx(road.lane_spacing_m, abs=0.01 + widths_off_m)
+
+
+def test_a_lane_change_across_the_dashed_line_is_followed_frame_by_frame():
+    """The robot crosses from the right lane to the left one in 4 cm steps, each frame fitted from the
+    last one's prior: every frame names the lane it measures (the tracker may keep the right lane's
+    lines in view, or take the left lane's) and puts the robot where it is from the right lane's
+    centre (offset + lane index x lane spacing) within 3 cm; a fresh search at the end too."""
+    fine, maps = synthetic_setup()
+    road = synthetic_views.TwoLaneRoad()
+    lm = LaneMeasurement(maps)
+    prior = None
+    for y_m in np.arange(0.0, road.lane_spacing_m + 1e-9, 0.04):
+        images = [synthetic_views.render(f, road, y_m, math.radians(8.0)) for f in fine]
+        r = lm.measure(images, prior)
+        prior = lm.next_prior(r)
+        assert r.lane_index != UNKNOWN_LANE, y_m
+        assert abs(r.lateral_offset_m + r.lane_index * r.lane_spacing_m - y_m) < 0.03, y_m
+    r = LaneMeasurement(maps).measure(images)
+    assert r.lane_index == LEFT_LANE and abs(r.lateral_offset_m + r.lane_spacing_m - y_m) < 0.03

@@ -480,6 +480,7 @@ def test_measures_offset_and_heading_in_the_simulation_and_reports_timing_at_shu
             assert lane.confidence > 0, table
             assert abs(lane.lateral_offset_m - gt_lateral_m) < 0.02, table
             assert abs(wrap(lane.heading_error_rad - gt_heading_rad)) < math.radians(3.0), table
+            assert lane.lane_index == 0 and abs(lane.lane_spacing_m - 0.782) < 0.01, table  # the right lane
 
         assert not node.matches(TIMING_LINE), "a timing line before shutdown with a 3600 s period"
         assert node.stop(), f"conde_tracking did not stop on SIGINT within 60 s\n{node.output()}"

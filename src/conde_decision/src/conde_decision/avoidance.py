@@ -6,28 +6,43 @@ tracks), whether it is usable, the distance driven [m], the current state's comm
 (own | other), and the obstacles of the measurement (boxes and cones: distance ahead to their near
 edge at the floor, lateral extent at their base from the tracked lane's centre line).
 
-* The robot's own lane is the lane it drove in before the change; the other lane is its left
-  neighbour (traffic keeps right), lane_spacing_m to the left.  An obstacle blocks the own lane
-  when its base reaches into +-block_half_width_m of the own lane's centre.
-* The offset reference moves (in the own lane's frame) toward 0 (lane own) or lane_spacing_m
-  (lane other) by lane_spacing_m per change_length_m driven: a ramp, so the robot changes lanes
-  along an S of that length.
-* conde_tracking may, while the robot crosses the dashed line, start measuring against the other
-  lane (its lines look the same, mirrored), or lose a line and fit a wrong pair for a while.  So
-  during a lane change and back the robot's offset from the own lane is dead-reckoned from the
-  distance driven and the heading error (the same against either lane: they are parallel), and
-  the tracked lane is the whole number of lane spacings (lane_shift_m) that best explains the
-  tracker's offset; a tracker offset with both lines fitted, within anchor_tolerance_m of the
-  dead-reckoned one, re-anchors it.  Offset and reference go to conde_control in the own lane's frame.
-* Events: obstacle_ahead (a blocker within avoid_trigger_m), lane_changed (lane other, the
-  reference is on the other lane and the robot within settle_tolerance_m of it), obstacle_passed
-  (lane other, every blocker seen is avoid_clearance_m behind the robot: its far end is its near
-  edge plus box_depth_m or cone_depth_m; cones in a row keep moving it on), lane_returned (lane own
-  after a change, the reference back at 0 and the robot within settle_tolerance_m of it).
+* The robot's own lane is the lane it drove in before the change (the right lane: traffic keeps
+  right); the other lane is its left neighbour, lane_spacing_m to the left: the spacing
+  conde_tracking measured (from the line separation), lane_spacing_m of the config until it
+  measured one.  An obstacle blocks the own lane when its base reaches into +-block_half_width_m
+  of the own lane's centre.
+* The offset reference moves (in the own lane's frame) toward 0 (lane own) or the spacing (lane
+  other) by one spacing per change_length_m (on the way back return_length_m) driven: a ramp, so
+  the robot changes lanes along an S of that length; while it moves, the heading reference is the
+  ramp's direction (atan(spacing / change_length_m), about 28 deg), so that the control law
+  follows the ramp instead of fighting it with its heading term, and the reference given to the
+  control is at most max_offset_error_m from the robot's offset: the control law (offset gain 3.6
+  times its heading gain) then turns the robot at most about 8 deg more than the ramp.  Without
+  these the robot lagged, then turned 60-70 deg off the lane, where the lane measurement's offset
+  is tens of cm off.
+* conde_tracking says which lane it measured (lane_index: 0 the right lane, 1 the left one, -1 not
+  known): during a lane change and back, the tracked lane's centre lies lane_index spacings left
+  of the own lane's (lane_shift_m), and the robot's offset from the own lane is the tracker's plus
+  that.  Where the lane is not known (lines seen too briefly, a junction), the offset is
+  dead-reckoned from the distance driven and the heading error (the same against either lane: they
+  are parallel), the tracked lane taken as the whole number of spacings that best explains the
+  tracker's offset, and a tracker offset with both lines fitted within anchor_tolerance_m of the
+  dead-reckoned one re-anchors it.  Without a usable lane the heading error is the last usable one
+  plus the turn since then by odometry (not integrated at all without odometry).  Offset and
+  reference go to conde_control in the own lane's frame.
+* Events: obstacle_ahead (a blocker's near edge ahead, within edge_seen_from_m..avoid_trigger_m),
+  lane_changed (lane other, the reference is on the other lane and the robot within
+  settle_tolerance_m of it), obstacle_passed (lane other, every blocker seen is avoid_clearance_m
+  behind the robot along the own lane (own_arc_m): its far end is its near edge plus box_depth_m or
+  cone_depth_m; cones in a row keep moving it on), lane_returned (lane own after a change, the
+  reference back at 0 and the
+  robot within settle_tolerance_m of it).
+* Events the avoid states cannot take (a fork or a loop's end met on the other lane:
+  DELAYED_EVENTS) wait in EventDelay until a state takes them, for at most max_delay_m driven.
 """
 import math
 from dataclasses import dataclass, field, fields
-from typing import List, Optional, Sequence
+from typing import List, Optional, Sequence, Tuple
 
 BOX = "box"
 CONE = "cone"
@@ -38,13 +53,21 @@ class AvoidanceConfig:
     """Track facts and tuning; the initial values are the defaults (the decision node's parameters
     override them by name)."""
 
-    lane_spacing_m: float = 0.782  # own lane centre to the other lane's centre [m] (2 x lane_offset_m)
+    # own lane centre to the other lane's centre [m] (2 x lane_offset_m): only until conde_tracking measured it
+    lane_spacing_m: float = 0.782
     block_half_width_m: float = 0.25  # an obstacle reaching this close to the own lane's centre blocks it [m]
-    avoid_trigger_m: float = 1.1  # start the lane change when a blocker's near edge is this close [m]
-    change_length_m: float = 0.8  # the reference crosses one lane spacing over this distance driven [m]
+    # start the lane change when a blocker's near edge is this close [m] (seen up to 2 m; in a curve its
+    # lane extents from the fitted lane, 1.3 m long, are off to the curve's inside beyond about 1.8 m)
+    avoid_trigger_m: float = 1.6
+    change_length_m: float = 1.5  # the reference crosses one lane spacing over this distance driven [m]
+    # ... and back over this one: the referee allows the other lane only within 1.5 m of arc of the box
+    return_length_m: float = 1.0
+    max_offset_error_m: float = 0.04  # the reference given to the control is at most this far from the robot [m]
     # Return once the blockers' far ends are this far behind base_footprint [m]: Conde's footprint
-    # reaches 0.443 m behind it (base_footprint is near its front), plus a margin.
-    avoid_clearance_m: float = 0.55
+    # reaches 0.443 m behind it (base_footprint is near its front), but the way back is a ramp: its
+    # rear is past the far end before the robot is half way back, and turning right swings the rear
+    # away from the blocker.
+    avoid_clearance_m: float = 0.15
     # A blocker's far end is taken from sightings of its near edge at least this far ahead [m]
     # (beside the robot the cameras see only the part of it still ahead: the near edge is cut).
     edge_seen_from_m: float = 0.05
@@ -52,6 +75,7 @@ class AvoidanceConfig:
     box_depth_m: float = 0.6  # a box's length along the road (hidden behind its near face) [m]
     cone_depth_m: float = 0.15  # a cone's base diameter [m]
     settle_tolerance_m: float = 0.1  # lane_changed / lane_returned within this of the lane's centre [m]
+    max_delay_m: float = 2.0  # a delayed fork / merge event is dropped after this distance driven [m]
 
     def check(self) -> "AvoidanceConfig":
         for f in fields(self):
@@ -73,6 +97,8 @@ class Obstacle:
 class AvoidanceStep:
     events: List[str] = field(default_factory=list)
     offset_ref_m: float = 0.0  # lateral offset reference in the own lane's frame [m]
+    control_ref_m: float = 0.0  # ... for the control: within max_offset_error_m of own_lane_offset_m [m]
+    heading_ref_rad: float = 0.0  # heading reference: the ramp's direction while it moves (+ = left) [rad]
     own_lane_offset_m: float = float("nan")  # the robot from the own lane's centre (+ = left) [m]
     active: bool = False  # a lane change or the way back: control on own_lane_offset_m and offset_ref_m
 
@@ -82,9 +108,16 @@ class Avoidance:
         self.config = config.check()
         self.ref_m = 0.0  # offset reference in the own lane's frame [m]
         self.lane_shift_m = 0.0  # the tracked lane's centre from the own lane's centre (+ = left) [m]
-        self.far_end_m: Optional[float] = None  # distance driven at which the last blocker ends [m]
+        self.far_end_m: Optional[float] = None  # own_arc_m at which the last blocker ends [m]
+        # Distance along the own lane [m]: the distance driven, plus the offset from the own lane times
+        # the turn by odometry (in a left curve the robot on the other lane, inside, drives a shorter
+        # arc than the own lane's: a box's depth along the own lane is a shorter drive beside it).
+        self.own_arc_m = 0.0
+        self._last_yaw_rad: Optional[float] = None
         self.changed = False  # a lane change happened and the robot is not back yet
         self.own_offset_m: Optional[float] = None  # dead-reckoned and re-anchored, while active [m]
+        self.spacing_m = config.lane_spacing_m  # the lanes' centres apart: the last measured [m]
+        self.lane_yaw_rad: Optional[float] = None  # the lane's direction by odometry at the last usable frame [rad]
         self._last_travelled_m: Optional[float] = None
 
     @property
@@ -98,34 +131,53 @@ class Avoidance:
 
     def step(self, lane_offset_m: float, lane_ok: bool, travelled_m: float, lane_command: str,
              obstacles: Sequence[Obstacle] = (), heading_error_rad: float = 0.0,
-             both_lines: bool = True) -> AvoidanceStep:
+             both_lines: bool = True, lane_index: int = -1, lane_spacing_m: float = float("nan"),
+             yaw_rad: Optional[float] = None) -> AvoidanceStep:
         """One lane measurement: its offset [m], whether usable, the distance driven so far [m], the
-        state's command.lane, the obstacles, the heading error [rad] and whether both lines were
-        fitted (only such a measurement re-anchors the dead-reckoned offset)."""
+        state's command.lane, the obstacles, the heading error [rad], whether both lines were fitted
+        (only such a measurement re-anchors the dead-reckoned offset), which lane it measured (0
+        right, 1 left, -1 not known), the lanes' spacing it measured [m] and the robot's heading
+        by odometry [rad] (unwrapped; None: no odometry)."""
         c = self.config
         out = AvoidanceStep()
         driven_m = 0.0 if self._last_travelled_m is None else max(0.0, travelled_m - self._last_travelled_m)
         self._last_travelled_m = travelled_m
+        turned_rad = 0.0 if yaw_rad is None or self._last_yaw_rad is None else yaw_rad - self._last_yaw_rad
+        self._last_yaw_rad = yaw_rad
+        if self.own_offset_m is not None and driven_m > 0.0:
+            self.own_arc_m += max(0.0, driven_m + self.own_offset_m * turned_rad)
+        else:
+            self.own_arc_m += driven_m
+        if lane_ok and math.isfinite(lane_spacing_m) and lane_spacing_m > 0:
+            self.spacing_m = lane_spacing_m
+        spacing_m = self.spacing_m
+        heading_rad = self._heading(lane_ok, heading_error_rad, yaw_rad)
         other = lane_command == "other"
         if other:
             self.changed = True
         if self.active:
             if self.own_offset_m is None:
                 self.own_offset_m = lane_offset_m if lane_ok else 0.0
-            elif math.isfinite(heading_error_rad):
-                self.own_offset_m += driven_m * math.sin(heading_error_rad)
-            if lane_ok:
-                self.lane_shift_m = c.lane_spacing_m * round((self.own_offset_m - lane_offset_m) / c.lane_spacing_m)
+            elif heading_rad is not None:
+                self.own_offset_m += driven_m * math.sin(heading_rad)
+            if lane_ok and lane_index in (0, 1):
+                self.lane_shift_m = lane_index * spacing_m
+                self.own_offset_m = lane_offset_m + self.lane_shift_m
+            elif lane_ok:
+                self.lane_shift_m = spacing_m * round((self.own_offset_m - lane_offset_m) / spacing_m)
                 if both_lines and abs(lane_offset_m + self.lane_shift_m - self.own_offset_m) <= c.anchor_tolerance_m:
                     self.own_offset_m = lane_offset_m + self.lane_shift_m
         else:
             self.own_offset_m, self.lane_shift_m = None, 0.0
-        target_m = c.lane_spacing_m if other else 0.0
-        slew_m = c.lane_spacing_m * driven_m / c.change_length_m
+        target_m = spacing_m if other else 0.0
+        ramp_length_m = c.change_length_m if other else c.return_length_m
+        slew_m = spacing_m * driven_m / ramp_length_m
         if abs(target_m - self.ref_m) <= slew_m + 1e-9:
             self.ref_m = target_m
         else:
             self.ref_m += math.copysign(slew_m, target_m - self.ref_m)
+        if self.ref_m != target_m:
+            out.heading_ref_rad = math.copysign(math.atan(spacing_m / ramp_length_m), target_m - self.ref_m)
         if self.own_offset_m is not None:
             own_offset_m = self.own_offset_m
         else:
@@ -135,21 +187,68 @@ class Avoidance:
         blocking = self.blockers(obstacles)
         for o in blocking:
             if (other or o.near_x_m <= c.avoid_trigger_m) and o.near_x_m >= c.edge_seen_from_m:
-                end_m = travelled_m + o.near_x_m + (c.box_depth_m if o.kind == BOX else c.cone_depth_m)
+                end_m = self.own_arc_m + o.near_x_m + (c.box_depth_m if o.kind == BOX else c.cone_depth_m)
                 self.far_end_m = end_m if self.far_end_m is None else max(self.far_end_m, end_m)
-        if any(o.near_x_m <= c.avoid_trigger_m for o in blocking):
+        # ahead: its near edge seen in front (beside the robot the cameras see the rest of a box it passes)
+        if any(c.edge_seen_from_m <= o.near_x_m <= c.avoid_trigger_m for o in blocking):
             out.events.append("obstacle_ahead")
         settled = (math.isfinite(own_offset_m) and abs(own_offset_m - target_m) <= c.settle_tolerance_m
                    and self.ref_m == target_m)
         if other and settled:
             out.events.append("lane_changed")
-        if other and self.far_end_m is not None and travelled_m >= self.far_end_m + c.avoid_clearance_m:
+        if other and self.far_end_m is not None and self.own_arc_m >= self.far_end_m + c.avoid_clearance_m:
             out.events.append("obstacle_passed")
             self.far_end_m = None
         if not other and self.changed and settled:
             out.events.append("lane_returned")
             self.changed = False
             self.far_end_m = None
-        out.offset_ref_m = self.ref_m
+        out.offset_ref_m = out.control_ref_m = self.ref_m
+        if self.active and math.isfinite(own_offset_m):
+            limit_m = c.max_offset_error_m
+            out.control_ref_m = own_offset_m + min(max(self.ref_m - own_offset_m, -limit_m), limit_m)
         out.active = self.active
         return out
+
+    def _heading(self, lane_ok: bool, heading_error_rad: float, yaw_rad: Optional[float]) -> Optional[float]:
+        """The heading error to dead-reckon with [rad]: the measured one when the lane is usable (the
+        lane's direction by odometry kept), else that direction's difference to the odometry's
+        heading; None when neither is known."""
+        if lane_ok and math.isfinite(heading_error_rad):
+            self.lane_yaw_rad = None if yaw_rad is None else yaw_rad - heading_error_rad
+            return heading_error_rad
+        if yaw_rad is None or self.lane_yaw_rad is None:
+            return None
+        return yaw_rad - self.lane_yaw_rad
+
+
+# Events that the avoid states do not take: they wait until a state does (EventDelay).
+DELAYED_EVENTS = ("fork_left", "fork_right", "fork_straight", "merge_left", "merge_right")
+
+
+class EventDelay:
+    """Keeps a fork or merge event that came while the state could not take it (the robot on the
+    other lane), for at most max_delay_m driven [m]: offer() it when it comes, due() at every step."""
+
+    def __init__(self, max_delay_m: float):
+        self.max_delay_m = max_delay_m
+        self.event: Optional[str] = None
+        self.since_m = 0.0  # travelled_m when it came [m]
+
+    def offer(self, event: str, travelled_m: float, taken: bool) -> None:
+        """An event produced at travelled_m [m]; taken: the current state takes it (or need not)."""
+        if event in DELAYED_EVENTS and not taken:
+            self.event, self.since_m = event, travelled_m
+
+    def due(self, travelled_m: float, takes) -> Tuple[Optional[str], str]:
+        """(the kept event, if takes(event) now, else None; a note when it was dropped as too old)."""
+        if self.event is None:
+            return None, ""
+        event = self.event
+        if takes(event):
+            self.event = None
+            return event, ""
+        if travelled_m - self.since_m > self.max_delay_m:
+            self.event = None
+            return None, "%s dropped: no state took it within %.1f m" % (event, self.max_delay_m)
+        return None, ""

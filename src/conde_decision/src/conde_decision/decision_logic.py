@@ -95,7 +95,7 @@ from dataclasses import dataclass, field, fields
 from typing import List, Optional, Tuple
 
 from conde_common.panel_signals import NAMES_BY_CODE, SIGNAL_CODES
-from conde_decision.avoidance import Avoidance, AvoidanceConfig, Obstacle
+from conde_decision.avoidance import Avoidance, AvoidanceConfig, EventDelay, Obstacle
 from conde_decision.crosswalk import CrosswalkTracker
 from conde_decision.fork_navigator import ForkNavigator
 from conde_decision.junction_corners import JunctionCorners
@@ -247,6 +247,7 @@ class DecisionLogic:
                  avoidance_config: AvoidanceConfig = AvoidanceConfig()):
         self.config = config.check()
         self.avoidance = Avoidance(avoidance_config)  # obstacles and the working zone: command.lane
+        self.delayed = EventDelay(avoidance_config.max_delay_m)  # a fork / merge met on the other lane
         self.machine = StateMachine(spec)
         self.road = RoadDistance()
         self.crosswalk = CrosswalkTracker(config.crosswalk_length_m, config.crosswalk_zone_m,
@@ -345,9 +346,15 @@ class DecisionLogic:
         lane_lost = self.lane_bad_since_s is not None and time_s - self.lane_bad_since_s >= c.lane_lost_timeout_s
         avoid = self.avoidance.step(measured_offset_m, lane_ok and not blind_arc, self.road.travelled_m,
                                     command.lane, obstacles_of(lane), lane.heading_error_rad,
-                                    lane.confidence >= 1.0)
+                                    lane.confidence >= 1.0, getattr(lane, "lane_index", -1),
+                                    getattr(lane, "lane_spacing_m", float("nan")), self.road.yaw_rad)
         for event in avoid.events:
             self._fire(event)
+        delayed, note = self.delayed.due(self.road.travelled_m, self._takes)
+        if note:
+            self.notes.append(note)
+        if delayed is not None:
+            self._fire(delayed)
         command = self.machine.command
 
         v_mps = self.speed.step(command.speed, self.crosswalk.to_near_edge_m, dt_s, hold=lane_lost)
@@ -361,8 +368,8 @@ class DecisionLogic:
             curvature_per_m = side / command.radius_m if command.radius_m is not None else 0.0
         else:
             bias = side * self._branch_shape(command)
-        offset_ref_m = bias * c.branch_offset_m + avoid.offset_ref_m
-        heading_ref_rad = bias * c.branch_heading_rad
+        offset_ref_m = bias * c.branch_offset_m + avoid.control_ref_m
+        heading_ref_rad = bias * c.branch_heading_rad + avoid.heading_ref_rad
         offset_m = measured_offset_m if lane_ok and not blind_arc else offset_ref_m
         if avoid.active and math.isfinite(avoid.own_lane_offset_m):  # a lane change: the own lane's frame
             offset_m = avoid.own_lane_offset_m
@@ -372,8 +379,13 @@ class DecisionLogic:
 
     # --- internals ------------------------------------------------------------------------------
 
+    def _takes(self, event: str) -> bool:
+        return event in self.machine.spec.states[self.state].transitions
+
     def _fire(self, event: str) -> None:
         self._events.append(event)
+        # kept only when the avoidance is why the state cannot take it
+        self.delayed.offer(event, self.road.travelled_m, self._takes(event) or not self.avoidance.active)
         before = self.state
         if self.machine.handle(event) is not None:
             self._transitions.append((before, event, self.state))

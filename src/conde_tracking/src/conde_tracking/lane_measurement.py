@@ -19,7 +19,14 @@ Pipeline per image pair:
   4. line ends: where a line of the fit stops although the cameras see the ground of its band
      for end_gap_m further (at a junction the edge line turns away, the centre line ends), its
      distance ahead; the decision starts the junction's turns from it;
-  5. crosswalk: along the lane, in its interior (between the lines), the share of white
+  5. which lane: a line whose band, seen by the cameras between its first and last point, has
+     gaps (dashed_gap_share of it without the line) is the dashed centre line, one without (at
+     most solid_gap_share) a solid edge line.  The fit's model puts the solid line on the right:
+     the robot in the left lane (driving on the other side of the dashed line, e.g. passing an
+     obstacle) sees the same pair mirrored, and the fit takes the dashed line for its right line.
+     Then lane_index is 1 and the offset is measured from that lane's own centre (the lanes'
+     centres lie left_line_offset_m on either side of the dashed line);
+  6. crosswalk: along the lane, in its interior (between the lines), the share of white
      pixels per distance bin: a bar across the whole lane (share >= bar_share) followed by
      the stripes (share >= stripe_share), with observed black lane before the bar, is a
      crosswalk; its distance is the near edge of the bar.
@@ -73,6 +80,14 @@ class LaneConfig:
     stripe_share: float = 0.1  # mean share of white behind the bar (the stripes)
     stripes_m: float = 0.2  # length behind the bar where the stripes are looked for [m]
     min_black_before_m: float = 0.06  # observed black lane before the bar [m]
+    # Which line is dashed (the track: dashes 0.2 m, gaps 0.148 m, +-5 %): along a found line, bins
+    # of style_bin_m where the ground within style_core_m of its centre is seen; the share of them
+    # without a point of the line, between its first and last point seen over style_span_m at least.
+    style_bin_m: float = 0.02  # [m]
+    style_core_m: float = 0.012  # [m]
+    min_style_span_m: float = 0.45  # [m] (more than a dash and a gap)
+    dashed_gap_share: float = 0.2  # at least this share without the line: dashed (nominal about 0.4)
+    solid_gap_share: float = 0.08  # at most this share: solid
 
 
 @dataclass
@@ -81,6 +96,14 @@ class LaneFit:
     coeffs: np.ndarray
     right_found: bool
     left_found: bool
+
+
+SOLID = "solid"
+DASHED = "dashed"
+UNKNOWN = ""
+RIGHT_LANE = 0  # LaneResult.lane_index: the dashed line on the robot's left (traffic keeps right)
+LEFT_LANE = 1  # the dashed line on the robot's right: the other lane
+UNKNOWN_LANE = -1
 
 
 @dataclass
@@ -96,6 +119,13 @@ class LaneResult:
     # centre line): at a junction's left turn it turns left at the corner where the turn's arc begins
     far_left_line_end_m: float = float("nan")
     fit: Optional[LaneFit] = None
+    right_line_style: str = UNKNOWN  # SOLID, DASHED or UNKNOWN: the fit's right line
+    left_line_style: str = UNKNOWN
+    lane_index: int = UNKNOWN_LANE  # RIGHT_LANE, LEFT_LANE or UNKNOWN_LANE: the lane measured
+    # The lane measured: centre y = c0 + c1 x + c2 x^2 in base_footprint [m] (the fit's, shifted to
+    # the left lane's own centre when lane_index is LEFT_LANE); None without a fit.
+    centre_coeffs: Optional[np.ndarray] = None
+    lane_spacing_m: float = float("nan")  # the two lanes' centres apart, from the measured line separation [m]
     right_points: np.ndarray = field(default_factory=lambda: np.zeros((0, 2)))
     left_points: np.ndarray = field(default_factory=lambda: np.zeros((0, 2)))
 
@@ -335,16 +365,24 @@ class LaneMeasurement:
             fit, rpts, lpts = self.fit_lane(pts)
         if fit is None:
             return LaneResult()
-        c0, c1 = fit.coeffs[0], fit.coeffs[1]
+        right_m, left_m = self.line_offsets(self.line_separation_m)
+        right_style = self.line_style(fit.coeffs, right_m, rpts, everything)
+        left_style = self.line_style(fit.coeffs, left_m, lpts, everything)
+        lane_index = lane_index_of(right_style, left_style)
+        centre = fit.coeffs.copy()
+        if lane_index == LEFT_LANE:
+            # the dashed line is the fit's right line: the left lane's centre lies left_m beyond it
+            centre[0] += right_m + left_m
+        c0, c1 = centre[0], centre[1]
         heading = -math.atan(c1)
         lateral = -c0 * math.cos(heading)
         seen, dist = self.find_crosswalk(fit.coeffs, everything, flags)
         conf = 0.5 * fit.right_found + 0.5 * fit.left_found
-        right_m, left_m = self.line_offsets(self.line_separation_m)
         right_end = self.line_end(fit.coeffs, right_m, rpts, everything)
         left_end = self.line_end(fit.coeffs, left_m, lpts, everything)
         far_end = self.far_left_line_end(fit, pts, everything)
-        return LaneResult(lateral, heading, conf, seen, dist, right_end, left_end, far_end, fit, rpts, lpts)
+        return LaneResult(lateral, heading, conf, seen, dist, right_end, left_end, far_end, fit, right_style,
+                          left_style, lane_index, centre, 2.0 * left_m, rpts, lpts)
 
     def far_left_line_end(self, fit: LaneFit, pts, everything) -> float:
         """x [m] where the other lane's outer (left) edge line ends ahead, or NaN (runs on, not
@@ -358,3 +396,41 @@ class LaneMeasurement:
         band = ((x >= c.fit_range_m[0]) & (x <= c.fit_range_m[1])
                 & (np.abs(pts[:, 1] - _line_positions(fit.coeffs, x, far_m)) < c.line_window_m))
         return self.line_end(fit.coeffs, far_m, pts[band], everything)
+
+    def line_style(self, coeffs, offset_m, line_pts, everything) -> str:
+        """SOLID, DASHED or UNKNOWN for the line offset_m from the centre curve (its points line_pts
+        of the fit): the share of the seen stretches of its centre between its first and last
+        point that hold none of its points (see LaneConfig's style_* values)."""
+        c = self.config
+        if not self._line_found(line_pts):
+            return UNKNOWN
+        first_m, last_m = float(line_pts[:, 0].min()), float(line_pts[:, 0].max())
+        if last_m - first_m < c.min_style_span_m:
+            return UNKNOWN
+        x = everything[:, 0]
+        near = (x >= first_m) & (x <= last_m)
+        core = near.copy()
+        core[near] = np.abs(everything[near, 1] - _line_positions(coeffs, x[near], offset_m)) < c.style_core_m
+        edges = np.arange(first_m, last_m + c.style_bin_m, c.style_bin_m)
+        seen = np.histogram(x[core], edges)[0] > 0
+        holding = np.histogram(line_pts[:, 0], edges)[0] > 0
+        if seen.sum() * c.style_bin_m < c.min_style_span_m / 2:
+            return UNKNOWN
+        gap_share = np.count_nonzero(seen & ~holding) / np.count_nonzero(seen)
+        if gap_share >= c.dashed_gap_share:
+            return DASHED
+        if gap_share <= c.solid_gap_share:
+            return SOLID
+        return UNKNOWN
+
+
+def lane_index_of(right_style: str, left_style: str) -> int:
+    """The lane measured from the styles of the fit's right and left lines: RIGHT_LANE when the right
+    line is solid or the left one dashed, LEFT_LANE when the right line is dashed or the left one
+    solid, UNKNOWN_LANE when they disagree (both solid, both dashed) or neither is known."""
+    votes = set()
+    if right_style:
+        votes.add(RIGHT_LANE if right_style == SOLID else LEFT_LANE)
+    if left_style:
+        votes.add(RIGHT_LANE if left_style == DASHED else LEFT_LANE)
+    return votes.pop() if len(votes) == 1 else UNKNOWN_LANE
