@@ -37,7 +37,9 @@ CLIENT = textwrap.dedent("""
         'spawn_again': answer(spawn('box_bot', urdf, '', Pose(), '')),
         'spawn_bad_urdf': answer(spawn('broken', '<robot name="broken"><link', '', Pose(), '')),
         'spawn_bad_frame': answer(spawn('other', urdf, '', Pose(), 'nowhere')),
-        'spawn_sdf': answer(srv('spawn_sdf_model', SpawnModel)('s', '<sdf/>', '', Pose(), '')),
+        'spawn_sdf': answer(srv('spawn_sdf_model', SpawnModel)('s', '<model name="s"/>', '', Pose(), '')),
+        'spawn_sdf_taken': answer(srv('spawn_sdf_model', SpawnModel)(
+            'box_bot', '<sdf version="1.6"><model name="m"><static>true</static></model></sdf>', '', Pose(), '')),
         'get_unknown': answer(srv('get_model_state', GetModelState)('nope', '')),
         'get_bad_frame': answer(srv('get_model_state', GetModelState)('box_bot', 'nope::base')),
         'set_unknown': answer(srv('set_model_state', SetModelState)(ModelState(model_name='nope'))),
@@ -86,12 +88,13 @@ def test_spawn_and_delete(answers):
 
 
 def test_spawn_refuses_an_existing_name_bad_urdf_and_sdf(answers):
-    assert answers["spawn_again"] == [False, "SpawnModel: Failure - model name box_bot already exists."]
+    assert answers["spawn_again"] == [False, "SpawnModel: Failure - entity already exists."]
+    assert answers["spawn_sdf_taken"] == [False, "SpawnModel: Failure - entity already exists."]
     ok, message = answers["spawn_bad_urdf"]
     assert not ok and message.startswith("SpawnModel: Failure - spawn_urdf_model 'broken'"), message
     assert answers["spawn_bad_frame"] == [False, "SpawnModel: Failure - reference_frame [nowhere] does not exist"]
     assert answers["spawn_sdf"] == [
-        False, "SpawnModel: Failure - SDF models are not supported yet; spawn a URDF with spawn_urdf_model"]
+        False, "SpawnModel: Failure - spawn_sdf_model 's': the XML's root element is <model>, not <sdf>"]
 
 
 def test_delete_of_an_unknown_model(answers):
@@ -126,10 +129,10 @@ def test_spawn_model_script_names_what_is_wrong(master):
     assert code == 1 and "spawn_model: parameter /no_such_param is not set" in output, output
     code, output = spawn_model(master, "-urdf", "-file", "/no/such.urdf", "-model", "x")
     assert code == 1 and "spawn_model: cannot read /no/such.urdf: No such file or directory" in output, output
-    code, output = spawn_model(master, "-database", "table", "-model", "x")
-    assert code == 2 and "-database: models from Gazebo's database are not supported" in output, output
+    code, output = spawn_model(master, "-urdf", "-database", "table", "-model", "x")
+    assert code == 2 and "-database: the model path holds SDF models" in output, output
     code, output = spawn_model(master, "-urdf", "-model", "x")
-    assert code == 2 and "one of -param or -file is required" in output, output
+    assert code == 2 and "one of -param, -file or -database is required" in output, output
     rosgraph.Master("/gazebo_bad_input_test", master_uri=master["ROS_MASTER_URI"]).setParam("/some_urdf", GOOD_URDF)
     code, output = spawn_model(master, "-urdf", "-param", "some_urdf", "-model", "x", "-gazebo_namespace", "/nowhere",
                                "-timeout", "0.5")

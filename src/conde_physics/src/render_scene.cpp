@@ -184,6 +184,28 @@ double RenderScene::lightAt(const Vec3& p) const {
   return light;
 }
 
+RenderObject renderObjectOf(const WorldObject& w) {
+  RenderObject o;
+  o.shape = w.shape == ObjectShape::kBox        ? RenderShape::kBox
+            : w.shape == ObjectShape::kCylinder ? RenderShape::kCylinder
+            : w.shape == ObjectShape::kCone     ? RenderShape::kCone
+            : w.shape == ObjectShape::kSphere   ? RenderShape::kSphere
+                                                : RenderShape::kMesh;
+  if (w.shape == ObjectShape::kMesh) {
+    o.mesh = w.mesh_bvh;
+    if (w.mesh && !w.mesh->triangle_rgb.empty())
+      o.mesh_triangle_rgb = std::shared_ptr<const std::vector<Vec3>>(w.mesh, &w.mesh->triangle_rgb);
+  }
+  o.hidden = !w.visible;  // kept, so that object i of the world stays object i of the scene
+  o.size_m = w.size_m;
+  o.radius_m = w.radius_m;
+  o.length_m = w.length_m;
+  o.pose = w.pose;
+  o.color_rgb = w.color_rgb;
+  if (!w.texture_path.empty()) o.face_image = loadRgbImage(w.texture_path);
+  return o;
+}
+
 RenderScene renderSceneFromWorld(const WorldDescription& world) {
   RenderScene scene;
   const GroundSpec& g = world.ground;
@@ -192,27 +214,7 @@ RenderScene renderSceneFromWorld(const WorldDescription& world) {
   } else {
     scene.setGround(loadRgbImage(g.texture_path), g.x_min_m, g.x_max_m, g.y_min_m, g.y_max_m, g.color_rgb);
   }
-  for (const WorldObject& w : world.objects) {
-    RenderObject o;
-    o.shape = w.shape == ObjectShape::kBox        ? RenderShape::kBox
-              : w.shape == ObjectShape::kCylinder ? RenderShape::kCylinder
-              : w.shape == ObjectShape::kCone     ? RenderShape::kCone
-              : w.shape == ObjectShape::kSphere   ? RenderShape::kSphere
-                                                  : RenderShape::kMesh;
-    if (w.shape == ObjectShape::kMesh) {
-      o.mesh = w.mesh_bvh;
-      if (w.mesh && !w.mesh->triangle_rgb.empty())
-        o.mesh_triangle_rgb = std::shared_ptr<const std::vector<Vec3>>(w.mesh, &w.mesh->triangle_rgb);
-    }
-    o.hidden = !w.visible;  // kept, so that object i of the world stays object i of the scene
-    o.size_m = w.size_m;
-    o.radius_m = w.radius_m;
-    o.length_m = w.length_m;
-    o.pose = w.pose;
-    o.color_rgb = w.color_rgb;
-    if (!w.texture_path.empty()) o.face_image = loadRgbImage(w.texture_path);
-    scene.addObject(o);
-  }
+  for (const WorldObject& w : world.objects) scene.addObject(renderObjectOf(w));
   for (const LightRegion& region : world.light_regions) scene.addLightRegion(region);
   return scene;
 }

@@ -30,7 +30,8 @@ Pose resolved(const sdf::SemanticPose& semantic) {
 }
 
 std::string errorText(const sdf::Error& e, const std::string& path) {
-  std::string where = e.FilePath() ? *e.FilePath() : path;
+  // SDF given as a string has a placeholder such as "<data-string>" as its file.
+  std::string where = e.FilePath() && e.FilePath()->compare(0, 1, "<") != 0 ? *e.FilePath() : path;
   if (e.LineNumber()) where += ":" + std::to_string(*e.LineNumber());
   std::string message = e.Message();
   while (!message.empty() && (message.back() == '\n' || message.back() == ' ')) message.pop_back();
@@ -76,24 +77,23 @@ std::vector<std::string> envPath(const char* variable) {
 
 class SdfConverter {
  public:
-  SdfConverter(const std::string& path, const PackageResolver& packages)
-      : path_(path), dir_(fs::absolute(path).lexically_normal().parent_path().string()), packages_(packages) {
+  // `source`: the SDF file, or a name for SDF given as a string; `dir`: the folder that
+  // relative mesh paths (and, for a file, model:// URIs) are resolved against.
+  SdfConverter(const std::string& source, const std::string& dir, const PackageResolver& packages)
+      : path_(source), dir_(dir), packages_(packages) {
     model_dirs_ = envPath("GAZEBO_MODEL_PATH");
-    model_dirs_.push_back(dir_);
-    model_dirs_.push_back(dir_ + "/models");
   }
 
-  WorldDescription load() {
-    sdf::ParserConfig config;
-    for (const std::string& dir : model_dirs_) config.AddURIPath("model://", dir);
-    config.SetFindCallback([this](const std::string& uri) { return findModelUri(uri); });
+  WorldDescription loadWorld() {
+    model_dirs_.push_back(dir_);
+    model_dirs_.push_back(dir_ + "/models");
     // libsdformat reports XML syntax errors only as "Unable to read file" (the line goes to its
     // console): tinyxml2 finds the line first.
     tinyxml2::XMLDocument xml;
     if (xml.LoadFile(path_.c_str()) != tinyxml2::XML_SUCCESS)
       throw WorldFileError(path_ + ":" + std::to_string(xml.ErrorLineNum()) + ": XML error: " + xml.ErrorStr());
     sdf::Root root;
-    const sdf::Errors errors = root.Load(path_, config);
+    const sdf::Errors errors = root.Load(path_, parserConfig());
     if (!errors.empty()) throw WorldFileError(errorText(errors.front(), path_));
     if (root.WorldCount() == 0) throw WorldFileError(path_ + ": no <world> in this SDF file");
     const sdf::World& w = *root.WorldByIndex(0);
@@ -117,12 +117,46 @@ class SdfConverter {
       if (used.count(e->GetName()) == 0 && e->GetExplicitlySetInFile())
         note("<" + e->GetName() + "> accepted and ignored");
     }
-    for (uint64_t i = 0; i < w.ModelCount(); ++i) addModel(*w.ModelByIndex(i), Pose(), "");
+    for (uint64_t i = 0; i < w.ModelCount(); ++i) {
+      const sdf::Model& model = *w.ModelByIndex(i);
+      addModel(model, Pose(), model.Name());
+    }
     return world_;
+  }
+
+  SdfModelObjects loadModel(const std::string& sdf_xml, const std::string& model_name) {
+    tinyxml2::XMLDocument xml;
+    if (xml.Parse(sdf_xml.c_str()) != tinyxml2::XML_SUCCESS)
+      throw WorldFileError(path_ + ":" + std::to_string(xml.ErrorLineNum()) + ": XML error: " + xml.ErrorStr());
+    if (xml.RootElement() == nullptr || std::string(xml.RootElement()->Name()) != "sdf")
+      throw WorldFileError(path_ + ": the XML's root element is <" +
+                           (xml.RootElement() ? xml.RootElement()->Name() : "") + ">, not <sdf>");
+    sdf::Root root;
+    const sdf::Errors errors = root.LoadSdfString(sdf_xml, parserConfig());
+    if (!errors.empty()) throw WorldFileError(errorText(errors.front(), path_));
+    const sdf::Model* model = root.Model();
+    if (model == nullptr && root.WorldCount() == 1 && root.WorldByIndex(0)->ModelCount() == 1)
+      model = root.WorldByIndex(0)->ModelByIndex(0);  // <world><include>model://NAME</include></world>
+    if (model == nullptr)
+      throw WorldFileError(path_ + ": no <model> to spawn (expected <sdf><model>, or <sdf><world> with one model)");
+    dynamic_object_name_ = model_name;
+    addModel(*model, Pose(), model_name);
+    SdfModelObjects result;
+    result.objects = world_.objects;
+    result.is_static = model->Static();
+    result.notes = world_.notes;
+    return result;
   }
 
  private:
   void note(const std::string& text) { world_.notes.push_back(path_ + ": " + text); }
+
+  sdf::ParserConfig parserConfig() {
+    sdf::ParserConfig config;
+    for (const std::string& dir : model_dirs_) config.AddURIPath("model://", dir);
+    config.SetFindCallback([this](const std::string& uri) { return findModelUri(uri); });
+    return config;
+  }
 
   // model://<name>/<rest> through GAZEBO_MODEL_PATH and the world's folder, then as
   // <package path>/<rest>; "" when nothing holds it.
@@ -238,11 +272,18 @@ class SdfConverter {
     }
   }
 
-  void addModel(const sdf::Model& model, const Pose& parent, const std::string& prefix) {
+  // `name`: the model's scoped name ("outer::inner" for nested models).
+  void addModel(const sdf::Model& model, const Pose& parent, const std::string& name) {
     const Pose model_pose = parent * resolved(model.SemanticPose());
-    const std::string name = prefix + model.Name();
     const std::string where = path_ + ": model '" + name + "'";
-    for (uint64_t i = 0; i < model.ModelCount(); ++i) addModel(*model.ModelByIndex(i), model_pose, name + "::");
+    for (uint64_t i = 0; i < model.ModelCount(); ++i) {
+      const sdf::Model& nested = *model.ModelByIndex(i);
+      addModel(nested, model_pose, name + "::" + nested.Name());
+    }
+    for (sdf::ElementPtr e = model.Element()->GetFirstElement(); e; e = e->GetNextElement()) {
+      if (e->GetName() == "plugin")
+        note("model '" + name + "': <plugin> '" + e->Get<std::string>("filename") + "' accepted and ignored");
+    }
     if (model.JointCount() > 0) {
       if (!model.Static())
         throw WorldFileError(where + ": joints in dynamic models are not supported (spawn it as a URDF robot)");
@@ -305,7 +346,7 @@ class SdfConverter {
                            std::to_string(link.CollisionCount()) + ")");
     const sdf::Collision& collision = *link.CollisionByIndex(0);
     WorldObject o;
-    o.name = objectName(link_name);
+    o.name = dynamic_object_name_.empty() ? objectName(link_name) : dynamic_object_name_;
     o.pose = link_pose * resolved(collision.SemanticPose());
     o.is_static = false;
     o.mass_kg = link.Inertial().MassMatrix().Mass();
@@ -324,6 +365,7 @@ class SdfConverter {
   std::vector<std::string> model_dirs_;
   WorldDescription world_;
   std::set<std::string> used_names_;
+  std::string dynamic_object_name_;  // "": dynamic objects are named after their link
   bool ground_noted_ = false;
   struct LoadedMesh {
     std::shared_ptr<const MeshData> data;
@@ -336,7 +378,12 @@ class SdfConverter {
 
 WorldDescription loadSdfWorld(const std::string& path, const PackageResolver& packages) {
   if (!fs::is_regular_file(path)) throw WorldFileError("cannot open world file '" + path + "': no such file");
-  return SdfConverter(path, packages).load();
+  return SdfConverter(path, fs::absolute(path).lexically_normal().parent_path().string(), packages).loadWorld();
+}
+
+SdfModelObjects loadSdfModel(const std::string& sdf_xml, const std::string& source, const std::string& model_name,
+                             const PackageResolver& packages) {
+  return SdfConverter(source, fs::current_path().string(), packages).loadModel(sdf_xml, model_name);
 }
 
 }  // namespace conde_physics

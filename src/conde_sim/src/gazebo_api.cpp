@@ -6,6 +6,7 @@
 #include <cmath>
 #include <exception>
 
+#include "conde_physics/sdf_world.h"
 #include "conde_sim/ros_conversions.h"
 
 namespace conde_sim {
@@ -422,47 +423,86 @@ bool GazeboApi::onClearBodyWrenches(gazebo_msgs::BodyRequest::Request& req, gaze
 
 // --- models added and removed ---
 
+bool GazeboApi::spawnAllowed(const gazebo_msgs::SpawnModel::Request& req, cp::Pose& spawn_pose,
+                             std::string& message) const {
+  Frame frame;
+  if (req.model_name.empty()) {
+    message = "SpawnModel: Failure - model_name is empty";
+    return false;
+  }
+  if (sim_.findModel(req.model_name).valid() || static_models_.count(req.model_name) > 0) {
+    message = "SpawnModel: Failure - entity already exists.";  // Gazebo's words
+    return false;
+  }
+  if (!finite(req.initial_pose)) {
+    message = "SpawnModel: Failure - initial_pose must be finite";
+    return false;
+  }
+  if (!frameState(req.reference_frame, frame)) {
+    message = "SpawnModel: Failure - reference_frame [" + req.reference_frame + "] does not exist";
+    return false;
+  }
+  spawn_pose = frame.pose * fromMsg(req.initial_pose);
+  return true;
+}
+
+void GazeboApi::spawnUrdf(const gazebo_msgs::SpawnModel::Request& req, gazebo_msgs::SpawnModel::Response& res) {
+  res.success = false;
+  RobotSpec spec;
+  if (!spawnAllowed(req, spec.spawn_pose, res.status_message)) return;
+  spec.name = req.model_name;
+  spec.ros_namespace = req.robot_namespace == "/" ? "" : req.robot_namespace;
+  spec.source = "spawn_urdf_model '" + req.model_name + "'";
+  spec.urdf_xml = req.model_xml;
+  try {
+    host_.spawnRobot(spec);
+  } catch (const std::exception& e) {
+    res.status_message = std::string("SpawnModel: Failure - ") + e.what();
+    return;
+  }
+  res.success = true;
+  res.status_message = "SpawnModel: Successfully spawned entity";
+}
+
 bool GazeboApi::onSpawnUrdf(gazebo_msgs::SpawnModel::Request& req, gazebo_msgs::SpawnModel::Response& res) {
+  host_.runOnLoop([&] { spawnUrdf(req, res); });
+  return true;
+}
+
+bool GazeboApi::onSpawnSdf(gazebo_msgs::SpawnModel::Request& req, gazebo_msgs::SpawnModel::Response& res) {
+  res.success = false;
+  // Gazebo's spawn_sdf_model takes URDF as well.
+  const size_t root = req.model_xml.find_first_not_of(" \t\r\n");
+  if (root != std::string::npos && req.model_xml.compare(root, 6, "<robot") == 0) {
+    host_.runOnLoop([&] { spawnUrdf(req, res); });
+    return true;
+  }
+  // Parsed here, on the service thread (meshes may take a while), in the model's frame.
+  cp::SdfModelObjects model;
+  try {
+    model =
+        cp::loadSdfModel(req.model_xml, "spawn_sdf_model '" + req.model_name + "'", req.model_name, sim_.packages());
+  } catch (const std::exception& e) {
+    res.status_message = std::string("SpawnModel: Failure - ") + e.what();
+    return true;
+  }
   host_.runOnLoop([&] {
-    res.success = false;
-    Frame frame;
-    if (req.model_name.empty()) {
-      res.status_message = "SpawnModel: Failure - model_name is empty";
-      return;
-    }
-    if (sim_.findModel(req.model_name).valid()) {
-      res.status_message = "SpawnModel: Failure - model name " + req.model_name + " already exists.";
-      return;
-    }
-    if (!finite(req.initial_pose)) {
-      res.status_message = "SpawnModel: Failure - initial_pose must be finite";
-      return;
-    }
-    if (!frameState(req.reference_frame, frame)) {
-      res.status_message = "SpawnModel: Failure - reference_frame [" + req.reference_frame + "] does not exist";
-      return;
-    }
-    RobotSpec spec;
-    spec.name = req.model_name;
-    spec.ros_namespace = req.robot_namespace == "/" ? "" : req.robot_namespace;
-    spec.source = "spawn_urdf_model '" + req.model_name + "'";
-    spec.urdf_xml = req.model_xml;
-    spec.spawn_pose = frame.pose * fromMsg(req.initial_pose);
+    cp::Pose spawn_pose;
+    if (!spawnAllowed(req, spawn_pose, res.status_message)) return;
+    for (cp::WorldObject& object : model.objects) object.pose = spawn_pose * object.pose;
     try {
-      host_.spawnRobot(spec);
+      sim_.addObjects(model.objects);
     } catch (const std::exception& e) {
       res.status_message = std::string("SpawnModel: Failure - ") + e.what();
       return;
     }
+    if (model.is_static) static_models_.insert(req.model_name);
     res.success = true;
     res.status_message = "SpawnModel: Successfully spawned entity";
   });
-  return true;
-}
-
-bool GazeboApi::onSpawnSdf(gazebo_msgs::SpawnModel::Request&, gazebo_msgs::SpawnModel::Response& res) {
-  res.success = false;
-  res.status_message = "SpawnModel: Failure - SDF models are not supported yet; spawn a URDF with spawn_urdf_model";
+  if (res.success) {
+    for (const std::string& note : model.notes) ROS_INFO("%s", note.c_str());
+  }
   return true;
 }
 

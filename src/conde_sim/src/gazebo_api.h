@@ -5,7 +5,8 @@
 // Services: get_model_state, set_model_state, get_link_state, set_link_state,
 //   get_world_properties, get_model_properties, get_physics_properties, reset_simulation,
 //   reset_world, pause_physics, unpause_physics, apply_body_wrench, clear_body_wrenches,
-//   spawn_urdf_model, spawn_sdf_model (answers "not supported yet"), delete_model.
+//   spawn_urdf_model, spawn_sdf_model (an SDF <model> converted as the SDF world loader does,
+//   conde_physics/sdf_world.h; a URDF given to it is spawned as by spawn_urdf_model), delete_model.
 // Topics: model_states, link_states (gazebo_msgs/*States, at ~gazebo_states_rate_hz of
 //   simulated time, only while someone subscribes); set_model_state, set_link_state (input).
 //
@@ -37,6 +38,7 @@
 #include <std_srvs/Empty.h>
 
 #include <functional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -124,6 +126,11 @@ class GazeboApi : public StepHooks {
   bool onClearBodyWrenches(gazebo_msgs::BodyRequest::Request& req, gazebo_msgs::BodyRequest::Response& res);
   bool onSpawnUrdf(gazebo_msgs::SpawnModel::Request& req, gazebo_msgs::SpawnModel::Response& res);
   bool onSpawnSdf(gazebo_msgs::SpawnModel::Request& req, gazebo_msgs::SpawnModel::Response& res);
+  // Checks both spawn services make first (loop thread): false with Gazebo's status message;
+  // `spawn_pose` is the initial pose in the world.
+  bool spawnAllowed(const gazebo_msgs::SpawnModel::Request& req, conde_physics::Pose& spawn_pose,
+                    std::string& message) const;
+  void spawnUrdf(const gazebo_msgs::SpawnModel::Request& req, gazebo_msgs::SpawnModel::Response& res);
   bool onDeleteModel(gazebo_msgs::DeleteModel::Request& req, gazebo_msgs::DeleteModel::Response& res);
   // The set_model_state / set_link_state topics: as the service, a rejected state is a throttled warning.
   template <typename State, bool (GazeboApi::*set)(const State&, std::string&)>
@@ -139,6 +146,8 @@ class GazeboApi : public StepHooks {
   ros::Subscriber model_state_sub_, link_state_sub_;
   UpdateTimer states_timer_;
   std::vector<Wrench> wrenches_;  // loop thread only
+  // Static SDF models spawned: their shapes are world objects, not models (loop thread only).
+  std::set<std::string> static_models_;
 };
 
 }  // namespace conde_sim

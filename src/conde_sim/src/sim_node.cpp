@@ -72,6 +72,26 @@ class StartupError : public std::runtime_error {
 
 std::string packagePath(const std::string& name) { return ros::package::getPath(name); }
 
+// Gazebo's model path as gazebo_ros sets it up: GAZEBO_MODEL_PATH first, then the folders ROS
+// packages export with <export><gazebo_ros gazebo_model_path="${prefix}/models"/></export>,
+// then gazebo_ros' own stock models (sun, ground_plane), so that model:// URIs resolve in world
+// files and spawned SDF models alike. Written back to GAZEBO_MODEL_PATH, which the SDF loader reads.
+void addGazeboModelPaths() {
+  std::vector<std::string> dirs;
+  const char* env = std::getenv("GAZEBO_MODEL_PATH");
+  if (env != nullptr && *env != '\0') dirs.push_back(env);
+  std::vector<std::pair<std::string, std::string>> exports;  // (package, folder)
+  ros::package::getPlugins("gazebo_ros", "gazebo_model_path", exports);
+  for (const auto& exported : exports) dirs.push_back(exported.second);
+  const std::string stock = packagePath("gazebo_ros");  // gazebo_ros exports it: only if rospack did not list it
+  if (!stock.empty() && std::find(dirs.begin(), dirs.end(), stock + "/models") == dirs.end())
+    dirs.push_back(stock + "/models");
+  std::string path;
+  for (const std::string& dir : dirs) path += (path.empty() ? "" : ":") + dir;
+  setenv("GAZEBO_MODEL_PATH", path.c_str(), 1);
+  ROS_DEBUG("conde_sim: GAZEBO_MODEL_PATH=%s", path.c_str());
+}
+
 double wallNowS() { return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(); }
 
 // ~lockstep_config: {timeout_s, rules: [{answer, inputs, rate_hz, wait_for_first_answer}]}, topic
@@ -186,6 +206,7 @@ class SimNode : public SimHost {
                          engine_name_ + "' (expected one of: ode, bullet)");
     }
 
+    addGazeboModelPaths();
     cp::WorldDescription world = cp::loadWorldFile(world_file, packagePath);
     for (const std::string& note : world.notes) ROS_INFO("conde_sim: %s", note.c_str());
     // An SDF world's <real_time_factor> applies unless the parameter is set.

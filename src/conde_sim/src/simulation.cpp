@@ -2,9 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <set>
 #include <stdexcept>
 
 #include "conde_physics/mesh_bvh.h"
+#include "conde_physics/render_scene.h"
 #include "conde_physics/urdf_model.h"
 
 namespace conde_sim {
@@ -22,19 +24,45 @@ void Simulation::buildWorld() {
   object_model_ids_.assign(world_.objects.size(), -1);
   object_models_.assign(world_.objects.size(), cp::ArticulatedModel());
   static_shape_objects_.clear();
-  for (size_t i = 0; i < world_.objects.size(); ++i) {
-    const cp::WorldObject& object = world_.objects[i];
-    if (!object.collision) continue;  // visual only
-    if (object.is_static) {
-      engine_->addStaticShape(cp::collisionShapeOf(object), object.pose, object.friction);
-      static_shape_objects_.push_back(static_cast<int>(i));
-    } else {
-      object_models_[i] = cp::modelOfDynamicObject(object);
-      object_model_ids_[i] = engine_->addModel(object_models_[i], object.pose);
-    }
-  }
+  for (size_t i = 0; i < world_.objects.size(); ++i) addObjectToEngine(i);
   for (Robot& robot : robots_) {
     if (!robot.removed) robot.id = engine_->addModel(robot.model, robot.spec.spawn_pose);
+  }
+  render_scene_synced_ = false;
+}
+
+void Simulation::addObjectToEngine(size_t i) {
+  const cp::WorldObject& object = world_.objects[i];
+  if (!object.collision) return;  // visual only
+  if (object.is_static) {
+    engine_->addStaticShape(cp::collisionShapeOf(object), object.pose, object.friction);
+    static_shape_objects_.push_back(static_cast<int>(i));
+  } else {
+    object_models_[i] = cp::modelOfDynamicObject(object);
+    object_model_ids_[i] = engine_->addModel(object_models_[i], object.pose);
+  }
+}
+
+void Simulation::addObjects(const std::vector<cp::WorldObject>& objects) {
+  std::set<std::string> names;
+  for (const cp::WorldObject& object : objects) {
+    const bool taken =
+        findRobot(object.name) >= 0 || std::any_of(world_.objects.begin(), world_.objects.end(),
+                                                   [&](const cp::WorldObject& o) { return o.name == object.name; });
+    if (object.name.empty() || taken || !names.insert(object.name).second)
+      throw std::invalid_argument("an object or robot named '" + object.name + "' already exists");
+  }
+  for (const cp::WorldObject& object : objects) {
+    const size_t i = world_.objects.size();
+    world_.objects.push_back(object);
+    object_model_ids_.push_back(-1);
+    object_models_.emplace_back();
+    addObjectToEngine(i);
+    if (!render_scene_) continue;  // built from world_ on first use
+    RenderedShape shape;
+    shape.world_object = static_cast<int>(i);
+    shape.scene_index = render_scene_->addObject(cp::renderObjectOf(object));
+    if (!object.is_static) rendered_shapes_.push_back(shape);
   }
   render_scene_synced_ = false;
 }

@@ -111,5 +111,7 @@ class RenderScene {
 // The ground and every object of a world file (textures loaded; display panels start with their
 // texture or their colour) and its light regions. Object i of the world is object i of the scene.
 RenderScene renderSceneFromWorld(const WorldDescription& world);
+// How the scene draws one world object (its texture loaded); hidden when it only collides.
+RenderObject renderObjectOf(const WorldObject& object);
 
 }  // namespace conde_physics

@@ -24,6 +24,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "conde_physics/resource_path.h"
 #include "conde_physics/world_file.h"
@@ -31,5 +32,23 @@
 namespace conde_physics {
 
 WorldDescription loadSdfWorld(const std::string& path, const PackageResolver& packages);
+
+// One SDF model to add to a running world (Gazebo's spawn_sdf_model), converted as a world's
+// model is (above), in the model's frame: place each object at spawn_pose * object.pose.
+struct SdfModelObjects {
+  std::vector<WorldObject> objects;
+  bool is_static = true;
+  std::vector<std::string> notes;  // what was accepted but is ignored, one line each
+};
+
+// `sdf_xml`: an <sdf> holding one <model>, or a <world> with one model (Gazebo's form for a
+// model of the model path: <world><include><uri>model://NAME</uri></include></world>). The
+// model is renamed `model_name` (as Gazebo does): a dynamic model's object is named
+// `model_name`, a static model's shapes `<model_name>__<link>__<collision or visual>`.
+// `source` names the XML in messages; relative mesh URIs resolve against the working folder.
+// Throws WorldFileError "<source>:<line>: <libsdformat's message>" and for what the world
+// loader refuses (e.g. joints in a dynamic model).
+SdfModelObjects loadSdfModel(const std::string& sdf_xml, const std::string& source, const std::string& model_name,
+                             const PackageResolver& packages);
 
 }  // namespace conde_physics

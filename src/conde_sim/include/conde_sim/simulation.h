@@ -49,6 +49,10 @@ class Simulation {
   // Parses the URDF and adds the robot at its spawn pose; returns its index.
   // Throws conde_physics::ModelError.
   int addRobot(const RobotSpec& spec, std::vector<std::string>* warnings = nullptr);
+  // Adds world objects while running (a spawned SDF model), at their poses: they collide, are
+  // hit by rays and are drawn from the next step on, and resetWorld() puts them back there.
+  // Throws std::invalid_argument (nothing added) when a name is taken by an object or a robot.
+  void addObjects(const std::vector<conde_physics::WorldObject>& objects);
   // Puts every robot and object back to its start; simulated time goes on.
   void resetWorld();
   // Takes a robot out of the world (physics, ray casts, cameras); its index stays valid but
@@ -68,6 +72,7 @@ class Simulation {
   const conde_physics::PhysicsEngine& engine() const { return *engine_; }
   const std::string& engineName() const { return engine_name_; }
   const conde_physics::WorldDescription& world() const { return world_; }
+  const conde_physics::PackageResolver& packages() const { return packages_; }
   Robot& robot(int index) { return robots_.at(index); }
   const Robot& robot(int index) const { return robots_.at(index); }
   int robotCount() const { return static_cast<int>(robots_.size()); }
@@ -134,6 +139,7 @@ class Simulation {
     int scene_index = -1;
   };
   void buildWorld();
+  void addObjectToEngine(size_t object);
   void addRobotToScene(int robot);
   void syncRenderScene();
 
