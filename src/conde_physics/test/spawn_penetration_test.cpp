@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <memory>
 #include <string>
 
@@ -60,6 +61,9 @@ Outcome spawnPenetrating(const std::string& engine_name, double depth_m, double 
   }
   out.final_z_m = engine->bodyPose(id, 0).position.z;
   out.final_speed_mps = engine->bodyTwist(id, 0).linear_mps.norm();
+  std::printf("%s, spawned %.2f m deep: peak speed %.4f m/s, after %.0f s z %.4f m (standing %.2f m), speed %.5f m/s\n",
+              engine_name.c_str(), depth_m, out.peak_speed_mps, seconds, out.final_z_m, kStandingHeightM,
+              out.final_speed_mps);
   return out;
 }
 
