@@ -126,6 +126,7 @@ ArticulatedModel buildModelFromUrdf(const std::string& urdf_xml, const std::stri
   }
 
   std::vector<MassProps> mass(1);
+  std::map<std::string, std::string> mesh_problems;  // resolved path -> "" (loads) or why not
   std::function<void(const urdf::LinkConstSharedPtr&, int, const Pose&, const Pose&)> visit;
   // body: index of the body holding `link`; in_body: link frame in the body's link frame;
   // in_model: link frame in the model frame at zero joint positions.
@@ -186,6 +187,7 @@ ArticulatedModel buildModelFromUrdf(const std::string& urdf_xml, const std::stri
           if (!error.empty()) throw ModelError(where + ": mesh '" + mesh->filename + "': " + error);
           try {
             spec.shape = meshShapeFromFile(path, Vec3(mesh->scale.x, mesh->scale.y, mesh->scale.z));
+            mesh_problems[path] = "";
           } catch (const ModelError& e) {
             throw ModelError(where + ": " + e.what());
           }
@@ -193,6 +195,32 @@ ArticulatedModel buildModelFromUrdf(const std::string& urdf_xml, const std::stri
         }
       }
       b.collisions.push_back(spec);
+    }
+    // Gazebo prints an error for a visual mesh it cannot load and goes on without it; so do we
+    // (the error is kept in model.visual_errors for the caller's log). Each file is read once.
+    for (const auto& v : link->visual_array) {
+      if (!v || !v->geometry || v->geometry->type != urdf::Geometry::MESH) continue;
+      const auto mesh = std::static_pointer_cast<urdf::Mesh>(v->geometry);
+      const std::string where = source + ": link '" + link->name + "' <visual>";
+      std::string error;
+      const std::string path = resolveResourcePath(mesh->filename, ".", packages, error);
+      if (!error.empty()) {
+        model.visual_errors.push_back(where + ": mesh '" + mesh->filename + "': " + error);
+        continue;
+      }
+      const auto known = mesh_problems.find(path);
+      std::string problem;
+      if (known != mesh_problems.end()) {
+        problem = known->second;
+      } else {
+        try {
+          loadMeshFile(path, Vec3(1, 1, 1));
+        } catch (const MeshFileError& e) {
+          problem = e.what();
+        }
+        mesh_problems[path] = problem;
+      }
+      if (!problem.empty()) model.visual_errors.push_back(where + ": " + problem);
     }
 
     for (size_t k = 0; k < link->child_links.size(); ++k) {

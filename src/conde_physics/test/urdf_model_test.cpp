@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <filesystem>
+#include <fstream>
 #include <string>
 #include <vector>
 
@@ -140,6 +142,80 @@ TEST(UrdfModel, MissingMeshFileIsAnError) {
   EXPECT_EQ(msg,
             "bad.urdf: link 'a' <collision>: mesh 'package://nowhere/m.stl': unknown package 'nowhere' in "
             "'package://nowhere/m.stl'");
+}
+
+// A folder of mesh files for the tests below: a good ASCII STL, a corrupt one and a Git LFS
+// pointer left where a Collada file should be (as in public robots cloned without LFS).
+std::string meshFixtureDir() {
+  const std::string dir = ::testing::TempDir() + "urdf_model_test_meshes";
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir + "/good.stl") << "solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\n"
+                                      "vertex 0 1 0\nendloop\nendfacet\nendsolid t\n";
+  std::ofstream(dir + "/corrupt.stl") << "solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0\n";
+  std::ofstream(dir + "/lfs.dae") << "version https://git-lfs.github.com/spec/v1\n"
+                                     "oid sha256:4d7a214614ab2935c943f9e0ff69d22eadbb8f32b1258daaa5e2ca24d17e2393\n"
+                                     "size 12345\n";
+  return dir;
+}
+
+std::string meshLink(const std::string& name, const std::string& element, const std::string& uri) {
+  return "<link name=\"" + name + "\"><" + element + "><geometry><mesh filename=\"" + uri + "\"/></geometry></" +
+         element + "></link>";
+}
+
+std::string chainOf(const std::vector<std::string>& links) {
+  std::string urdf = "<robot name=\"r\">" + links[0];
+  for (size_t i = 1; i < links.size(); ++i) {
+    urdf += links[i] + "<joint name=\"j" + std::to_string(i) +
+            "\" type=\"fixed\"><parent link=\"l0\"/><child link=\"l" + std::to_string(i) + "\"/></joint>";
+  }
+  return urdf + "</robot>";
+}
+
+// A collision mesh that does not load stops the model: the message names the description, the
+// link and the file.
+TEST(UrdfModel, CollisionMeshThatDoesNotLoadIsAnError) {
+  const std::string dir = meshFixtureDir();
+  const cp::PackageResolver packages = [&](const std::string& p) { return p == "fixture" ? dir : std::string(); };
+  auto error = [&](const std::string& uri) {
+    try {
+      cp::buildModelFromUrdf(chainOf({meshLink("l0", "collision", uri)}), "robot.urdf", packages);
+    } catch (const cp::ModelError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_EQ(error("package://fixture/absent.stl"),
+            "robot.urdf: link 'l0' <collision>: mesh file '" + dir + "/absent.stl': cannot open it");
+  EXPECT_EQ(error("package://fixture/lfs.dae")
+                .rfind("robot.urdf: link 'l0' <collision>: mesh file '" + dir + "/lfs.dae': ", 0),
+            0u);
+  EXPECT_EQ(error("package://fixture/corrupt.stl")
+                .rfind("robot.urdf: link 'l0' <collision>: mesh file '" + dir + "/corrupt.stl': ", 0),
+            0u);
+  EXPECT_EQ(error("package://fixture/good.stl"), "no error");
+}
+
+// A visual mesh that does not load is what Gazebo reports and goes on with: the model loads,
+// each such visual is listed once per link with the description, the link and the file.
+TEST(UrdfModel, VisualMeshThatDoesNotLoadIsListedAndTheModelLoads) {
+  const std::string dir = meshFixtureDir();
+  const cp::PackageResolver packages = [&](const std::string& p) { return p == "fixture" ? dir : std::string(); };
+  const cp::ArticulatedModel m =
+      cp::buildModelFromUrdf(chainOf({meshLink("l0", "visual", "package://fixture/absent.stl"),
+                                      meshLink("l1", "visual", "package://elsewhere/base.stl"),
+                                      meshLink("l2", "visual", "package://fixture/good.stl"),
+                                      meshLink("l3", "visual", "package://fixture/absent.stl"),
+                                      meshLink("l4", "visual", "package://fixture/lfs.dae")}),
+                             "robot.urdf", packages);
+  ASSERT_EQ(m.visual_errors.size(), 4u);
+  EXPECT_EQ(m.visual_errors[0], "robot.urdf: link 'l0' <visual>: mesh file '" + dir + "/absent.stl': cannot open it");
+  EXPECT_EQ(m.visual_errors[1],
+            "robot.urdf: link 'l1' <visual>: mesh 'package://elsewhere/base.stl': unknown package 'elsewhere' in "
+            "'package://elsewhere/base.stl'");
+  EXPECT_EQ(m.visual_errors[2], "robot.urdf: link 'l3' <visual>: mesh file '" + dir + "/absent.stl': cannot open it");
+  EXPECT_EQ(m.visual_errors[3].rfind("robot.urdf: link 'l4' <visual>: mesh file '" + dir + "/lfs.dae': ", 0), 0u)
+      << m.visual_errors[3];
 }
 
 }  // namespace

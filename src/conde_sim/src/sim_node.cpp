@@ -179,6 +179,11 @@ void logKeysWithoutEffect(const cp::GazeboBlocks& blocks) {
   }
 }
 
+// Gazebo's way with a visual mesh it cannot load: an error in the log, the robot spawns.
+void logVisualErrors(const cp::ArticulatedModel& model) {
+  for (const auto& e : model.visual_errors) ROS_ERROR("%s (the visual is left out)", e.c_str());
+}
+
 class SimNode : public SimHost {
  public:
   SimNode() : pnh_("~") {}
@@ -291,6 +296,7 @@ class SimNode : public SimHost {
     std::vector<std::string> warnings;
     const int robot = sim_->addRobot(spec, &warnings);
     for (const auto& w : warnings) ROS_WARN("%s", w.c_str());
+    logVisualErrors(sim_->robot(robot).model);
     logKeysWithoutEffect(sim_->robot(robot).gazebo);
     try {
       for (auto& plugin : loadPlugins(robot)) plugins_.push_back(std::move(plugin));
@@ -429,6 +435,7 @@ class SimNode : public SimHost {
     spec.name = name;  // "" = the URDF's robot name
     const int index = sim_->addRobot(spec, &warnings);
     for (const auto& w : warnings) ROS_WARN("%s", w.c_str());
+    logVisualErrors(sim_->robot(index).model);
     logKeysWithoutEffect(sim_->robot(index).gazebo);
     ROS_INFO("conde_sim: robot '%s' from %s at (%.3f, %.3f) yaw %.3f rad%s%s", sim_->robot(index).spec.name.c_str(),
              description_param.c_str(), spawn.position.x, spawn.position.y, spawn.orientation.yaw(),

@@ -53,9 +53,11 @@ TEST(TricycleController, IgnoresNonFiniteCommandsAndStopsAfterTimeout) {
 }
 
 TEST(PoseServoSpeed, ReachesInOneStepWhenItCanStopElseBrakesInTime) {
-  EXPECT_DOUBLE_EQ(poseServoSpeed(0.01, 0.001, 0.0), 10.0);     // no deceleration limit
-  EXPECT_DOUBLE_EQ(poseServoSpeed(-0.5, 0.001, 100.0), -10.0);  // sqrt(2 * 100 * 0.5)
-  EXPECT_DOUBLE_EQ(poseServoSpeed(1e-6, 0.001, 100.0), 1e-3);   // one step from the target
+  EXPECT_DOUBLE_EQ(poseServoSpeed(0.01, 0.001, 0.0), 10.0);         // no deceleration limit
+  EXPECT_DOUBLE_EQ(poseServoSpeed(-0.5, 0.001, 100.0), -10.0);      // sqrt(2 * 100 * 0.5)
+  EXPECT_DOUBLE_EQ(poseServoSpeed(1e-6, 0.001, 100.0), 1e-3);       // one step from the target
+  EXPECT_DOUBLE_EQ(poseServoSpeed(-0.5, 0.001, 100.0, 0.5), -0.5);  // the URDF velocity limit
+  EXPECT_DOUBLE_EQ(poseServoSpeed(1e-6, 0.001, 100.0, 0.5), 1e-3);  // below it
 }
 
 }  // namespace

@@ -82,6 +82,9 @@ struct ArticulatedModel {
   std::vector<JointSpec> joints;
   // True when the root body is welded to the world (URDF "world" link, or a static object).
   bool fixed_to_world = false;
+  // What Gazebo reports as an error and goes on with: a visual mesh that does not load (physics
+  // does not need it). One message each, naming the description, the link and the file.
+  std::vector<std::string> visual_errors;
 
   int bodyIndex(const std::string& link_name) const;    // body holding that link, or -1
   int jointIndex(const std::string& joint_name) const;  // -1 when absent

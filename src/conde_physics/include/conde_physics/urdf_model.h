@@ -6,7 +6,10 @@
 // Contact parameters come from Gazebo's <gazebo reference="link"> tags (mu1, mu2, kp, kd;
 // gazebo_blocks.h reads them).
 // Assumptions: floating and planar joints are not supported (an error); <mimic> is ignored with
-// a warning; visual elements are not used by physics.
+// a warning; visual elements are not used by physics. Meshes: a collision mesh that does not load
+// (missing file, unknown package, a file assimp rejects) is a ModelError; a visual mesh that does
+// not load is listed in ArticulatedModel::visual_errors and the model loads (Gazebo prints an
+// error and goes on without that visual).
 #pragma once
 
 #include <stdexcept>

@@ -23,7 +23,7 @@
 // Simplifications: meshes of moving bodies collide as their convex hull (grown by the 1 mm
 // margin); box and cylinder edges are rounded by that margin; a manifold holds at most 4 points
 // per pair of shapes, so max_contacts is not used; max_contact_correcting_vel_mps has no Bullet
-// counterpart.
+// counterpart. Rigid contacts' correcting velocity is capped as in Gazebo (contact_correction.h).
 #include "bullet/bullet_engine.h"
 
 #include <BulletCollision/NarrowPhaseCollision/btRaycastCallback.h>
@@ -36,9 +36,11 @@
 #include <memory>
 #include <string>
 #include <unordered_map>
+#include <utility>
 #include <vector>
 
 #include "conde_physics/tyre.h"
+#include "contact_correction.h"
 
 namespace conde_physics {
 namespace {
@@ -187,6 +189,30 @@ class WorldWithoutCcd final : public btDiscreteDynamicsWorld {
     }
   }
   void createPredictiveContacts(btScalar) override { releasePredictiveContacts(); }
+
+  // Rigid contacts (no stiffness) present at most rigidContactSolverDepthM() to the solver, so
+  // that a deep penetration is corrected at Gazebo's 0.01 m/s, not thrown apart; their true
+  // depth is put back for the contact reports.
+  void solveConstraints(btContactSolverInfo& info) override {
+    const btScalar deepest_m =
+        static_cast<btScalar>(rigidContactSolverDepthM(info.m_linearSlop, info.m_erp, info.m_timeStep));
+    clamped_.clear();
+    for (int m = 0; m < m_dispatcher1->getNumManifolds(); ++m) {
+      btPersistentManifold* manifold = m_dispatcher1->getManifoldByIndexInternal(m);
+      for (int p = 0; p < manifold->getNumContacts(); ++p) {
+        btManifoldPoint& pt = manifold->getContactPoint(p);
+        if ((pt.m_contactPointFlags & BT_CONTACT_FLAG_CONTACT_STIFFNESS_DAMPING) != 0 || pt.m_distance1 >= -deepest_m)
+          continue;
+        clamped_.push_back({&pt, pt.m_distance1});
+        pt.m_distance1 = -deepest_m;
+      }
+    }
+    btDiscreteDynamicsWorld::solveConstraints(info);
+    for (const auto& [point, distance_m] : clamped_) point->m_distance1 = distance_m;
+  }
+
+ private:
+  std::vector<std::pair<btManifoldPoint*, btScalar>> clamped_;
 };
 
 class BulletEngine : public PhysicsEngine {

@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "conde_physics/tyre.h"
+#include "contact_correction.h"
 
 namespace conde_physics {
 namespace {
@@ -533,12 +534,19 @@ void OdeEngine::collidePair(dGeomID a, dGeomID b) {
     surface.soft_cfm = 1.0 / (hkp + kd_nspm);
   }
 
+  // A rigid contact's correcting velocity is capped as Gazebo caps it (contact_correction.h).
+  const double solver_depth_m = kp_npm > 0.0 ? 1e9
+                                             : rigidContactSolverDepthM(settings_.contact_surface_layer_m,
+                                                                        settings_.contact_erp, settings_.step_s);
   dBodyID body_a = dGeomGetBody(a), body_b = dGeomGetBody(b);
   const ContactSide side_a{info_a->model, info_a->body, info_a->static_shape};
   const ContactSide side_b{info_b->model, info_b->body, info_b->static_shape};
   for (int i = 0; i < count; ++i) {
     contacts_[i].surface = surface;
+    const dReal depth_m = contacts_[i].geom.depth;
+    contacts_[i].geom.depth = std::min<dReal>(depth_m, solver_depth_m);
     dJointID contact = dJointCreateContact(world_, contact_group_, &contacts_[i]);
+    contacts_[i].geom.depth = depth_m;  // reported as it is
     dJointAttach(contact, body_a, body_b);
     feedback_.emplace_back();
     dJointSetFeedback(contact, &feedback_.back());

@@ -30,9 +30,6 @@
 namespace conde_sim {
 namespace {
 
-// Motor effort [N m or N] of a joint without an effort limit in the URDF.
-constexpr double kUnlimitedEffort = 1e3;
-
 class JointPoseTrajectoryPlugin : public SimPlugin {
  public:
   void configure(PluginParams& params, ros::NodeHandle& nh) override {
@@ -47,28 +44,18 @@ class JointPoseTrajectoryPlugin : public SimPlugin {
 
   void reset() override {
     points_.clear();
-    joints_.clear();
+    servo_.reset();
     targets_.clear();
   }
 
   void beforeStep() override {
-    if (joints_.empty()) return;
+    if (!servo_) return;
     const double now_s = ctx_.sim->timeS();
     while (next_ < points_.size() && points_[next_].time_s <= now_s + 0.5 * ctx_.sim->stepS()) {
       targets_ = points_[next_].positions;
       ++next_;
     }
-    cp::PhysicsEngine& engine = ctx_.sim->engine();
-    const cp::ModelId id = ctx_.sim->robot(ctx_.robot).id;
-    for (size_t j = 0; j < joints_.size(); ++j) {
-      const double effort = ctx_.sim->robot(ctx_.robot).model.joints[joints_[j]].effort_limit;
-      const double max_effort = effort > 0.0 ? effort : kUnlimitedEffort;
-      const double inertia = jointLoadInertia(*ctx_.sim, ctx_.robot, joints_[j]);
-      // Half the deceleration the motor could give: the joints beyond pull on it too.
-      const double deceleration = inertia > 0.0 ? 0.5 * max_effort / inertia : 0.0;
-      const double error = targets_[j] - engine.jointPosition(id, joints_[j]);
-      engine.setJointVelocityMotor(id, joints_[j], poseServoSpeed(error, ctx_.sim->stepS(), deceleration), max_effort);
-    }
+    servo_->drive(*ctx_.sim, targets_);
   }
 
  private:
@@ -122,7 +109,7 @@ class JointPoseTrajectoryPlugin : public SimPlugin {
     targets_.clear();
     for (int joint : joints)
       targets_.push_back(ctx_.sim->engine().jointPosition(ctx_.sim->robot(ctx_.robot).id, joint));
-    joints_ = std::move(joints);
+    servo_ = std::make_unique<JointPoseServo>(*ctx_.sim, ctx_.robot, std::move(joints));
     points_ = std::move(points);
     next_ = 0;
   }
@@ -130,7 +117,9 @@ class JointPoseTrajectoryPlugin : public SimPlugin {
   ros::Subscriber sub_;
   std::vector<Point> points_;
   size_t next_ = 0;
-  std::vector<int> joints_;      // of the message's joint_names; the motors hold them at targets_
+  // The joints of the last message's joint_names (what each moves found once per trajectory);
+  // the motors hold them at targets_.
+  std::unique_ptr<JointPoseServo> servo_;
   std::vector<double> targets_;  // [rad or m]
   int unused_body_ = -1;
   cp::Pose unused_pose_;
