@@ -23,6 +23,24 @@ class OptionError(ValueError):
     """Options that cannot be used; the message names the option and the value."""
 
 
+def positive_seconds(text: str, option: str) -> float:
+    """float(text) when it is > 0, else OptionError naming the option and the value."""
+    try:
+        value = float(text)
+    except ValueError:
+        value = -1.0
+    if not value > 0:
+        raise OptionError("%s: expected a number of seconds > 0, got %r" % (option, text))
+    return value
+
+
+def jobs_count(text: str) -> int:
+    """int(text) when it is an integer >= 1, else OptionError naming --jobs."""
+    if not text.isdigit() or int(text) < 1:
+        raise OptionError("--jobs: expected an integer >= 1, got %r" % text)
+    return int(text)
+
+
 @dataclass(frozen=True)
 class Options:
     challenges: Tuple[str, ...] = CHALLENGES
@@ -83,23 +101,17 @@ def parse_options(argv) -> Options:
         track_seed = -1
     if track_seed < 0:
         raise OptionError("--track-seed: expected an integer >= 0, got %r" % args.track_seed)
-    try:
-        wall_limit_s = float(args.wall_limit)
-    except ValueError:
-        wall_limit_s = -1.0
-    if not wall_limit_s > 0:
-        raise OptionError("--wall-limit: expected a number of seconds > 0, got %r" % args.wall_limit)
+    wall_limit_s = positive_seconds(args.wall_limit, "--wall-limit")
     try:
         sim_limit_s = float(args.sim_limit)
     except ValueError:
         sim_limit_s = -1.0
     if not sim_limit_s >= 0:
         raise OptionError("--sim-limit: expected a number of seconds >= 0, got %r" % args.sim_limit)
-    if not args.jobs.isdigit() or int(args.jobs) < 1:
-        raise OptionError("--jobs: expected an integer >= 1, got %r" % args.jobs)
+    jobs = jobs_count(args.jobs)
     ordered = tuple(c for c in CHALLENGES if c in challenges) or CHALLENGES
     # With rviz each run is shown paced, one window at a time.
-    jobs = 1 if args.rviz else int(args.jobs)
+    jobs = 1 if args.rviz else jobs
     return Options(ordered, args.engine, track_seed, args.rviz, args.output_dir, wall_limit_s, sim_limit_s, jobs)
 
 

@@ -65,10 +65,15 @@ def run(options: competition.Options) -> int:
     return 0 if judged else 1
 
 
-def main(argv=None) -> int:
+def command_main(parse_options, run_options, name: str, argv=None) -> int:
+    """A command's main: options parsed (a bad one: "<name>: <message>" on stderr, exit 2), then run."""
     try:
-        options = competition.parse_options(sys.argv[1:] if argv is None else argv)
+        options = parse_options(sys.argv[1:] if argv is None else argv)
     except competition.OptionError as error:
-        print("run_demo: %s" % error, file=sys.stderr)
+        print("%s: %s" % (name, error), file=sys.stderr)
         return 2
-    return run(options)
+    return run_options(options)
+
+
+def main(argv=None) -> int:
+    return command_main(competition.parse_options, run, "run_demo", argv)

@@ -18,17 +18,13 @@ import os
 from dataclasses import asdict, dataclass
 from typing import Dict, Iterable, List, Optional, Tuple
 
-from conde_tournament.competition import CHALLENGES, ENGINES, outcome
+from conde_tournament.competition import CHALLENGES, ENGINES, OptionError, jobs_count, outcome, positive_seconds
 from conde_tournament.leaderboard import scored
 
 RESULTS_FILE = "runs.jsonl"
 REPORT_FILE = "robustness.md"
 TABLE_COLUMNS = ("challenge", "engine", "runs", "passed", "success [%]", "no penalty", "no penalty [%]",
                  "mean penalties", "mean time [s]")
-
-
-class OptionError(ValueError):
-    """Options that cannot be used; the message names the option and the value."""
 
 
 @dataclass(frozen=True)
@@ -126,15 +122,9 @@ def parse_options(argv) -> Options:
     if args.paired and len(tracks) != len(placements):
         raise OptionError("--paired: %d track seeds and %d placement seeds (expected as many of each)"
                           % (len(tracks), len(placements)))
-    if not args.jobs.isdigit() or int(args.jobs) < 1:
-        raise OptionError("--jobs: expected an integer >= 1, got %r" % args.jobs)
-    try:
-        wall_limit_s = float(args.wall_limit)
-    except ValueError:
-        wall_limit_s = -1.0
-    if not wall_limit_s > 0:
-        raise OptionError("--wall-limit: expected a number of seconds > 0, got %r" % args.wall_limit)
-    return Options(challenges, engines, tracks, placements, args.paired, int(args.jobs), args.out, wall_limit_s)
+    jobs = jobs_count(args.jobs)
+    wall_limit_s = positive_seconds(args.wall_limit, "--wall-limit")
+    return Options(challenges, engines, tracks, placements, args.paired, jobs, args.out, wall_limit_s)
 
 
 # --- results ---------------------------------------------------------------------------------------

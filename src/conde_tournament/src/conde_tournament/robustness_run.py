@@ -6,11 +6,10 @@ OUT/jobs/<key>/. Prints the table per challenge and engine and writes OUT/robust
 status: 0 when every run of the campaign has a record, 1 otherwise, 2 on bad options."""
 import os
 import shutil
-import sys
 import time
 
 from conde_tournament import robustness
-from conde_tournament.competition_run import LAPS_REQUIRED, signs_total
+from conde_tournament.competition_run import LAPS_REQUIRED, command_main, signs_total
 from conde_tournament.job import run_job
 from conde_tournament.pools import run_each
 from conde_tournament.progress import Progress
@@ -59,9 +58,4 @@ def run(options: robustness.Options) -> int:
 
 
 def main(argv=None) -> int:
-    try:
-        options = robustness.parse_options(sys.argv[1:] if argv is None else argv)
-    except robustness.OptionError as error:
-        print("robustness: %s" % error, file=sys.stderr)
-        return 2
-    return run(options)
+    return command_main(robustness.parse_options, run, "robustness", argv)
