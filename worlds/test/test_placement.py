@@ -44,6 +44,13 @@ def test_every_seed_stays_inside_the_start_area_and_uses_all_of_it(challenges):
     assert len(set(offsets)) == len(offsets)
 
 
+def test_a_seed_given_as_text_names_the_world_as_the_number(challenges):
+    """roslaunch passes the seed as text: "0" is the nominal world (no _place0), " 3" is _place3."""
+    nominal, _, _ = challenge_world(challenges, "D1")
+    assert challenge_world(challenges, "D1", placement_seed="0")[0]["name"] == nominal["name"]
+    assert challenge_world(challenges, "D1", placement_seed=" 3")[0]["name"] == nominal["name"] + "_place3"
+
+
 def test_a_seed_always_gives_the_same_placement(challenges):
     a, _, _ = challenge_world(challenges, "P1", placement_seed=7)
     b, _, _ = challenge_world(challenges, "P1", placement_seed=7)

@@ -114,10 +114,10 @@ def challenge_world(challenges: Challenges, challenge: str, variant: Optional[st
         world["ground"]["texture"] = "package://conde_worlds/" + os.path.normpath(os.path.join("worlds", texture))
     objects, textures = objects_of(features, seed, dims)
     world["objects"] = list(world.get("objects") or []) + objects
-    world["spawn"] = placement.placed_poses(start_poses(ch.start, dims),
-                                            parse_seed(placement_seed, "placement seed"), challenges.start_area)
+    placement_seed = parse_seed(placement_seed, "placement seed")
+    world["spawn"] = placement.placed_poses(start_poses(ch.start, dims), placement_seed, challenges.start_area)
     if placement_seed:
-        world["name"] += "_place%d" % int(placement_seed)
+        world["name"] += "_place%d" % placement_seed
     if "tunnel" in features:
         world["light_regions"] = [co.tunnel_light_region(features["tunnel"], dims)]
     return world, textures, resolved

@@ -2,7 +2,7 @@
 would, for the robustness benchmark (conde_tournament robustness).
 
 Pure Python, no ROS.  Placement seed 0 is the challenge's nominal start pose; a seed N > 0 moves
-it by an offset drawn with random.Random(N) uniformly within the start area of challenges.yaml
+it by an offset drawn with random.Random("placement-N") uniformly within the start area of challenges.yaml
 (`placement`): along the start heading (`along_m`, backwards only, so the robot is never put
 nearer the crosswalk than the nominal pose), across it (`across_m`) and in heading (`yaw_deg`).
 The offset is the same for every robot and track (a varied track's start pose is carried over

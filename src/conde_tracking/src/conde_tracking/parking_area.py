@@ -7,7 +7,7 @@ across it (perpendicular to the road) that close the bays.  Per image pair:
   1. white marking pixels (lane_measurement.line_mask, any light) are put on the ground
      (GroundMap) and kept in the band to the right of the lane (band_y_m) and ahead (band_x_m);
   2. for each candidate angle of a line across the road (the robot's heading error,
-     within max_angle_rad), the points are binned by their position u = x - y tan(angle) along
+     within max_angle_rad), the points are binned by their position u = x + y tan(angle) along
      the road; in each bin the points' lateral positions are chained (gaps up to max_gap_m: the
      divider is dashed) and the longest chain is the line's visible length;
   3. a line is a chain at least min_length_m long (the letters "P" painted in the bays are
