@@ -112,10 +112,10 @@ def test_table_per_challenge_and_engine():
     assert ode["mean_time_s"] == pytest.approx((100 + 120 + 110) / 3)
     assert (bullet["runs"], bullet["passed"], bullet["success_pct"]) == (1, 1, 100.0)
     text = robustness.table_text(rows)
-    assert text.splitlines()[2].split() == ["D1", "ode", "4", "3", "75", "2", "50", "1.25", "110.0"]
+    assert text.splitlines()[2].split() == ["D1", "ode", "4", "3", "75", "2", "50", "1.25", "110.0", "0"]
     options = parse_options(["--challenges", "D1", "--track-seeds", "4", "--placement-seeds", "0"])
     md = robustness.report_markdown(options, runs, records)
-    assert "| D1 | ode | 4 | 3 | 75 | 2 | 50 | 1.25 | 110.0 |" in md
+    assert "| D1 | ode | 4 | 3 | 75 | 2 | 50 | 1.25 | 110.0 | 0 |" in md
     assert "5 of 8 runs done" in md and "track seeds 1-4; placement seeds 0" in md
     assert "| D1_ode_track3_place0 | FAIL (disqualified: left the road) | 0 | - |" in md
     assert "D1_ode_track1_place0 |" not in md
@@ -124,4 +124,18 @@ def test_table_per_challenge_and_engine():
 def test_an_empty_campaign_has_empty_rows():
     rows = robustness.table_rows([Run("B1", "ode", 1, 1)], {})
     assert rows[0]["runs"] == 0 and rows[0]["success_pct"] is None
-    assert robustness.table_text(rows).splitlines()[2].split() == ["B1", "ode", "0", "0", "-", "0", "-", "-", "-"]
+    assert robustness.table_text(rows).splitlines()[2].split() == ["B1", "ode", "0", "0", "-", "0", "-", "-", "-", "0"]
+
+
+def test_a_run_the_referee_did_not_judge_is_left_out_of_the_rates_and_run_again():
+    """A job that failed before the referee's report (simulator died, wall limit) says nothing of the
+    stack: its own column, not a failure in the success rate, and pending on resume."""
+    runs = [Run("D1", "ode", t, 0) for t in (1, 2)]
+    records = {runs[0].key: robustness.run_record(runs[0], result(report()), 2, 12),
+               runs[1].key: robustness.run_record(runs[1], result(None, status="sim_failed"), 2, 12)}
+    row, = robustness.table_rows(runs, records)
+    assert (row["runs"], row["passed"], row["success_pct"], row["not_judged"]) == (1, 1, 100.0, 1)
+    assert robustness.pending(runs, records) == [runs[1]]
+    options = parse_options(["--challenges", "D1", "--track-seeds", "2", "--placement-seeds", "0", "--engines", "ode"])
+    md = robustness.report_markdown(options, runs, records)
+    assert "1 of 2 runs done" in md and "| D1 | ode | 1 | 1 | 100 | 1 | 100 | 0.00 | 100.0 | 1 |" in md

@@ -24,7 +24,7 @@ from conde_tournament.leaderboard import scored
 RESULTS_FILE = "runs.jsonl"
 REPORT_FILE = "robustness.md"
 TABLE_COLUMNS = ("challenge", "engine", "runs", "passed", "success [%]", "no penalty", "no penalty [%]",
-                 "mean penalties", "mean time [s]")
+                 "mean penalties", "mean time [s]", "not judged")
 
 
 @dataclass(frozen=True)
@@ -176,9 +176,15 @@ def load_records(path: str) -> Dict[str, dict]:
     return records
 
 
+def judged(record: dict) -> bool:
+    """The referee judged the run (False: the job failed before a report: simulator, launch, wall limit)."""
+    return bool(record.get("judged", True))
+
+
 def pending(runs: Iterable[Run], records: Dict[str, dict]) -> List[Run]:
-    """The runs of the campaign without a record (resume)."""
-    return [r for r in runs if r.key not in records]
+    """The runs of the campaign to run (resume): without a record, or whose job ended without the
+    referee's report (a failure of the machinery, not of the stack: run again)."""
+    return [r for r in runs if r.key not in records or not judged(records[r.key])]
 
 
 # --- table and report ------------------------------------------------------------------------------
@@ -189,16 +195,18 @@ def _mean(values) -> Optional[float]:
 
 
 def table_rows(runs: List[Run], records: Dict[str, dict]) -> List[dict]:
-    """A row per (challenge, engine) over the campaign's runs that have a record: runs, passed
+    """A row per (challenge, engine) over the campaign's runs the referee judged: runs, passed
     (task done), success rate, runs without penalty (passed with zero penalties), their rate, mean
-    penalties per run, mean driving time of the passed runs."""
+    penalties per run, mean driving time of the passed runs; and the runs whose job ended without a
+    referee's report (not judged: left out of the rates, run again on resume)."""
     rows = []
     groups = []
     for run in runs:
         if (run.challenge, run.engine) not in groups:
             groups.append((run.challenge, run.engine))
     for challenge, engine in groups:
-        done = [records[r.key] for r in runs if (r.challenge, r.engine) == (challenge, engine) and r.key in records]
+        recorded = [records[r.key] for r in runs if (r.challenge, r.engine) == (challenge, engine) and r.key in records]
+        done = [d for d in recorded if judged(d)]
         n = len(done)
         passed = sum(1 for d in done if d["passed"])
         clean = sum(1 for d in done if d["passed"] and d["penalties"] == 0)
@@ -206,7 +214,8 @@ def table_rows(runs: List[Run], records: Dict[str, dict]) -> List[dict]:
                      "success_pct": 100.0 * passed / n if n else None,
                      "clean_pct": 100.0 * clean / n if n else None,
                      "mean_penalties": _mean([d["penalties"] for d in done]),
-                     "mean_time_s": _mean([d["time_s"] for d in done if d["passed"]])})
+                     "mean_time_s": _mean([d["time_s"] for d in done if d["passed"]]),
+                     "not_judged": len(recorded) - n})
     return rows
 
 
@@ -217,7 +226,7 @@ def _fmt(value, pattern="%.1f") -> str:
 def _cells(row: dict) -> Tuple[str, ...]:
     return (row["challenge"], row["engine"], str(row["runs"]), str(row["passed"]), _fmt(row["success_pct"], "%.0f"),
             str(row["clean"]), _fmt(row["clean_pct"], "%.0f"), _fmt(row["mean_penalties"], "%.2f"),
-            _fmt(row["mean_time_s"]))
+            _fmt(row["mean_time_s"]), str(row["not_judged"]))
 
 
 def table_text(rows: List[dict]) -> str:
@@ -232,7 +241,7 @@ def table_text(rows: List[dict]) -> str:
 def report_markdown(options: Options, runs: List[Run], records: Dict[str, dict]) -> str:
     """The campaign's report: what ran, the table, and the runs that did not pass cleanly."""
     rows = table_rows(runs, records)
-    done = sum(1 for r in runs if r.key in records)
+    done = sum(1 for r in runs if r.key in records and judged(records[r.key]))
     lines = ["# Robustness benchmark of the Conde stack", "",
              "challenges %s; engines %s; track seeds %s; placement seeds %s (%s); %d of %d runs done."
              % (" ".join(options.challenges), " ".join(options.engines), _seed_text(options.track_seeds),
