@@ -3,7 +3,8 @@
 includes model://sun and model://ground_plane loaded (the node serves /gazebo/); the crate
 (spawn_model -sdf -file) and the ball (-sdf -param) are in /gazebo/model_states at their spawn
 poses and fall onto the ground; a static model of the model path (spawn_model -database) is
-something a model spawned above it lands on; bad requests get Gazebo's status messages."""
+something a model spawned above it lands on; bad requests get Gazebo's status messages; a spawned
+model is deleted (gone from the world and from what collides) and its name can be spawned again."""
 import os
 import subprocess
 import unittest
@@ -11,7 +12,7 @@ import unittest
 import rospy
 import rostest
 from gazebo_msgs.msg import ModelStates
-from gazebo_msgs.srv import GetModelState, GetWorldProperties, SpawnModel
+from gazebo_msgs.srv import DeleteModel, GetModelState, GetWorldProperties, SpawnModel
 from geometry_msgs.msg import Pose
 
 from stepped_sim import WALL_TIMEOUT_S, Latest, SteppedSim, connected, wait_for
@@ -106,6 +107,23 @@ class GazeboSpawnSdfTest(unittest.TestCase):
                          (False, "SpawnModel: Failure - reference_frame [nowhere] does not exist"))
         self.assertNotIn("broken", self.world().model_names)
         self.sim.step(10)  # the world steps on
+
+    def test_6_delete_a_spawned_model_and_spawn_its_name_again(self):
+        delete = rospy.ServiceProxy("/gazebo/delete_model", DeleteModel)
+        answer = delete("cube_on_pedestal")
+        self.assertEqual((answer.success, answer.status_message), (True, "DeleteModel: successfully deleted model"))
+        self.assertNotIn("cube_on_pedestal", self.world().model_names)
+        self.assertFalse(self.get_state("cube_on_pedestal", "").success)
+        answer = delete("cube_on_pedestal")
+        self.assertEqual((answer.success, answer.status_message),
+                         (False, "DeleteModel: model [cube_on_pedestal] does not exist"))
+        # the crate is gone from the physics too: a cube dropped where it rests falls to the ground
+        crate = self.get_state("crate", "world").pose.position
+        self.assertTrue(delete("crate").success)
+        answer = self.spawn("crate", CUBE_SDF, "", pose_at(crate.x, crate.y, 0.5), "")
+        self.assertEqual((answer.success, answer.status_message), (True, "SpawnModel: Successfully spawned entity"))
+        self.sim.step(1500)
+        self.assertAlmostEqual(self.get_state("crate", "").pose.position.z, 0.05, delta=0.01)  # on the ground
 
 
 if __name__ == "__main__":

@@ -514,13 +514,12 @@ bool GazeboApi::onDeleteModel(gazebo_msgs::DeleteModel::Request& req, gazebo_msg
       res.status_message = "DeleteModel: model [" + req.model_name + "] does not exist";
       return;
     }
-    if (model.robot < 0) {
-      res.status_message =
-          "DeleteModel: model [" + req.model_name + "] is an object of the world file and cannot be deleted yet";
-      return;
-    }
     forgetModel(req.model_name);
-    host_.deleteRobot(model.robot);
+    if (model.robot >= 0) {
+      host_.deleteRobot(model.robot);
+    } else {
+      sim_.removeObject(model.object);
+    }
     res.success = true;
     res.status_message = "DeleteModel: successfully deleted model";
   });

@@ -24,7 +24,10 @@ void Simulation::buildWorld() {
   object_model_ids_.assign(world_.objects.size(), -1);
   object_models_.assign(world_.objects.size(), cp::ArticulatedModel());
   static_shape_objects_.clear();
-  for (size_t i = 0; i < world_.objects.size(); ++i) addObjectToEngine(i);
+  object_removed_.resize(world_.objects.size(), 0);
+  for (size_t i = 0; i < world_.objects.size(); ++i) {
+    if (!object_removed_[i]) addObjectToEngine(i);
+  }
   for (Robot& robot : robots_) {
     if (!robot.removed) robot.id = engine_->addModel(robot.model, robot.spec.spawn_pose);
   }
@@ -46,15 +49,16 @@ void Simulation::addObjectToEngine(size_t i) {
 void Simulation::addObjects(const std::vector<cp::WorldObject>& objects) {
   std::set<std::string> names;
   for (const cp::WorldObject& object : objects) {
-    const bool taken =
-        findRobot(object.name) >= 0 || std::any_of(world_.objects.begin(), world_.objects.end(),
-                                                   [&](const cp::WorldObject& o) { return o.name == object.name; });
+    bool taken = findRobot(object.name) >= 0;
+    for (size_t i = 0; i < world_.objects.size(); ++i)
+      taken |= !object_removed_[i] && world_.objects[i].name == object.name;
     if (object.name.empty() || taken || !names.insert(object.name).second)
       throw std::invalid_argument("an object or robot named '" + object.name + "' already exists");
   }
   for (const cp::WorldObject& object : objects) {
     const size_t i = world_.objects.size();
     world_.objects.push_back(object);
+    object_removed_.push_back(0);
     object_model_ids_.push_back(-1);
     object_models_.emplace_back();
     addObjectToEngine(i);
@@ -118,6 +122,20 @@ void Simulation::removeRobot(int robot) {
   if (!render_scene_) return;
   for (const RenderedShape& shape : rendered_shapes_) {
     if (shape.robot == robot) render_scene_->setObjectHidden(shape.scene_index, true);
+  }
+}
+
+void Simulation::removeObject(int object) {
+  if (world_.objects.at(object).is_static)
+    throw std::invalid_argument("'" + world_.objects[object].name +
+                                "' is static: static objects cannot be removed yet");
+  if (object_removed_.at(object)) return;
+  if (object_model_ids_.at(object) >= 0) engine_->removeModel(object_model_ids_[object]);
+  object_model_ids_[object] = -1;
+  object_removed_[object] = 1;
+  if (!render_scene_) return;
+  for (const RenderedShape& shape : rendered_shapes_) {
+    if (shape.robot < 0 && shape.world_object == object) render_scene_->setObjectHidden(shape.scene_index, true);
   }
 }
 
@@ -327,6 +345,7 @@ cp::RenderScene& Simulation::renderScene() {
       moving.world_object = static_cast<int>(i);
       moving.scene_index = static_cast<int>(i);
       rendered_shapes_.push_back(moving);
+      if (object_removed_[i]) render_scene_->setObjectHidden(moving.scene_index, true);
     }
     for (int r = 0; r < robotCount(); ++r) {
       if (!robots_[r].removed) addRobotToScene(r);

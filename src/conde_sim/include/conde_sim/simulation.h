@@ -58,6 +58,10 @@ class Simulation {
   // Takes a robot out of the world (physics, ray casts, cameras); its index stays valid but
   // findRobot() and findModel() no longer find it, and resetWorld() does not bring it back.
   void removeRobot(int robot);
+  // Takes a dynamic world object (of the world file or spawned) out of the world, as removeRobot():
+  // findModel() no longer finds it, its name is free again, resetWorld() does not bring it back.
+  // Throws std::invalid_argument for a static object (static shapes stay in the engine).
+  void removeObject(int object);
   // Index of the robot with this name; "" names the only robot. -1 when there is none.
   int findRobot(const std::string& name) const;
   // New start pose of a robot (root link pose); takes effect at the next resetWorld().
@@ -154,6 +158,7 @@ class Simulation {
   std::vector<conde_physics::ModelId> object_model_ids_;        // per world object; -1 = static
   std::vector<conde_physics::ArticulatedModel> object_models_;  // per world object; empty for static ones
   std::vector<int> static_shape_objects_;                       // world object of each static shape
+  std::vector<char> object_removed_;                            // per world object: removeObject() took it out
   std::uint64_t step_count_ = 0;
   // Wrenches applied per (engine model, body) for the coming step and during the last one
   // (force in linear_mps, torque about the centre of mass in angular_radps).
