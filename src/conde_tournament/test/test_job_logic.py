@@ -123,6 +123,28 @@ def test_a_master_that_did_not_come_up_in_time_is_started_again():
     assert not master_start_failed({"status": "ok"}, log)  # judged: never run twice
 
 
+def test_a_simulation_that_does_not_start_running_in_time_has_stalled():
+    from conde_tournament.job import STARTUP_LIMIT_S, start_stalled
+    assert not start_stalled(100.0 + STARTUP_LIMIT_S - 1, 100.0, None)
+    assert start_stalled(100.0 + STARTUP_LIMIT_S + 1, 100.0, None)
+    assert not start_stalled(100.0 + STARTUP_LIMIT_S + 1, 100.0, 150.0)  # it ran: the wall limit decides
+
+
+def test_run_job_tries_again_after_a_stalled_start(tmp_path, monkeypatch):
+    from conde_tournament import job as job_module
+    outcomes = [job_module.START_STALLED, "ok"]
+
+    def once(job, job_dir, sim_limit_s, wall_limit_s, launch_args=()):
+        status = outcomes.pop(0)
+        with open(job_dir + "/roslaunch.log", "w") as f:
+            f.write("ran\n")
+        return {"status": status, "report": None if status == job_module.START_STALLED else REPORT}
+    monkeypatch.setattr(job_module, "_run_job_once", once)
+    result = job_module.run_job(Job(Team("a"), "D1", "", 0, "ode", 0), str(tmp_path), 0.0, 600.0)
+    assert (result["status"], result["attempts"]) == ("ok", 2)
+    assert "roslaunch.attempt1.log" in [p.name for p in tmp_path.iterdir()]
+
+
 def test_run_job_tries_again_after_a_master_start_failure(tmp_path, monkeypatch):
     """The attempts of run_job with a stand-in for one launch: the master fails twice, then the run is judged."""
     from conde_tournament import job as job_module

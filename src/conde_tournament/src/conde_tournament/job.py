@@ -35,6 +35,12 @@ MASTER_START_FAILURE = "ERROR: could not contact master"
 MASTER_START_ATTEMPTS = 3
 # conde_eval start_when_ready's line when it unpauses the simulation: the end of the job's start-up.
 RUNNING_MARK = b"every node is up; the simulation runs"
+# A job whose simulation is not running this long [s of wall time] after its launch is stopped and
+# started again (status "start_stalled", within MASTER_START_ATTEMPTS): seen twice in the competition,
+# a simulator that stopped in the lock-step pre-roll at t = 0.01 s and never answered (cause not
+# found). Start-ups measured 24-51 s on a quiet machine, up to 258 s at load 43.
+STARTUP_LIMIT_S = 420.0
+START_STALLED = "start_stalled"
 
 
 class _LogWatch:
@@ -196,6 +202,11 @@ def _wait_for_file(path: str, timeout_s: float, settle_s: float = 1.0):
         time.sleep(settle_s)
 
 
+def start_stalled(now: float, started: float, running_at, limit_s: float = STARTUP_LIMIT_S) -> bool:
+    """Whether a job's simulation has not started running within limit_s of its launch (pure)."""
+    return running_at is None and now - started > limit_s
+
+
 def master_start_failed(result: dict, log_text: str) -> bool:
     """Whether a job ended before anything ran because roslaunch could not reach the master it had
     just started (a busy machine: roslaunch gives the master a fixed time): run again, not scored."""
@@ -204,8 +215,9 @@ def master_start_failed(result: dict, log_text: str) -> bool:
 
 def run_job(job: Job, job_dir: str, sim_limit_s: float, wall_limit_s: float, launch_args=()) -> dict:
     """Runs one job into job_dir and returns its result (also written to job_dir/result.json);
-    a job whose master did not come up in time is started again (up to MASTER_START_ATTEMPTS
-    times; result "attempts"). launch_args: more team_run.launch arguments (launch_command)."""
+    a job whose master did not come up in time, or whose simulation did not start running within
+    STARTUP_LIMIT_S, is started again (up to MASTER_START_ATTEMPTS times; result "attempts").
+    launch_args: more team_run.launch arguments (launch_command)."""
     for attempt in range(1, MASTER_START_ATTEMPTS + 1):
         result = _run_job_once(job, job_dir, sim_limit_s, wall_limit_s, launch_args)
         try:
@@ -213,7 +225,8 @@ def run_job(job: Job, job_dir: str, sim_limit_s: float, wall_limit_s: float, lau
                 log_text = f.read()
         except OSError:
             log_text = ""
-        if not master_start_failed(result, log_text) or attempt == MASTER_START_ATTEMPTS:
+        again = master_start_failed(result, log_text) or result.get("status") == START_STALLED
+        if not again or attempt == MASTER_START_ATTEMPTS:
             break
         os.replace(os.path.join(job_dir, "roslaunch.log"), os.path.join(job_dir, "roslaunch.attempt%d.log" % attempt))
     result["attempts"] = attempt
@@ -242,6 +255,7 @@ def _run_job_once(job: Job, job_dir: str, sim_limit_s: float, wall_limit_s: floa
     over_wall_limit = False
     log_bytes = None  # what roslaunch wrote before the job was stopped (then nodes die on purpose)
     running, decided_at, frozen = _LogWatch(log_path, RUNNING_MARK), None, []
+    stalled = False  # the simulation did not start running within STARTUP_LIMIT_S
     with open(log_path, "w") as log:
         process = subprocess.Popen(command, stdout=log, stderr=subprocess.STDOUT, env=env, cwd=job_dir,
                                    start_new_session=True, preexec_fn=_default_signals)
@@ -257,6 +271,9 @@ def _run_job_once(job: Job, job_dir: str, sim_limit_s: float, wall_limit_s: floa
                     break
                 if time.monotonic() - started > wall_limit_s:
                     over_wall_limit = True
+                    break
+                if start_stalled(time.monotonic(), started, running.seen_at):
+                    stalled = True
                     break
                 time.sleep(0.2)
         finally:
@@ -276,6 +293,9 @@ def _run_job_once(job: Job, job_dir: str, sim_limit_s: float, wall_limit_s: floa
         with open(report_path) as f:
             report = json.load(f)
     status, reason = classify(report, dead, over_wall_limit, process.returncode)
+    if stalled:  # the referee's report at the shutdown judges no run
+        report, status = None, START_STALLED
+        reason = "the simulation did not start running within %.0f s of wall time; stopped" % STARTUP_LIMIT_S
     ended = time.monotonic()
     if decided_at is None and report is not None:
         decided_at = ended  # the report came with roslaunch's own end (the simulator's time limit)
