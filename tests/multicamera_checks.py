@@ -11,7 +11,7 @@ import rospy
 import rostest
 from sensor_msgs.msg import CameraInfo, Image
 
-from stepped_sim import SettledFrameTest, write_png
+from stepped_sim import SettledFrameTest, wait_for, write_png
 
 POST_DEPTH_M = 1.0
 BASELINE_M = 0.1
@@ -77,8 +77,9 @@ class MultiCameraTest(SettledFrameTest):
             info = self.last[name + "_info"]
             self.assertEqual((info.width, info.height), size, name)
             self.assertEqual(info.header.frame_id, frame, name)
-            self.assertIn(msg.header.stamp, self.stamps(name + "_info"), f"{name}: an info stamped with its image")
-        self.assertIn(self.last["left"].header.stamp, self.stamps("right"), "both cameras capture at one time")
+            # the info is published right after its image: it may still be on its way
+            wait_for(lambda: msg.header.stamp in self.stamps(name + "_info"), f"{name}: an info stamped with its image")
+        wait_for(lambda: self.last["left"].header.stamp in self.stamps("right"), "both cameras capturing at one time")
 
     def stamps(self, name):
         return [m.header.stamp for m in self.topics[name].messages]
