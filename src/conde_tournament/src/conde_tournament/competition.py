@@ -51,6 +51,7 @@ class Options:
     wall_limit_s: float = 600.0
     sim_limit_s: float = 0.0   # 0 = each challenge's own end (its time limit)
     jobs: int = 2              # challenges run at a time (lock-step: the same results with 1 or 2)
+    profile: bool = False      # print where the CPU time went (conde_tournament.cpu_profile)
 
     def launch_args(self) -> List[str]:
         """team_run.launch arguments of every job: the track and, with --rviz, rviz paced to the wall clock."""
@@ -78,6 +79,8 @@ def _parser() -> argparse.ArgumentParser:
                         help="stop each run at this simulated time [s] (default 0: the challenge's own time limit)")
     parser.add_argument("--jobs", default="2", metavar="N",
                         help="challenges run at a time (default 2; lock-step keeps each run's result the same)")
+    parser.add_argument("--profile", action="store_true",
+                        help="also print the CPU time [s] per challenge and phase and per node per simulated second")
     parser.add_argument("--check", action="store_true", help=argparse.SUPPRESS)
     return parser
 
@@ -112,7 +115,8 @@ def parse_options(argv) -> Options:
     ordered = tuple(c for c in CHALLENGES if c in challenges) or CHALLENGES
     # With rviz each run is shown paced, one window at a time.
     jobs = 1 if args.rviz else jobs
-    return Options(ordered, args.engine, track_seed, args.rviz, args.output_dir, wall_limit_s, sim_limit_s, jobs)
+    return Options(ordered, args.engine, track_seed, args.rviz, args.output_dir, wall_limit_s, sim_limit_s, jobs,
+                   profile=args.profile)
 
 
 def outcome(report: Optional[dict], laps_required: int, signs_total: int) -> Tuple[bool, str]:
@@ -148,7 +152,8 @@ def row(result: dict, laps_required: int = 2, signs_total: int = 12) -> dict:
             "time_s": report.get("driving_time_s"), "penalties": float(report.get("penalty_total", 0.0)),
             "score": float(report.get("score", 0.0)), "wall_s": float(result.get("wall_s", 0.0)),
             "events": [e.get("kind", "?") for e in report.get("events", []) if e.get("penalty")],
-            "folder": result.get("folder", result["challenge"]), "timing": result.get("timing") or {}}
+            "folder": result.get("folder", result["challenge"]), "timing": result.get("timing") or {},
+            "cpu": result.get("cpu")}
 
 
 def totals(rows: List[dict]) -> dict:

@@ -6,11 +6,12 @@ wall time went (start-up, run, stop per challenge) and writes the summary page. 
 when the referee judged every challenge (whatever the robot did), 1 when some run has no referee
 report, 2 on bad options."""
 import os
+import resource
 import shutil
 import sys
 import time
 
-from conde_tournament import competition
+from conde_tournament import competition, cpu_profile
 from conde_tournament.job import run_job
 from conde_tournament.pools import run_each
 from conde_tournament.progress import Progress
@@ -23,6 +24,13 @@ LAPS_REQUIRED = 2
 def signs_total() -> int:
     from conde_worlds.traffic_signs import SIGNS
     return len(SIGNS)
+
+
+def runner_cpu_s() -> float:
+    """CPU seconds of this runner itself (its threads poll the jobs; the jobs' process trees are
+    reaped with their own rusage, not counted here)."""
+    usage = resource.getrusage(resource.RUSAGE_SELF)
+    return usage.ru_utime + usage.ru_stime
 
 
 def run(options: competition.Options) -> int:
@@ -59,6 +67,9 @@ def run(options: competition.Options) -> int:
     print(competition.table_text(rows), end="")
     print()
     print(competition.timing_text(rows, elapsed_s, options.jobs), end="")
+    if options.profile:
+        print()
+        print(cpu_profile.profile_text([(r["challenge"], r["cpu"]) for r in rows], runner_cpu_s=runner_cpu_s()), end="")
     paths = competition.write_summary(out_dir, rows, options)
     print("competition: %.0f s wall; summary %s, %s" % (elapsed_s, paths["md"], paths["html"]), flush=True)
     judged = all(os.path.isfile(os.path.join(out_dir, r["folder"], "challenge", "referee.json")) for r in rows)
