@@ -46,6 +46,23 @@ def test_per_node_counts_from_the_first_snapshot_and_adds_same_names():
     assert per_node_s(before, after) == {"sim": 16.0, "roslaunch": 0.5, "rosout": 0.25}
     # A pid reused by another process counts from zero.
     assert per_node_s({5: ProcessCpu("old", 9.0, 0.0)}, {5: ProcessCpu("new", 1.0, 0.0)}) == {"new": 1.0}
+    # Own time only: the children roslaunch reaped (nodes that ended) are not counted twice.
+    assert per_node_s(before, after, own_only=True)["roslaunch"] == 0.5
+    assert per_node_s({}, {2: ProcessCpu("roslaunch", 1.0, 7.0)}, own_only=True) == {"roslaunch": 1.0}
+
+
+def test_a_node_that_ended_before_the_decision_keeps_its_last_reading():
+    running = {1: ProcessCpu("roslaunch", 2.0, 0.0), 2: ProcessCpu("conde_sim", 1.0, 0.0)}
+    sampled = {1: ProcessCpu("roslaunch", 2.0, 0.0), 2: ProcessCpu("conde_sim", 9.0, 0.0)}
+    decided = {1: ProcessCpu("roslaunch", 2.5, 9.5)}  # the simulator ended and was reaped
+    cpu = FakeTree([running, sampled, decided])
+    cpu.mark("nodes", 2.0)
+    cpu.sample(10.0)
+    cpu.mark("run", 11.0)
+    cpu.finish(12.5)
+    result = cpu.result(sim_s=10.0)
+    assert result["nodes_run_s"] == {"conde_sim": 8.0, "roslaunch": 0.5}
+    assert result["phases_s"]["run"] == 9.0 and result["phases_s"]["stop"] == 0.5
 
 
 class FakeTree(JobCpu):
@@ -74,7 +91,8 @@ def test_phases_from_the_tree_totals_and_roslaunchs_rusage():
     result = cpu.result(sim_s=20.0)
     assert result["phases_s"] == {"parse": 3.0, "nodes": 2.0, "run": 30.5, "stop": 4.5}
     assert result["total_s"] == 40.0 and result["sim_s"] == 20.0
-    assert result["nodes_run_s"] == {"conde_sim": 30.0, "roslaunch": 0.5}
+    assert result["nodes_run_s"] == {"conde_sim": 30.0, "roslaunch": 0.5}  # own CPU only
+    assert result["nodes_startup_s"] == {"conde_sim": 1.0, "roslaunch": 4.0}
 
 
 def test_a_run_ended_by_the_simulation_ends_at_the_latest_reading():
@@ -104,7 +122,7 @@ def test_a_process_in_its_exit_keeps_its_last_reading():
 def test_samples_are_rate_limited():
     cpu = FakeTree([{1: ProcessCpu("a", 1.0, 0.0)}])
     cpu.sample(100.0)
-    cpu.sample(101.0)  # within sample_period_s: no reading (FakeTree would run out of snapshots)
+    cpu.sample(100.5)  # within sample_period_s: no reading (FakeTree would run out of snapshots)
     assert cpu.last_total_s == 1.0
 
 
@@ -134,7 +152,8 @@ def test_reap_gives_the_cpu_of_the_whole_tree():
 
 def test_profile_text_tables_and_estimate():
     d1 = {"phases_s": {"parse": 2.0, "nodes": 8.0, "run": 100.0, "stop": 2.0}, "total_s": 112.0, "sim_s": 50.0,
-          "nodes_run_s": {"conde_sim": 60.0, "conde_tracking": 30.0}}
+          "nodes_run_s": {"conde_sim": 60.0, "conde_tracking": 30.0},
+          "nodes_startup_s": {"roslaunch": 3.5, "conde_tracking": 1.25}}
     p1 = {"phases_s": {"parse": 2.0, "nodes": 8.0, "run": 20.0, "stop": 2.0}, "total_s": 32.0, "sim_s": 20.0,
           "nodes_run_s": {"conde_sim": 12.0, "conde_tracking": 6.0}}
     text = profile_text([("D1", d1), ("P1", p1), ("D2", None)], cores=2, runner_cpu_s=4.0)
@@ -146,6 +165,7 @@ def test_profile_text_tables_and_estimate():
     assert lines[5].split() == ["total", "4.0", "16.0", "120.0", "4.0", "144.0"]
     assert "conde_sim                        1200    600" in text
     assert text.index("conde_sim ") < text.index("conde_tracking ")
+    assert "roslaunch                        3.50\n" in text and "conde_tracking                   1.25\n" in text
     assert lines[-1] == ("whole run alone, estimated: max((144 + runner 4) CPU s / 2 cores, longest job 112 CPU s)"
                          " = 112 s (1.9 min)")
 

@@ -101,13 +101,17 @@ def tree_total_s(shot: Dict[int, ProcessCpu]) -> float:
     return sum(p.total_s for p in shot.values())
 
 
-def per_node_s(before: Dict[int, ProcessCpu], after: Dict[int, ProcessCpu]) -> Dict[str, float]:
+def per_node_s(before: Dict[int, ProcessCpu], after: Dict[int, ProcessCpu], own_only: bool = False) -> Dict[str, float]:
     """{name: CPU seconds between the two snapshots} of the processes in `after` (a process that
-    started in between counts from zero); processes of the same name are added."""
+    started in between counts from zero); processes of the same name are added. own_only: without
+    the reaped children's time (a node that ended counts once, not again in roslaunch's)."""
+    def cpu(proc):
+        return proc.own_s if own_only else proc.total_s
+
     used: Dict[str, float] = {}
     for pid, proc in after.items():
         start = before.get(pid)
-        delta = proc.total_s - (start.total_s if start is not None and start.name == proc.name else 0.0)
+        delta = cpu(proc) - (cpu(start) if start is not None and start.name == proc.name else 0.0)
         used[proc.name] = used.get(proc.name, 0.0) + max(0.0, delta)
     return used
 
@@ -117,7 +121,7 @@ class JobCpu:
     """A job's CPU accounting while it runs: mark() at each phase boundary, sample() in between,
     finish() with roslaunch's rusage at the end; result() is what goes into the job's result.json."""
     list_pids: Callable[[], List[int]]
-    sample_period_s: float = 2.0
+    sample_period_s: float = 1.0
     totals_s: Dict[str, float] = field(default_factory=dict)   # tree total at each phase's end
     names: Dict[int, str] = field(default_factory=dict)
     last: Dict[int, ProcessCpu] = field(default_factory=dict)  # the latest reading of every pid seen
@@ -157,7 +161,7 @@ class JobCpu:
         if phase == "nodes":
             self.at_run_start = shot
         elif phase == "run":
-            self.at_run_end = shot
+            self.at_run_end = dict(self.last)  # with the last reading of nodes that ended before
 
     def finish(self, roslaunch_cpu_s: Optional[float]):
         """The job is over: roslaunch's rusage (everything it reaped) ends the last phase."""
@@ -165,7 +169,9 @@ class JobCpu:
             self.totals_s["stop"] = roslaunch_cpu_s
 
     def result(self, sim_s: Optional[float]) -> dict:
-        """{"phases_s": {phase: CPU s}, "total_s", "sim_s", "nodes_run_s": {node: CPU s in the run}}.
+        """{"phases_s": {phase: CPU s}, "total_s", "sim_s", "nodes_run_s": {node: own CPU s in the run, a
+        node that ended before the run did up to its last reading},
+        "nodes_startup_s": {node: CPU s until the run started (roslaunch's with what it reaped)}}.
         A phase whose boundary was not seen is None (its CPU goes to the next one seen); a run that
         the simulation ended (no decision) ends at the latest reading, up to sample_period_s early."""
         totals = dict(self.totals_s)
@@ -180,13 +186,14 @@ class JobCpu:
             total = max(total, previous)  # an orphan's time may be lost to roslaunch's rusage
             phases[phase] = round(total - previous, 2)
             previous = total
-        nodes = {}
+        nodes, startup = {}, {}
         if self.at_run_start is not None:
-            end = self.at_run_end
-            if end is None:  # the simulation ended the run: each node's last reading
-                end = {pid: p for pid, p in self.last.items()}
-            nodes = {name: round(s, 2) for name, s in sorted(per_node_s(self.at_run_start, end).items())}
-        return {"phases_s": phases, "total_s": round(previous, 2), "sim_s": sim_s, "nodes_run_s": nodes}
+            startup = {name: round(s, 2) for name, s in sorted(per_node_s({}, self.at_run_start).items())}
+            end = self.at_run_end if self.at_run_end is not None else self.last  # each process's last reading
+            used = per_node_s(self.at_run_start, end, own_only=True)
+            nodes = {name: round(s, 2) for name, s in sorted(used.items())}
+        return {"phases_s": phases, "total_s": round(previous, 2), "sim_s": sim_s, "nodes_run_s": nodes,
+                "nodes_startup_s": startup}
 
 
 def sim_seconds(report: Optional[dict]) -> Optional[float]:
@@ -232,8 +239,17 @@ def profile_text(rows: List[Tuple[str, Optional[dict]]], cores: int = 2, runner_
         for node in nodes:
             out.append(line % ((node,) + tuple(_fmt(1e3 * cpu["nodes_run_s"].get(node, 0.0) / cpu["sim_s"], 0)
                                                for _, cpu in measured)))
+    started = [(name, cpu) for name, cpu in rows if cpu and cpu.get("nodes_startup_s")]
+    if started:
+        out.append("\nCPU until the run started [s], by process (parse and node start-up)\n")
+        line = "%-30s" + " %6s" * len(started) + "\n"
+        out.append(line % (("process",) + tuple(name for name, _ in started)))
+        nodes = sorted({n for _, cpu in started for n in cpu["nodes_startup_s"]},
+                       key=lambda n: -sum(cpu["nodes_startup_s"].get(n, 0.0) for _, cpu in started))
+        for node in nodes:
+            out.append(line % ((node,) + tuple(_fmt(cpu["nodes_startup_s"].get(node, 0.0), 2) for _, cpu in started)))
     longest = max((cpu["total_s"] for _, cpu in rows if cpu), default=0.0)
     alone_s = max((sums["total"] + runner_cpu_s) / cores, longest)
-    out.append("\nwhole run alone, estimated: max((%.0f + runner %.0f) CPU s / %d cores, longest job %.0f CPU s) = %.0f s"
-               " (%.1f min)\n" % (sums["total"], runner_cpu_s, cores, longest, alone_s, alone_s / 60.0))
+    out.append("\nwhole run alone, estimated: max((%.0f + runner %.0f) CPU s / %d cores, longest job %.0f CPU s)"
+               " = %.0f s (%.1f min)\n" % (sums["total"], runner_cpu_s, cores, longest, alone_s, alone_s / 60.0))
     return "".join(out)
