@@ -22,7 +22,7 @@ LAPS_REQUIRED = 2
 
 
 def signs_total() -> int:
-    from conde_worlds.traffic_signs import SIGNS
+    from conde_worlds.sign_names import SIGNS
     return len(SIGNS)
 
 
