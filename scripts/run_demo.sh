@@ -4,6 +4,7 @@
 # scored by the referee; prints the table and writes the reports, path plots and a summary page
 # (summary.md, summary.html) to results/competition/. Options (checked before installing):
 #   --challenge D3[,P1] (repeatable)  --engine bullet  --track-seed N  --rviz  --output-dir DIR
+#   --profile (also the CPU time per challenge, phase and node)
 # scripts/main_job.sh (the Docker run stage's command) is the two-lap run with lap times.
 set -euo pipefail
 cd "$(dirname "$0")/.."

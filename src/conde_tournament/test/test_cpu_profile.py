@@ -95,6 +95,18 @@ def test_phases_from_the_tree_totals_and_roslaunchs_rusage():
     assert result["nodes_startup_s"] == {"conde_sim": 1.0, "roslaunch": 4.0}
 
 
+def test_processes_that_ended_before_the_run_are_not_the_runs():
+    parsing = {1: ProcessCpu("roslaunch", 1.0, 0.0), 7: ProcessCpu("xacro", 0.25, 0.0)}
+    running = {1: ProcessCpu("roslaunch", 1.0, 0.5), 2: ProcessCpu("conde_sim", 1.0, 0.0)}
+    decided = {1: ProcessCpu("roslaunch", 1.5, 0.5), 2: ProcessCpu("conde_sim", 3.0, 0.0),
+               8: ProcessCpu("conde_traffic_sign", 0.5, 0.0)}
+    cpu = FakeTree([parsing, running, decided])
+    cpu.mark("parse", 1.0)
+    cpu.mark("nodes", 2.0)
+    cpu.mark("run", 9.0)
+    assert cpu.result(sim_s=4.0)["nodes_run_s"] == {"conde_sim": 2.0, "conde_traffic_sign": 0.5, "roslaunch": 0.5}
+
+
 def test_a_run_ended_by_the_simulation_ends_at_the_latest_reading():
     running = {1: ProcessCpu("roslaunch", 2.0, 0.0), 2: ProcessCpu("conde_sim", 1.0, 0.0)}
     sampled = {1: ProcessCpu("roslaunch", 2.0, 0.0), 2: ProcessCpu("conde_sim", 11.0, 0.0)}

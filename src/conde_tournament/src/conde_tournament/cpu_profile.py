@@ -129,6 +129,7 @@ class JobCpu:
     at_run_end: Optional[Dict[int, ProcessCpu]] = None
     sampled_at: float = -1e9
     last_total_s: Optional[float] = None  # the tree's total at the latest reading
+    ended_before_run: set = field(default_factory=set)
 
     def _read(self) -> Dict[int, ProcessCpu]:
         shot = snapshot(self.list_pids(), self.names)
@@ -160,6 +161,8 @@ class JobCpu:
         self.totals_s[phase] = tree_total_s(shot)
         if phase == "nodes":
             self.at_run_start = shot
+            # what ended before the run (xacro, generate_challenge, ...) is not the run's
+            self.ended_before_run = set(self.last) - set(shot)
         elif phase == "run":
             self.at_run_end = dict(self.last)  # with the last reading of nodes that ended before
 
@@ -190,6 +193,7 @@ class JobCpu:
         if self.at_run_start is not None:
             startup = {name: round(s, 2) for name, s in sorted(per_node_s({}, self.at_run_start).items())}
             end = self.at_run_end if self.at_run_end is not None else self.last  # each process's last reading
+            end = {pid: p for pid, p in end.items() if pid not in self.ended_before_run}
             used = per_node_s(self.at_run_start, end, own_only=True)
             nodes = {name: round(s, 2) for name, s in sorted(used.items())}
         return {"phases_s": phases, "total_s": round(previous, 2), "sim_s": sim_s, "nodes_run_s": nodes,
