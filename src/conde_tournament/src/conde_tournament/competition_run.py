@@ -1,8 +1,9 @@
 """Runs the competition (conde_tournament.competition's options), `--jobs` challenges at a time
 (default 2: on two cores the lock-step runs leave each other idle time; each run's result stays
 the same), each an isolated tournament job of the reference Conde stack (conde_tournament.job: own
-master, lock-step, referee), with a progress line per challenge; then prints the table, where the
-wall time went (start-up, run, stop per challenge) and writes the summary page. Exit status: 0
+master, lock-step, referee; the long challenges started first), with a progress line per challenge;
+then prints the table, where the wall time went (start-up, run, stop per challenge), with --profile
+where the CPU time went, and writes the summary page. Exit status: 0
 when the referee judged every challenge (whatever the robot did), 1 when some run has no referee
 report, 2 on bad options."""
 import os
@@ -24,6 +25,18 @@ LAPS_REQUIRED = 2
 def signs_total() -> int:
     from conde_worlds.sign_names import SIGNS
     return len(SIGNS)
+
+
+def start_order(challenges, time_limits_s: dict) -> list:
+    """The order the challenges start in (pure): the longest first by their time limit [s] (equal
+    ones as given), so that with two at a time a long run does not end alone after the short ones
+    (D1-D4 and V1 take about 170 simulated seconds, P and B about 20). The table keeps the given order."""
+    return sorted(challenges, key=lambda name: -time_limits_s.get(name, 0.0))
+
+
+def challenge_time_limits_s() -> dict:
+    from conde_worlds.challenges import load_challenges
+    return {name: ch.time_limit_s for name, ch in load_challenges().challenges.items()}
 
 
 def runner_cpu_s() -> float:
@@ -54,7 +67,8 @@ def run(options: competition.Options) -> int:
 
     by_name = {}
     try:
-        for name, row in run_each(run_challenge, options.challenges, options.jobs, on_start=progress.start):
+        order = start_order(options.challenges, challenge_time_limits_s())
+        for name, row in run_each(run_challenge, order, options.jobs, on_start=progress.start):
             by_name[name] = row
             progress.done("%-3s %s  time %s s  penalties %g  score %.1f  (%.0f s wall, %.0f s in all)"
                           % (name, row["result"], "-" if row["time_s"] is None else "%.1f" % row["time_s"],
