@@ -2,12 +2,13 @@
 import os
 import subprocess
 import sys
+import time
 
 import pytest
 
 from conde_tournament import cpu_profile
 from conde_tournament.cpu_profile import JobCpu, ProcessCpu, parse_stat, per_node_s, process_name, profile_text
-from conde_tournament.job import _reap, _wait
+from conde_tournament.job import _reap, _stop, _wait
 
 TICK = cpu_profile.CLOCK_TICKS_PER_S
 
@@ -160,6 +161,25 @@ def test_reap_gives_the_cpu_of_the_whole_tree():
     assert _wait(process, 60.0)
     assert process.returncode == 3 and process.cpu_s > 0.1
     assert _reap(process) == 3  # reaped once, asked again
+
+
+def test_stop_ends_the_process_group_and_reaps_with_rusage():
+    process = subprocess.Popen(["bash", "-c", "sleep 60 & sleep 60; wait"], start_new_session=True)
+    started = time.monotonic()
+    _stop(process, grace_s=20.0)
+    assert time.monotonic() - started < 15.0
+    assert process.returncode is not None and process.cpu_s >= 0.0
+    # Nothing of the group is left (the background sleep, which ignores SIGINT, got SIGKILL; init
+    # reaps it).
+    deadline = time.monotonic() + 10.0
+    while time.monotonic() < deadline:
+        try:
+            os.killpg(process.pid, 0)
+        except ProcessLookupError:
+            break
+        time.sleep(0.1)
+    else:
+        pytest.fail("the process group still exists")
 
 
 def test_profile_text_tables_and_estimate():
