@@ -51,7 +51,7 @@ def run(options: competition.Options) -> int:
     os.makedirs(out_dir, exist_ok=True)
     team = Team("reference")
     total_signs = signs_total()
-    print("competition: %s with Conde (%s), lock-step, %s; output %s"
+    print("competition: %s (%s), lock-step, %s; output %s"
           % (" ".join(options.challenges), competition.heading(options),
              "paced with rviz" if options.rviz else "headless", out_dir), flush=True)
     progress = Progress(len(options.challenges), unit="challenge")
