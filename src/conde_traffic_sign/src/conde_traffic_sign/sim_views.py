@@ -70,6 +70,6 @@ def connect_camera(prog, first_pose, launch=None):
     except RuntimeError as error:
         if launch is not None and launch.poll() is not None:
             launch.log.seek(0)
-            error = RuntimeError("%s\nroslaunch exited with %d:\n%s" % (error, launch.returncode,
-                                                                       launch.log.read().decode(errors="replace")))
+            output = launch.log.read().decode(errors="replace")
+            error = RuntimeError("%s\nroslaunch exited with %d:\n%s" % (error, launch.returncode, output))
         raise error
