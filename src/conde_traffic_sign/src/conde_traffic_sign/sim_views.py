@@ -2,12 +2,13 @@
 the accuracy and route scripts): starts conde_bringup challenge.launch V1 paused, as fast as
 possible and without referee, on a free loopback port, and gives the camera (CameraInfo and TF)."""
 import os
-import signal
 import socket
 import subprocess
 import tempfile
 import threading
 import time
+
+from conde_common.processes import stop_process_group
 
 
 def start_simulation(engine, layout_seed, output_dir, track_seed=0):
@@ -28,14 +29,7 @@ def start_simulation(engine, layout_seed, output_dir, track_seed=0):
 
 
 def stop_simulation(launch):
-    if launch is None or launch.poll() is not None:
-        return
-    os.killpg(launch.pid, signal.SIGINT)
-    try:
-        launch.wait(timeout=30)
-    except subprocess.TimeoutExpired:
-        os.killpg(launch.pid, signal.SIGKILL)
-        launch.wait()
+    stop_process_group(launch)
 
 
 #: How long the master, the simulator's services and the camera may take to come up [s, wall]: a
