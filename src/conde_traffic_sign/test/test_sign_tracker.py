@@ -114,3 +114,13 @@ def test_a_passed_sign_waits_while_a_nearer_one_is_not_passed_yet():
     assert k_hospital >= k_danger and poses[k_danger][0] > 0.8
     alone = drive(SignTracker(), {"hospital": (0.0, -1.5)}, poses)
     assert alone[0][0] < k_danger  # without the nearer sign it goes just past x = 0
+
+
+def test_a_reported_sign_seen_again_as_another_name_stays_silent_until_a_restart():
+    tracker = SignTracker()
+    assert [n for _, n in drive(tracker, {"hospital": (0.0, 1.0)}, straight())] == ["hospital"]
+    # second lap: the same place, read as turn_left from afar
+    assert drive(tracker, {"turn_left": (0.1, 1.1)}, straight()) == []
+    tracker.restart()  # a world reset: the odometry starts again, the same place is another sign
+    assert [n for _, n in drive(tracker, {"turn_left": (0.1, 1.1)}, straight())] == ["turn_left"]
+    assert drive(tracker, {"hospital": (3.0, 1.0)}, straight()) == []  # its name was reported

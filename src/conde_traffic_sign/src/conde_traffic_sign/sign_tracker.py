@@ -18,9 +18,9 @@ falls with the camera distance (near views are sharper). A track is reported onc
   reported first: the referee would judge this report against it); signs due in the same image
   are reported nearest first.
 
-A reported track takes no more sightings: they start a new track, which stays silent while it
-shows the reported name; so a robot put elsewhere (set_start_pose restarts the odometry) or an
-odometry that has drifted does not mix the next sign into a reported one.
+A reported track keeps taking the sightings near it, silently: a sign seen again on the second lap,
+read as another name from afar, is not reported again. A world reset (set_start_pose: simulated
+time and odometry start again) calls restart(), which forgets the tracks but not the names reported.
 A name is reported at most once per run (the referee judges each of the twelve signs once, and
 every sign shows a different picture): a second track with a reported name (a second lap after
 odometry drift) stays silent.
@@ -95,6 +95,10 @@ class SignTracker:
         self.tracks: List[Track] = []
         self.reported_names: List[str] = []
 
+    def restart(self):
+        """Forgets the tracks (the odometry frame starts again), not the names reported."""
+        self.tracks = []
+
     def update(self, robot_pose, detections: Iterable) -> List[Tuple[str, Track]]:
         """[(name, track)] to report now, nearest first. robot_pose: (x, y, yaw) [m, rad] in the
         odometry frame when the image was taken; detections: objects with .name, .x_m, .y_m (robot
@@ -104,7 +108,7 @@ class SignTracker:
             if not d.distance_m <= cfg.max_sighting_m:
                 continue
             x, y = to_odometry_frame(robot_pose, d.x_m, d.y_m)
-            near = [(math.hypot(t.x_m - x, t.y_m - y), i) for i, t in enumerate(self.tracks) if not t.reported]
+            near = [(math.hypot(t.x_m - x, t.y_m - y), i) for i, t in enumerate(self.tracks)]
             near = [(dist, i) for dist, i in near if dist <= cfg.associate_radius_m]
             if near:
                 track = self.tracks[min(near)[1]]
