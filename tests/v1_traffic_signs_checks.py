@@ -10,6 +10,7 @@ import rospy
 import rostest
 from conde_msgs.srv import SetStartPose
 from geometry_msgs.msg import Twist
+from std_srvs.srv import Empty
 from std_msgs.msg import String
 from visualization_msgs.msg import MarkerArray
 
@@ -44,6 +45,8 @@ class V1TrafficSignsTest(unittest.TestCase):
         cls.events = Latest("/conde_referee/events", String)
         rospy.wait_for_service("/conde_sim/set_start_pose", timeout=60)
         cls.set_pose = rospy.ServiceProxy("/conde_sim/set_start_pose", SetStartPose)
+        rospy.wait_for_service("/conde_traffic_sign/forget_tracks", timeout=60)
+        cls.forget_tracks = rospy.ServiceProxy("/conde_traffic_sign/forget_tracks", Empty)
         cls.cmd_vel = rospy.Publisher("/cmd_vel", Twist, queue_size=10)
         wait_for(lambda: cls.cmd_vel.get_num_connections() > 0, "the simulator's /cmd_vel subscription")
 
@@ -65,6 +68,7 @@ class V1TrafficSignsTest(unittest.TestCase):
         for i, (sx, sy, yaw) in enumerate(co.SIGN_POSES):
             x, y, heading = view_on_road(sx, sy, yaw)
             self.assertTrue(self.set_pose("", x, y, heading).success)
+            self.forget_tracks()  # set_start_pose restarted the odometry: the last sign's place is here now
 
             def sign_judged():
                 kinds = [json.loads(m.data) for m in self.events.messages]

@@ -19,8 +19,9 @@ falls with the camera distance (near views are sharper). A track is reported onc
   are reported nearest first.
 
 A reported track keeps taking the sightings near it, silently: a sign seen again on the second lap,
-read as another name from afar, is not reported again. A world reset (set_start_pose: simulated
-time and odometry start again) calls restart(), which forgets the tracks but not the names reported.
+read as another name from afar, is not reported again. When the odometry starts again (the robot
+put elsewhere with set_start_pose, a world reset), restart() forgets the tracks but not the names
+reported.
 A name is reported at most once per run (the referee judges each of the twelve signs once, and
 every sign shows a different picture): a second track with a reported name (a second lap after
 odometry drift) stays silent.
