@@ -11,7 +11,8 @@ import pytest
 from conde_decision.avoidance import AvoidanceConfig
 from conde_decision.parking import BayFinder, bay_entry_lead_m
 from conde_decision.decision_logic import (END_OF_TRIAL, FORWARD, LEFT, NONE, PARKING, RIGHT, STOP, DecisionConfig,
-                                           DecisionLogic, nearest_lane_offset)
+                                           DecisionLogic)
+from conde_decision.lane_frame import nearest_lane_offset
 from conde_decision.state_machine import load_state_machine, parse_state_machine
 from road_model import DT_S, HALF_LAP_M, LOOP_RADIUS_M, LOOP_STRAIGHT_M, Lane, Obstacle, Road
 
@@ -876,3 +877,55 @@ def test_a_fork_met_on_the_other_lane_is_taken_after_the_return():
     assert road.outputs[-1].transitions[-2:] == [("avoid_return", "lane_returned", "follow_lane"),
                                                  ("follow_lane", "fork_left", "turn_left")]
     assert 0 < fired - came <= AvoidanceConfig().max_delay_m
+
+
+# --- the lane index joined with the modulo (lane_frame.py) ---------------------------------------------
+
+@pytest.mark.parametrize("index, lateral_m, expected_m", [
+    (0, 0.03, 0.03),  # the own lane
+    (1, -0.782 + 0.03, 0.03),  # the lane on the left: + the measured spacing (0.782), not the config's 0.8065
+    (-1, -0.782 + 0.03, 0.03 + 0.8065 - 0.782),  # not known: the modulo of the config's spacing
+])
+def test_after_a_right_fork_crossed_straight_the_lane_index_places_the_offset(index, lateral_m, expected_m):
+    """Through DecisionLogic on the road model: after "left" at the south fork (straight on) the
+    tracker may measure the lane on the left; its lane_index says which lane where known."""
+    road = make()
+    signal(road, FORWARD)
+    road.drive_m(HALF_LAP_M - 3.0)
+    signal(road, LEFT)
+    road.until("fork_straight")
+    road.drive_m(CONFIG.straight_crossing_m + 0.2)
+    assert road.logic.forks.tracker_may_be_on_the_other_lane()
+    road.lateral_offset_m = lateral_m
+    road.lane = lambda: replace(Road.lane(road), lane_index=index, lane_spacing_m=0.782)
+    road.drive_m(0.1)
+    assert road.outputs[-1].lateral_offset_m == pytest.approx(expected_m)
+    assert road.logic._tracked_lanes_left(road.lane()) == (1 if lateral_m < -0.4 else 0)
+
+
+def test_a_box_passed_while_the_tracker_measures_the_lane_on_the_left_counts_that_lane_once():
+    """The tracker on the lane on the left (lane_index 1 all along, as after the south fork crossed
+    straight in D2) and a box in the own lane: the avoidance is given the tracker's offset and index
+    and changes over one lane, not none (the wrapped offset plus the index put the robot on the
+    other lane at once: it never left its lane)."""
+    road = make()
+    road.follow_reference = road.steer_on_output = road.report_lane_index = True
+    road.tracked_lane = 1
+    road.own_offset_m = 0.0
+    road.logic.forks.tracked_lane_unsure = True  # as after a right fork crossed straight
+    reach(road, "follow_lane")
+    assert abs(road.own_offset_m) < 0.05
+    box = Obstacle("box", road.s + 3.0, -0.3, 0.3)
+    road.obstacles.append(box)
+    states, widest_m, at_box_m = [], 0.0, []
+    for _ in range(int(12.0 / DT_S)):
+        road.step()
+        states.append(road.logic.state)
+        widest_m = max(widest_m, road.own_offset_m)
+        if box.s_near_m - 0.3 <= road.s <= box.s_near_m + box.depth_m + 0.3:
+            at_box_m.append(road.own_offset_m)
+    seen = [s for i, s in enumerate(states) if i == 0 or s != states[i - 1]]
+    assert seen == ["follow_lane", "avoid_change_lane", "avoid_pass", "avoid_return", "follow_lane"], seen
+    assert min(at_box_m) > 0.3 + 0.15
+    assert widest_m == pytest.approx(0.782, abs=0.05)
+    assert abs(road.own_offset_m) < 0.05
