@@ -541,6 +541,7 @@ def test_time_gaps_are_capped():
     ({"loop_lane_radii_m": (2.5, -1.0)},
      "loop_lane_radii_m: expected one radius > 0 per entry of fork_sides, got (2.5, -1.0)"),
     ({"loop_exit_m": -0.1}, "loop_exit_m: must be >= 0, got -0.1"),
+    ({"min_road_direction_samples": 0}, "min_road_direction_samples: expected an integer >= 1, got 0"),
 ])
 def test_config_errors(change, message):
     with pytest.raises(ValueError) as info:
@@ -929,3 +930,29 @@ def test_a_box_passed_while_the_tracker_measures_the_lane_on_the_left_counts_tha
     assert min(at_box_m) > 0.3 + 0.15
     assert widest_m == pytest.approx(0.782, abs=0.05)
     assert abs(road.own_offset_m) < 0.05
+
+
+# --- the north loop's end with the robot off the road's direction at the fork (D2, lap 2) ------------
+
+@pytest.mark.parametrize("error_deg", [6.0, 10.0, -10.0])
+def test_merge_right_at_the_corner_seen_after_a_heading_error_at_the_fork(error_deg):
+    """The robot points error_deg off the road at the north fork (taken straight), then follows the
+    lane again: merge_right fires where the cameras see the loop's end corner (corner_lead_m before
+    it), since the sweep counts from the road's direction seen before the fork."""
+    road = make(junction_fallback_m=0.3)
+    signal(road, FORWARD)
+    road.drive_m(FORK_S - 0.3)
+    error_rad = math.radians(error_deg)
+    road.yaw_rad += error_rad  # the robot swerves at the junction ...
+    road.heading_error_rad += error_rad
+    out = road.until("fork_straight")
+    fork_s = road.positions[-1]
+    road.drive_m(0.3)
+    road.yaw_rad -= error_rad  # ... and is back along its lane
+    road.heading_error_rad -= error_rad
+    corner_s = fork_s + LOOP_STRAIGHT_M["left"] + 1.5 * math.pi * LOOP_RADIUS_M["left"] + CONFIG.loop_exit_m
+    road.corners.append(("right", corner_s, CONFIG.corner_line_offset_m))
+    out = road.until("merge_right")
+    assert out.transitions == [("follow_lane", "merge_right", "turn_right")]
+    assert road.positions[-1] == pytest.approx(corner_s - CONFIG.corner_lead_m, abs=2 * STEP_M)
+    assert not any("fallback" in note for note in road.logic.notes)
