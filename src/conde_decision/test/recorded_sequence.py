@@ -31,9 +31,9 @@ def lane_of(row):
     return lane
 
 
-def replay(logic, rows, stop=lambda t_s, out: False):
+def replay(logic, rows, stop=lambda t_s, out: False, notes=None):
     """Feeds the rows to logic; returns [(t_s, row, DecisionOutput)] of the lane rows, up to the
-    first for which stop(t_s, out) is true."""
+    first for which stop(t_s, out) is true; the logic's notes are added to the list `notes`."""
     outputs = []
     for row in rows:
         if row["kind"] == "signal":
@@ -41,6 +41,8 @@ def replay(logic, rows, stop=lambda t_s, out: False):
             continue
         logic.on_odometry(row["yaw_rad"], row["odom_path_m"])
         out = logic.on_lane(lane_of(row), row["t_s"])
+        if notes is not None:
+            notes.extend(logic.notes)
         outputs.append((row["t_s"], row, out))
         if stop(row["t_s"], out):
             break

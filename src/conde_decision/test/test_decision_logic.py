@@ -14,6 +14,7 @@ from conde_decision.decision_logic import (END_OF_TRIAL, FORWARD, LEFT, NONE, PA
                                            DecisionLogic)
 from conde_decision.lane_frame import nearest_lane_offset
 from conde_decision.state_machine import load_state_machine, parse_state_machine
+from recorded_sequence import load, replay
 from road_model import DT_S, HALF_LAP_M, LOOP_RADIUS_M, LOOP_STRAIGHT_M, Lane, Obstacle, Road
 
 PACKAGE_DIR = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -21,6 +22,7 @@ SPEC = load_state_machine(os.path.join(PACKAGE_DIR, "config", "conde_states.yaml
 # The 1-D model of the route has no camera corners: without the late fallback its turns begin at
 # the stored distances (test_fork_navigator.py tests the fallback).
 CONFIG = replace(DecisionConfig(), junction_fallback_m=0.0)
+CONFIG_AS_RUN = DecisionConfig()  # the node's defaults, for the recorded sequences
 CRUISE = CONFIG.cruise_speed_mps
 STEP_M = CRUISE * DT_S  # distance of one step at cruise speed
 FORK_S = CONFIG.crosswalk_length_m + CONFIG.fork_distance_m  # first fork, from the start (s = 0)
@@ -377,15 +379,6 @@ def test_parallel_parking_turns_right_and_back_through_the_s():
     assert road.yaw_rad == pytest.approx(0.5 * math.pi, abs=0.02)
 
 
-def test_parking_while_driving():
-    road = make()
-    signal(road, FORWARD)
-    road.drive_m(5.0)
-    assert signal(road, PARKING) == [("follow_lane", "signal_parking", "go_to_parking")]
-    out = road.until("parking_parallel")
-    assert out.transitions == [("go_to_parking", "parking_parallel", "park_drive")]
-
-
 def test_reverse_drives_backward_blind_and_counts_its_distance():
     spec = parse_state_machine({"initial": "wait", "states": {
         "wait": {"command": {"speed": "stop"}, "on": {"signal_parking": "back"}},
@@ -553,7 +546,7 @@ def test_config_errors(change, message):
 
 CODES = {"signal_forward": FORWARD, "signal_left": LEFT, "signal_right": RIGHT, "signal_stop": STOP,
          "signal_end_of_trial": END_OF_TRIAL, "signal_parking": PARKING}
-ENTRY_SIGNAL = {"approach_stop": STOP, "approach_finish": END_OF_TRIAL}
+ENTRY_SIGNAL = {"approach_stop": STOP, "approach_finish": END_OF_TRIAL, "drive_to_parking": PARKING}
 
 
 def reach(road, state):
@@ -591,6 +584,9 @@ def reach(road, state):
     elif state == "stopped":
         signal(road, STOP)
         road.until("crosswalk_reached")
+    elif state == "parking_lead_in":
+        signal(road, PARKING)
+        road.until("lap_completed")
     else:
         assert state == "follow_lane", "no recipe to reach %s" % state
 
@@ -956,3 +952,69 @@ def test_merge_right_at_the_corner_seen_after_a_heading_error_at_the_fork(error_
     assert out.transitions == [("follow_lane", "merge_right", "turn_right")]
     assert road.positions[-1] == pytest.approx(corner_s - CONFIG.corner_lead_m, abs=2 * STEP_M)
     assert not any("fallback" in note for note in road.logic.notes)
+
+
+# --- the parking order while driving (D2) -------------------------------------------------------------
+
+def test_parking_ordered_while_driving_drives_on_to_the_end_of_the_lap_then_parks():
+    """D2 orders parking at 160 s, in the second lap: the robot drives on (the south fork's branch
+    as ordered) to the crosswalk northbound, where the lap ends and the parking area begins, and
+    heads for the parking place from the crosswalk's near edge, where the P challenges start."""
+    road = make()
+    signal(road, FORWARD)
+    road.drive_m(HALF_LAP_M + 1.0)  # past the crosswalk southbound, before the south fork
+    assert signal(road, PARKING) == [("follow_lane", "signal_parking", "drive_to_parking")]
+    first = len(road.outputs)
+    out = road.until("lap_completed")
+    assert out.transitions == [("drive_to_parking", "lap_completed", "parking_lead_in")]
+    assert road.logic.lap_counter.laps == 1
+    events = [t[1] for o in road.outputs[first:] for t in o.transitions]
+    assert events == ["fork_right", "distance_elapsed", "lap_completed"]  # the branch taken, the turn's end
+    out = road.until("distance_elapsed")
+    assert out.transitions == [("parking_lead_in", "distance_elapsed", "go_to_parking")]
+    assert road.positions[-1] == pytest.approx(2 * HALF_LAP_M, abs=2 * STEP_M)  # the near edge (the start's)
+    out = road.until("parking_parallel")  # auto, no bay line seen in the first parking_search_m
+    assert out.transitions == [("go_to_parking", "parking_parallel", "park_drive")]
+
+
+def test_parking_ordered_while_driving_takes_the_turns_on_the_way():
+    """The order before the north fork taken straight: the loop's end is still turned onto the
+    central road (merge_right), and the robot goes on to the end of the lap."""
+    road = make()
+    signal(road, FORWARD)
+    road.drive_m(FORK_S + 1.0)  # past the north fork, straight on
+    signal(road, PARKING)
+    out = road.until("merge_right")
+    assert out.transitions == [("drive_to_parking", "merge_right", "turn_right")]
+    road.until("distance_elapsed")
+    assert road.logic.state == "drive_to_parking"
+
+
+# --- recorded: D2 on ODE, lap 2, from the stop at the crosswalk to the north loop's end -----------------
+
+@pytest.mark.parametrize("error_deg", [0.0, -10.0, -6.0, 6.0, 10.0])
+def test_recorded_d2_lap2_merge_right_at_the_north_loops_end(error_deg):
+    """The inputs of conde_decision recorded in D2 on ODE (fixtures/d2_lap2_north_loop_sequence.csv:
+    lap 2 from the stop at the crosswalk, "right" at the north fork: straight on, the north loop, its
+    end), replayed; the robot's heading and the measured heading error raised by error_deg for the
+    second around the fork (in the run it pointed 2.5 deg left there; in an earlier run about 6 deg,
+    and merge_right never fired).  merge_right fires where the cameras saw the loop's end corner
+    (124.3 s in the run), whatever the error; with the former sweep (from the robot's heading at the
+    fork, 5 deg tolerance) a robot pointing 6-10 deg left at the fork never merges."""
+    rows = []
+    for row in load("d2_lap2_north_loop_sequence.csv"):
+        if row["kind"] == "lane" and 90.9 <= row["t_s"] <= 91.9:
+            row = dict(row, yaw_rad=row["yaw_rad"] + math.radians(error_deg),
+                       heading_error_rad=row["heading_error_rad"] + math.radians(error_deg))
+        rows.append(row)
+    for config, merges in ((CONFIG_AS_RUN, True),
+                           (replace(CONFIG_AS_RUN, loop_exit_tolerance_rad=0.087, min_road_direction_samples=10 ** 6),
+                            error_deg <= 0.0)):
+        logic = DecisionLogic(SPEC, config)
+        logic.forks.tracked_lane_unsure = True  # the tracker on the lane on the left since lap 1's south fork
+        notes = []
+        outputs = replay(logic, rows, notes=notes)
+        turns = [(t, e) for t, _, out in outputs for e in out.events if e.startswith(("fork_", "merge_"))]
+        assert turns[0] == (pytest.approx(91.2, abs=0.05), "fork_straight")
+        assert turns[1:] == ([(pytest.approx(124.3, abs=0.05), "merge_right")] if merges else [])
+        assert not any("fallback" in note for note in notes)
