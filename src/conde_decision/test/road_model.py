@@ -53,6 +53,8 @@ class Lane:
     obstacle_lane_y_max_m: Tuple[float, ...] = ()
     obstacle_y_max_m: Tuple[float, ...] = ()  # in base_footprint (set for the bays' boxes only)
     bay_line_distances_m: Tuple[float, ...] = ()
+    lane_index: int = -1  # which lane conde_tracking measured: 0 own, 1 the one on the left, -1 not known
+    lane_spacing_m: float = float("nan")  # the lanes' centres apart as it measured them [m]
 
 
 @dataclass
@@ -94,6 +96,12 @@ class Road:
         self.bay_boxes_s = []  # near edges of boxes in its bays, along the route [m]
         # junction corners the cameras see: (side, s of the corner, how far beyond it the line leaves its band [m])
         self.corners = []
+        # which lane the tracker measures (0 own, 1 the lane on the left; None: the nearer one, see relock)
+        self.tracked_lane = None
+        self.report_lane_index = False  # the measurement says which lane (lane_index, lane_spacing_m)
+        # follow_reference: the robot's offset follows what the logic gives the control (its offset
+        # and reference), not the reference in the tracked lane's frame
+        self.steer_on_output = False
 
     def _with_bay_area(self, lane):
         """The lane measurement with the bay lines and bay boxes in view (BAY_LINE_VIEW_M ahead)."""
@@ -110,6 +118,8 @@ class Road:
 
     def _tracked_shift_m(self):
         """The tracked lane's centre from the own lane's centre [m]."""
+        if self.tracked_lane is not None:
+            return self.tracked_lane * LANE_SPACING_M
         return LANE_SPACING_M if self.relock and self.own_offset_m > 0.5 * LANE_SPACING_M else 0.0
 
     def _obstacle_fields(self, shift_m):
@@ -144,8 +154,10 @@ class Road:
         if self.turned_rad == 0.0:
             if self.follow_reference or self.obstacles:
                 shift_m = self._tracked_shift_m()
+                index = dict(lane_index=int(round(shift_m / LANE_SPACING_M)), lane_spacing_m=LANE_SPACING_M) \
+                    if self.report_lane_index else {}
                 return Lane(self.own_offset_m - shift_m, self.heading_error_rad, seen, ahead_m if seen else 0.0,
-                            self.lane_confidence, **self._obstacle_fields(shift_m))
+                            self.lane_confidence, **self._obstacle_fields(shift_m), **index)
             return Lane(self.lateral_offset_m, self.heading_error_rad, seen, ahead_m if seen else 0.0,
                         self.lane_confidence)
         # In a junction's arc: one line of the road left behind, then (turned through more than
@@ -172,6 +184,8 @@ class Road:
         if self.follow_reference:
             # the reference is in the own lane's frame while the logic changes lanes, else the tracked lane's
             wanted_m = out.lateral_offset_ref_m + (0.0 if self.logic.avoidance.active else self._tracked_shift_m())
+            if self.steer_on_output:
+                wanted_m = self.own_offset_m - (out.lateral_offset_m - out.lateral_offset_ref_m)
             # ... plus the heading reference's drift (the lane change's ramp: the control follows it)
             moved_m = ((wanted_m - self.own_offset_m) * min(1.0, DT_S / OFFSET_TIME_CONSTANT_S)
                        + ds * math.tan(out.heading_ref_rad))

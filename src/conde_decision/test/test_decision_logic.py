@@ -11,8 +11,10 @@ import pytest
 from conde_decision.avoidance import AvoidanceConfig
 from conde_decision.parking import BayFinder, bay_entry_lead_m
 from conde_decision.decision_logic import (END_OF_TRIAL, FORWARD, LEFT, NONE, PARKING, RIGHT, STOP, DecisionConfig,
-                                           DecisionLogic, nearest_lane_offset)
+                                           DecisionLogic)
+from conde_decision.lane_frame import nearest_lane_offset
 from conde_decision.state_machine import load_state_machine, parse_state_machine
+from recorded_sequence import load, replay
 from road_model import DT_S, HALF_LAP_M, LOOP_RADIUS_M, LOOP_STRAIGHT_M, Lane, Obstacle, Road
 
 PACKAGE_DIR = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -20,6 +22,7 @@ SPEC = load_state_machine(os.path.join(PACKAGE_DIR, "config", "conde_states.yaml
 # The 1-D model of the route has no camera corners: without the late fallback its turns begin at
 # the stored distances (test_fork_navigator.py tests the fallback).
 CONFIG = replace(DecisionConfig(), junction_fallback_m=0.0)
+CONFIG_AS_RUN = DecisionConfig()  # the node's defaults, for the recorded sequences
 CRUISE = CONFIG.cruise_speed_mps
 STEP_M = CRUISE * DT_S  # distance of one step at cruise speed
 FORK_S = CONFIG.crosswalk_length_m + CONFIG.fork_distance_m  # first fork, from the start (s = 0)
@@ -376,15 +379,6 @@ def test_parallel_parking_turns_right_and_back_through_the_s():
     assert road.yaw_rad == pytest.approx(0.5 * math.pi, abs=0.02)
 
 
-def test_parking_while_driving():
-    road = make()
-    signal(road, FORWARD)
-    road.drive_m(5.0)
-    assert signal(road, PARKING) == [("follow_lane", "signal_parking", "go_to_parking")]
-    out = road.until("parking_parallel")
-    assert out.transitions == [("go_to_parking", "parking_parallel", "park_drive")]
-
-
 def test_reverse_drives_backward_blind_and_counts_its_distance():
     spec = parse_state_machine({"initial": "wait", "states": {
         "wait": {"command": {"speed": "stop"}, "on": {"signal_parking": "back"}},
@@ -540,6 +534,7 @@ def test_time_gaps_are_capped():
     ({"loop_lane_radii_m": (2.5, -1.0)},
      "loop_lane_radii_m: expected one radius > 0 per entry of fork_sides, got (2.5, -1.0)"),
     ({"loop_exit_m": -0.1}, "loop_exit_m: must be >= 0, got -0.1"),
+    ({"min_road_direction_samples": 0}, "min_road_direction_samples: expected an integer >= 1, got 0"),
 ])
 def test_config_errors(change, message):
     with pytest.raises(ValueError) as info:
@@ -551,7 +546,7 @@ def test_config_errors(change, message):
 
 CODES = {"signal_forward": FORWARD, "signal_left": LEFT, "signal_right": RIGHT, "signal_stop": STOP,
          "signal_end_of_trial": END_OF_TRIAL, "signal_parking": PARKING}
-ENTRY_SIGNAL = {"approach_stop": STOP, "approach_finish": END_OF_TRIAL}
+ENTRY_SIGNAL = {"approach_stop": STOP, "approach_finish": END_OF_TRIAL, "drive_to_parking": PARKING}
 
 
 def reach(road, state):
@@ -589,6 +584,9 @@ def reach(road, state):
     elif state == "stopped":
         signal(road, STOP)
         road.until("crosswalk_reached")
+    elif state == "parking_lead_in":
+        signal(road, PARKING)
+        road.until("lap_completed")
     else:
         assert state == "follow_lane", "no recipe to reach %s" % state
 
@@ -876,3 +874,147 @@ def test_a_fork_met_on_the_other_lane_is_taken_after_the_return():
     assert road.outputs[-1].transitions[-2:] == [("avoid_return", "lane_returned", "follow_lane"),
                                                  ("follow_lane", "fork_left", "turn_left")]
     assert 0 < fired - came <= AvoidanceConfig().max_delay_m
+
+
+# --- the lane index joined with the modulo (lane_frame.py) ---------------------------------------------
+
+@pytest.mark.parametrize("index, lateral_m, expected_m", [
+    (0, 0.03, 0.03),  # the own lane
+    (1, -0.782 + 0.03, 0.03),  # the lane on the left: + the measured spacing (0.782), not the config's 0.8065
+    (-1, -0.782 + 0.03, 0.03 + 0.8065 - 0.782),  # not known: the modulo of the config's spacing
+])
+def test_after_a_right_fork_crossed_straight_the_lane_index_places_the_offset(index, lateral_m, expected_m):
+    """Through DecisionLogic on the road model: after "left" at the south fork (straight on) the
+    tracker may measure the lane on the left; its lane_index says which lane where known."""
+    road = make()
+    signal(road, FORWARD)
+    road.drive_m(HALF_LAP_M - 3.0)
+    signal(road, LEFT)
+    road.until("fork_straight")
+    road.drive_m(CONFIG.straight_crossing_m + 0.2)
+    assert road.logic.forks.tracker_may_be_on_the_other_lane()
+    road.lateral_offset_m = lateral_m
+    road.lane = lambda: replace(Road.lane(road), lane_index=index, lane_spacing_m=0.782)
+    road.drive_m(0.1)
+    assert road.outputs[-1].lateral_offset_m == pytest.approx(expected_m)
+    assert road.logic._tracked_lanes_left(road.lane()) == (1 if lateral_m < -0.4 else 0)
+
+
+def test_a_box_passed_while_the_tracker_measures_the_lane_on_the_left_counts_that_lane_once():
+    """The tracker on the lane on the left (lane_index 1 all along, as after the south fork crossed
+    straight in D2) and a box in the own lane: the avoidance is given the tracker's offset and index
+    and changes over one lane, not none (the wrapped offset plus the index put the robot on the
+    other lane at once: it never left its lane)."""
+    road = make()
+    road.follow_reference = road.steer_on_output = road.report_lane_index = True
+    road.tracked_lane = 1
+    road.own_offset_m = 0.0
+    road.logic.forks.tracked_lane_unsure = True  # as after a right fork crossed straight
+    reach(road, "follow_lane")
+    assert abs(road.own_offset_m) < 0.05
+    box = Obstacle("box", road.s + 3.0, -0.3, 0.3)
+    road.obstacles.append(box)
+    states, widest_m, at_box_m = [], 0.0, []
+    for _ in range(int(12.0 / DT_S)):
+        road.step()
+        states.append(road.logic.state)
+        widest_m = max(widest_m, road.own_offset_m)
+        if box.s_near_m - 0.3 <= road.s <= box.s_near_m + box.depth_m + 0.3:
+            at_box_m.append(road.own_offset_m)
+    seen = [s for i, s in enumerate(states) if i == 0 or s != states[i - 1]]
+    assert seen == ["follow_lane", "avoid_change_lane", "avoid_pass", "avoid_return", "follow_lane"], seen
+    assert min(at_box_m) > 0.3 + 0.15
+    assert widest_m == pytest.approx(0.782, abs=0.05)
+    assert abs(road.own_offset_m) < 0.05
+
+
+# --- the north loop's end with the robot off the road's direction at the fork (D2, lap 2) ------------
+
+@pytest.mark.parametrize("error_deg", [6.0, 10.0, -10.0])
+def test_merge_right_at_the_corner_seen_after_a_heading_error_at_the_fork(error_deg):
+    """The robot points error_deg off the road at the north fork (taken straight), then follows the
+    lane again: merge_right fires where the cameras see the loop's end corner (corner_lead_m before
+    it), since the sweep counts from the road's direction seen before the fork."""
+    road = make(junction_fallback_m=0.3)
+    signal(road, FORWARD)
+    road.drive_m(FORK_S - 0.3)
+    error_rad = math.radians(error_deg)
+    road.yaw_rad += error_rad  # the robot swerves at the junction ...
+    road.heading_error_rad += error_rad
+    out = road.until("fork_straight")
+    fork_s = road.positions[-1]
+    road.drive_m(0.3)
+    road.yaw_rad -= error_rad  # ... and is back along its lane
+    road.heading_error_rad -= error_rad
+    corner_s = fork_s + LOOP_STRAIGHT_M["left"] + 1.5 * math.pi * LOOP_RADIUS_M["left"] + CONFIG.loop_exit_m
+    road.corners.append(("right", corner_s, CONFIG.corner_line_offset_m))
+    out = road.until("merge_right")
+    assert out.transitions == [("follow_lane", "merge_right", "turn_right")]
+    assert road.positions[-1] == pytest.approx(corner_s - CONFIG.corner_lead_m, abs=2 * STEP_M)
+    assert not any("fallback" in note for note in road.logic.notes)
+
+
+# --- the parking order while driving (D2) -------------------------------------------------------------
+
+def test_parking_ordered_while_driving_drives_on_to_the_end_of_the_lap_then_parks():
+    """D2 orders parking at 160 s, in the second lap: the robot drives on (the south fork's branch
+    as ordered) to the crosswalk northbound, where the lap ends and the parking area begins, and
+    heads for the parking place from the crosswalk's near edge, where the P challenges start."""
+    road = make()
+    signal(road, FORWARD)
+    road.drive_m(HALF_LAP_M + 1.0)  # past the crosswalk southbound, before the south fork
+    assert signal(road, PARKING) == [("follow_lane", "signal_parking", "drive_to_parking")]
+    first = len(road.outputs)
+    out = road.until("lap_completed")
+    assert out.transitions == [("drive_to_parking", "lap_completed", "parking_lead_in")]
+    assert road.logic.lap_counter.laps == 1
+    events = [t[1] for o in road.outputs[first:] for t in o.transitions]
+    assert events == ["fork_right", "distance_elapsed", "lap_completed"]  # the branch taken, the turn's end
+    out = road.until("distance_elapsed")
+    assert out.transitions == [("parking_lead_in", "distance_elapsed", "go_to_parking")]
+    assert road.positions[-1] == pytest.approx(2 * HALF_LAP_M, abs=2 * STEP_M)  # the near edge (the start's)
+    out = road.until("parking_parallel")  # auto, no bay line seen in the first parking_search_m
+    assert out.transitions == [("go_to_parking", "parking_parallel", "park_drive")]
+
+
+def test_parking_ordered_while_driving_takes_the_turns_on_the_way():
+    """The order before the north fork taken straight: the loop's end is still turned onto the
+    central road (merge_right), and the robot goes on to the end of the lap."""
+    road = make()
+    signal(road, FORWARD)
+    road.drive_m(FORK_S + 1.0)  # past the north fork, straight on
+    signal(road, PARKING)
+    out = road.until("merge_right")
+    assert out.transitions == [("drive_to_parking", "merge_right", "turn_right")]
+    road.until("distance_elapsed")
+    assert road.logic.state == "drive_to_parking"
+
+
+# --- recorded: D2 on ODE, lap 2, from the stop at the crosswalk to the north loop's end -----------------
+
+@pytest.mark.parametrize("error_deg", [0.0, -10.0, -6.0, 6.0, 10.0])
+def test_recorded_d2_lap2_merge_right_at_the_north_loops_end(error_deg):
+    """The inputs of conde_decision recorded in D2 on ODE (fixtures/d2_lap2_north_loop_sequence.csv:
+    lap 2 from the stop at the crosswalk, "right" at the north fork: straight on, the north loop, its
+    end), replayed; the robot's heading and the measured heading error raised by error_deg for the
+    second around the fork (in the run it pointed 2.5 deg left there; in an earlier run about 6 deg,
+    and merge_right never fired).  merge_right fires where the cameras saw the loop's end corner
+    (124.3 s in the run), whatever the error; with the former sweep (from the robot's heading at the
+    fork, 5 deg tolerance) a robot pointing 6-10 deg left at the fork never merges."""
+    rows = []
+    for row in load("d2_lap2_north_loop_sequence.csv"):
+        if row["kind"] == "lane" and 90.9 <= row["t_s"] <= 91.9:
+            row = dict(row, yaw_rad=row["yaw_rad"] + math.radians(error_deg),
+                       heading_error_rad=row["heading_error_rad"] + math.radians(error_deg))
+        rows.append(row)
+    for config, merges in ((CONFIG_AS_RUN, True),
+                           (replace(CONFIG_AS_RUN, loop_exit_tolerance_rad=0.087, min_road_direction_samples=10 ** 6),
+                            error_deg <= 0.0)):
+        logic = DecisionLogic(SPEC, config)
+        logic.forks.tracked_lane_unsure = True  # the tracker on the lane on the left since lap 1's south fork
+        notes = []
+        outputs = replay(logic, rows, notes=notes)
+        turns = [(t, e) for t, _, out in outputs for e in out.events if e.startswith(("fork_", "merge_"))]
+        assert turns[0] == (pytest.approx(91.2, abs=0.05), "fork_straight")
+        assert turns[1:] == ([(pytest.approx(124.3, abs=0.05), "merge_right")] if merges else [])
+        assert not any("fallback" in note for note in notes)

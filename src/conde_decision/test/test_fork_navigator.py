@@ -63,7 +63,7 @@ def test_the_tolerance_leaves_its_arc_to_drive():
     extra_m = tol * CONFIG.loop_lane_radii_m[0]
     assert nav.loop_exit(CONFIG.loop_sweep_rad, 5.0 + CONFIG.loop_exit_m + extra_m - 1e-6) is None
     assert nav.loop_exit(CONFIG.loop_sweep_rad, 5.0 + CONFIG.loop_exit_m + extra_m) == "merge_right"
-    assert extra_m == pytest.approx(0.2235, abs=1e-3)
+    assert extra_m == pytest.approx(0.6678, abs=1e-3)  # 15 deg of the north loop's lane radius
 
 
 # --- corners seen by the cameras ------------------------------------------------------------------
@@ -223,3 +223,69 @@ def test_the_course_is_held_across_a_right_fork_taken_straight():
     nav.on_crosswalk_left()
     nav.forks_passed = 1  # the south fork on "forward": its branch, no crossing
     assert not nav.holds_course(D)
+
+
+# --- the loop's sweep from the road's direction, robust to the robot's heading at the fork ---------
+
+@pytest.mark.parametrize("error_deg", [-10.0, -6.0, 6.0, 10.0])
+def test_the_sweep_counts_from_the_road_direction_seen_before_the_fork(error_deg):
+    """D2, lap 2: the robot pointed about 6 deg left at the north fork (its lane follower swerved at
+    the junction) and, counted from its heading there, the sweep never reached 265 deg: merge_right
+    never fired at the loop's end.  Counted from the road's direction seen on the straight before the
+    fork it is complete where the loop ends, and the right corner seen there starts the merge."""
+    nav = ForkNavigator(CONFIG)
+    nav.on_direction("right")  # not obeyable at the north fork: straight on
+    nav.on_crosswalk_left()
+    for k in range(20):  # the road's direction on the straight (heading less heading error), +-1 deg noise
+        nav.on_road_direction(0.06 * k, math.radians(1.0 if k % 2 else -1.0))
+    nav.on_road_direction(D - 0.1, math.radians(error_deg))  # inside the junction: not kept
+    event, _ = nav.at_fork(D, math.radians(error_deg))
+    assert event == "fork_straight" and nav.loop.yaw0_rad == pytest.approx(0.0, abs=math.radians(1.0))
+    # the robot's heading wobbles 3 deg about the road's at the loop's end
+    sweep_rad = CONFIG.loop_sweep_rad - math.radians(3.0)
+    assert nav.loop_exit(sweep_rad, 10.0) is None  # armed at 10 m
+    exit_m = 10.0 + CONFIG.loop_exit_m + CONFIG.loop_exit_tolerance_rad * CONFIG.loop_lane_radii_m[0]
+    assert nav.loop_exit(sweep_rad, exit_m - W - 0.01, ("right",)) is None
+    assert nav.loop_exit(sweep_rad, exit_m - 0.1, ("right",)) == "merge_right"
+
+
+@pytest.mark.parametrize("error_deg", [6.0, 10.0])
+def test_without_a_road_direction_the_wider_tolerance_still_arms_the_exit(error_deg):
+    """No road direction seen before the fork (the robot's heading there counts): the 15 deg
+    tolerance still lets a sweep short by a 6-10 deg heading error, plus 3 deg of wobble, arm the exit."""
+    nav = ForkNavigator(CONFIG)
+    fork(nav, yaw_rad=math.radians(error_deg))
+    assert nav.loop.yaw0_rad == pytest.approx(math.radians(error_deg))
+    sweep_rad = CONFIG.loop_sweep_rad - math.radians(3.0)
+    assert nav.loop_exit(sweep_rad, 10.0) is None
+    assert nav.loop.exit_mark_m == 10.0
+    old = ForkNavigator(replace(CONFIG, loop_exit_tolerance_rad=0.087))  # the former 5 deg: never armed
+    fork(old, yaw_rad=math.radians(error_deg))
+    assert old.loop_exit(sweep_rad, 10.0) is None and old.loop.exit_mark_m is None
+
+
+def test_a_right_merge_the_tracker_cannot_show_begins_at_the_stored_distance():
+    """The tracker on the lane on the left does not measure the robot's own edge line, which marks
+    the right turn's corner: no late fallback then, the merge begins at the stored distance."""
+    nav = ForkNavigator(replace(CONFIG, loop_exit_tolerance_rad=0.0, junction_fallback_m=0.3))
+    fork(nav, yaw_rad=0.0)
+    assert nav.loop_exit(CONFIG.loop_sweep_rad, 10.0) is None
+    exit_m = 10.0 + CONFIG.loop_exit_m
+    assert nav.loop_exit(CONFIG.loop_sweep_rad, exit_m - 0.01, (), ("left",)) is None
+    assert nav.loop_exit(CONFIG.loop_sweep_rad, exit_m, (), ("left",)) == "merge_right"
+    assert nav.fallback_note == ""
+
+
+def test_road_directions_are_kept_only_before_the_junction_and_since_the_last_crosswalk():
+    nav = ForkNavigator(replace(CONFIG, min_road_direction_samples=2))
+    nav.on_road_direction(0.5, 1.0)  # no crosswalk left yet: no fork pending
+    nav.on_crosswalk_left()
+    nav.on_road_direction(None, 1.0)
+    nav.on_road_direction(0.5, math.nan)
+    nav.on_road_direction(0.5, 0.1)
+    assert nav.road_direction_rad() is None  # one sample
+    nav.on_road_direction(D - W + 0.01, 0.3)  # in the junction's window
+    nav.on_road_direction(D - W, 0.2)
+    assert nav.road_direction_rad() == pytest.approx(0.15)
+    nav.on_crosswalk_left()
+    assert nav.road_direction_rad() is None

@@ -34,7 +34,8 @@ def path_to(spec, goal):
 def test_default_description():
     assert SPEC.initial == "wait_for_go"
     assert list(SPEC.states) == ["wait_for_go", "follow_lane", "turn_left", "turn_right", "approach_stop", "stopped",
-                                 "approach_finish", "finished", "go_to_parking", "parked", "park_drive", "park_creep",
+                                 "approach_finish", "finished", "drive_to_parking", "parking_lead_in",
+                                 "go_to_parking", "parked", "park_drive", "park_creep",
                                  "park_swing_out", "park_swing_in", "bay_drive_north", "bay_drive_south",
                                  "bay_approach", "bay_creep", "bay_turn_in", "bay_drive_in", "avoid_change_lane",
                                  "avoid_pass", "avoid_return"]
@@ -142,7 +143,7 @@ MODIFIED = [
      "states.follow_lane.on.lane_aligned: the state has no command.radius_m and command.distance_m (an arc), "
      "so the event never fires"),
     ("unreachable_state", without_the_parking_signal,
-     "states.go_to_parking: unreachable from the initial state 'wait_for_go'"),
+     "states.drive_to_parking: unreachable from the initial state 'wait_for_go'"),
     ("transitions_must_be_a_mapping", lambda d: d["states"]["stopped"].update(on=["signal_forward"]),
      "states.stopped.on: expected a mapping of events to states"),
     ("return_is_not_a_state_name", lambda d: d["states"].update({"return": {"command": {"speed": "stop"}}}),

@@ -132,12 +132,15 @@ class Avoidance:
     def step(self, lane_offset_m: float, lane_ok: bool, travelled_m: float, lane_command: str,
              obstacles: Sequence[Obstacle] = (), heading_error_rad: float = 0.0,
              both_lines: bool = True, lane_index: int = -1, lane_spacing_m: float = float("nan"),
-             yaw_rad: Optional[float] = None) -> AvoidanceStep:
+             yaw_rad: Optional[float] = None, tracked_shift_m: float = 0.0) -> AvoidanceStep:
         """One lane measurement: its offset [m], whether usable, the distance driven so far [m], the
         state's command.lane, the obstacles, the heading error [rad], whether both lines were fitted
         (only such a measurement re-anchors the dead-reckoned offset), which lane it measured (0
         right, 1 left, -1 not known), the lanes' spacing it measured [m] and the robot's heading
-        by odometry [rad] (unwrapped; None: no odometry)."""
+        by odometry [rad] (unwrapped; None: no odometry).  tracked_shift_m [m]: the tracked lane's centre
+        from the own lane's as the caller places it (lane_frame.py: not 0 only where the tracker may
+        measure the lane on the left, after a right fork crossed straight): outside a lane change the
+        obstacles' lane extents are taken from it, and a lane change starts from it."""
         c = self.config
         out = AvoidanceStep()
         driven_m = 0.0 if self._last_travelled_m is None else max(0.0, travelled_m - self._last_travelled_m)
@@ -157,7 +160,7 @@ class Avoidance:
             self.changed = True
         if self.active:
             if self.own_offset_m is None:
-                self.own_offset_m = lane_offset_m if lane_ok else 0.0
+                self.own_offset_m = lane_offset_m + tracked_shift_m if lane_ok else 0.0
             elif heading_rad is not None:
                 self.own_offset_m += driven_m * math.sin(heading_rad)
             if lane_ok and lane_index in (0, 1):
@@ -168,7 +171,7 @@ class Avoidance:
                 if both_lines and abs(lane_offset_m + self.lane_shift_m - self.own_offset_m) <= c.anchor_tolerance_m:
                     self.own_offset_m = lane_offset_m + self.lane_shift_m
         else:
-            self.own_offset_m, self.lane_shift_m = None, 0.0
+            self.own_offset_m, self.lane_shift_m = None, tracked_shift_m
         target_m = spacing_m if other else 0.0
         ramp_length_m = c.change_length_m if other else c.return_length_m
         slew_m = spacing_m * driven_m / ramp_length_m

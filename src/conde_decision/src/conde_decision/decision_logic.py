@@ -98,7 +98,8 @@ from conde_common.panel_signals import NAMES_BY_CODE, SIGNAL_CODES
 from conde_decision.avoidance import Avoidance, AvoidanceConfig, EventDelay, Obstacle
 from conde_decision.crosswalk import CrosswalkTracker
 from conde_decision.fork_navigator import ForkNavigator
-from conde_decision.junction_corners import JunctionCorners
+from conde_decision.junction_corners import JunctionCorners, visible_sides
+from conde_decision.lane_frame import UNKNOWN_LANE, LaneFrame, lane_frame
 from conde_decision.lap_counter import LapCounter
 from conde_decision.parking import (BLIND_SPEEDS, PARKING_PLACES, BayFinder, bay_entry_lead_m, check_parking_place,
                                     parking_event)
@@ -134,7 +135,12 @@ class DecisionConfig:
     fork_forward: Tuple[str, ...] = ("straight", "branch")  # what "forward" does at each fork of fork_sides
     crossings_per_lap: int = 2  # crosswalk crossings per lap of the track
     loop_sweep_rad: float = 4.712389  # heading change around a loop, fork to where its road turns back [rad]
-    loop_exit_tolerance_rad: float = 0.087  # the loop counts as done this much before its full sweep [rad]
+    # the loop counts as done this much before its full sweep [rad]: from there the corner the cameras
+    # see starts the merge (the window and the fallback count from the loop's end, whatever this is);
+    # 15 deg, as the robot's heading wobbles a few degrees on the lane and the odometry drifts
+    loop_exit_tolerance_rad: float = 0.26
+    # the loop's sweep counts from the median road direction of at least this many measurements before the fork
+    min_road_direction_samples: int = 5
     loop_lane_radii_m: Tuple[float, ...] = (2.5685, 1.7865)  # lane radius of the loop after each fork of fork_sides [m]
     loop_exit_m: float = 1.1775  # end of the loop's arc to the start of the turn onto the central road [m]
     # a turn's corner seen by the cameras counts from this far before the stored distance [m]
@@ -194,7 +200,7 @@ class DecisionConfig:
                      "expected one radius > 0 per entry of fork_sides")
             elif f.name == "parking_place":
                 need(f.name, value in PARKING_PLACES, "expected one of %s" % ", ".join(PARKING_PLACES))
-            elif f.name == "crossings_per_lap" or f.name == "bay_line_sightings":
+            elif f.name in ("crossings_per_lap", "bay_line_sightings", "min_road_direction_samples"):
                 need(f.name, isinstance(value, int) and not isinstance(value, bool) and value >= 1,
                      "expected an integer >= 1")
             else:
@@ -316,9 +322,12 @@ class DecisionLogic:
         self.last_time_s = time_s
         self.crosswalk.advance(self.road.advance(abs(self.speed.v_mps) * dt_s))
         self.crosswalk.on_sighting(lane.crosswalk_seen, lane.crosswalk_distance_m)
-        corners = self.corners_seen(lane, self._tracked_lanes_left(lane))
+        self._road_direction(lane)
+        tracked_lanes_left = self._tracked_lanes_left(lane)
+        corners = self.corners_seen(lane, tracked_lanes_left)
         self._crosswalk_and_fork_events(time_s, corners)
-        merge = self.forks.loop_exit(self.road.yaw_rad, self.road.travelled_m, corners)
+        merge = self.forks.loop_exit(self.road.yaw_rad, self.road.travelled_m, corners,
+                                     visible_sides(tracked_lanes_left))
         if self.forks.fallback_note:
             self.notes.append(self.forks.fallback_note)
         if merge is not None:
@@ -339,20 +348,23 @@ class DecisionLogic:
                      or self.forks.holds_course(self.crosswalk.since_left_m))
         lane_ok = (math.isfinite(lane.lateral_offset_m) and math.isfinite(lane.heading_error_rad)
                    and lane.confidence >= c.min_lane_confidence)
-        measured_offset_m = lane.lateral_offset_m
+        lane_index = getattr(lane, "lane_index", UNKNOWN_LANE)
         if lane_ok and not blind_arc:
-            self.forks.on_lane_measured(measured_offset_m, lane.confidence >= 1.0, c.own_lane_offset_m)
-        if lane_ok and self.forks.tracker_may_be_on_the_other_lane():
-            measured_offset_m = nearest_lane_offset(measured_offset_m, c.line_spacing_m)
+            self.forks.on_lane_measured(lane.lateral_offset_m, lane.confidence >= 1.0, c.own_lane_offset_m, lane_index)
+        frame = self._lane_frame(lane, lane_ok)
+        measured_offset_m = frame.own_offset_m
         if lane_ok or blind_arc:
             self.lane_bad_since_s = None
         elif self.lane_bad_since_s is None:
             self.lane_bad_since_s = time_s
         lane_lost = self.lane_bad_since_s is not None and time_s - self.lane_bad_since_s >= c.lane_lost_timeout_s
-        avoid = self.avoidance.step(measured_offset_m, lane_ok and not blind_arc, self.road.travelled_m,
+        # the tracker's own offset and index: the avoidance puts them in the own lane's frame itself
+        # (the lane placed here only outside a lane change and to start one from)
+        avoid = self.avoidance.step(lane.lateral_offset_m, lane_ok and not blind_arc, self.road.travelled_m,
                                     command.lane, obstacles_of(lane), lane.heading_error_rad,
-                                    lane.confidence >= 1.0, getattr(lane, "lane_index", -1),
-                                    getattr(lane, "lane_spacing_m", float("nan")), self.road.yaw_rad)
+                                    lane.confidence >= 1.0, lane_index,
+                                    getattr(lane, "lane_spacing_m", float("nan")), self.road.yaw_rad,
+                                    tracked_shift_m=frame.shift_m)
         for event in avoid.events:
             self._fire(event)
         delayed, note = self.delayed.due(self.road.travelled_m, self._takes)
@@ -409,14 +421,30 @@ class DecisionLogic:
         as the cameras showed it in this lane measurement or earlier ones (junction_corners.py)."""
         return self.corners.update(lane, self.road.travelled_m, tracked_lanes_left)
 
+    def _road_direction(self, lane) -> None:
+        """The road's direction by odometry (the heading less the heading error seen with both lines,
+        outside the blind manoeuvres) to the fork navigator: the loops' sweeps count from it."""
+        command = self.machine.command
+        yaw_rad, heading_rad = self.road.yaw_rad, lane.heading_error_rad
+        if (yaw_rad is not None and math.isfinite(heading_rad) and lane.confidence >= 1.0
+                and command.radius_m is None and command.speed not in BLIND_SPEEDS):
+            self.forks.on_road_direction(self.crosswalk.since_left_m, yaw_rad - heading_rad)
+
+    def _lane_frame(self, lane, lane_ok: bool) -> LaneFrame:
+        """The measurement in the own lane's frame (lane_frame.py): after a right fork crossed
+        straight the tracker may measure the lane on the left; its lane_index says which where
+        known, the offset modulo line_spacing_m where not."""
+        c = self.config
+        return lane_frame(lane.lateral_offset_m, getattr(lane, "lane_index", UNKNOWN_LANE),
+                          getattr(lane, "lane_spacing_m", float("nan")),
+                          lane_ok and self.forks.tracker_may_be_on_the_other_lane(), c.line_spacing_m)
+
     def _tracked_lanes_left(self, lane) -> int:
         """How many lanes left of the robot's own lane conde_tracking measures: 0, except after a
         right fork crossed straight, where it may have locked onto the lane on the left."""
         offset_m = lane.lateral_offset_m
-        if not (self.forks.tracker_may_be_on_the_other_lane() and math.isfinite(offset_m)
-                and lane.confidence >= self.config.min_lane_confidence):
-            return 0
-        return -int(round(offset_m / self.config.line_spacing_m))
+        lane_ok = math.isfinite(offset_m) and lane.confidence >= self.config.min_lane_confidence
+        return self._lane_frame(lane, lane_ok).lanes_left
 
     def _crosswalk_and_fork_events(self, time_s: float, corners: Tuple[str, ...] = ()) -> None:
         if self.crosswalk.reached():
@@ -483,12 +511,6 @@ class DecisionLogic:
             return 1.0
         u = (self.road.travelled_m - self.state_entry_m) / command.distance_m
         return max(0.0, min(1.0, 4.0 * u, 2.0 * (1.0 - u)))
-
-
-def nearest_lane_offset(offset_m: float, spacing_m: float) -> float:
-    """A lateral offset [m] measured against any lane of parallel lanes spacing_m apart, as the
-    offset from the nearest lane's centre."""
-    return offset_m - spacing_m * round(offset_m / spacing_m)
 
 
 def obstacles_of(lane) -> List[Obstacle]:

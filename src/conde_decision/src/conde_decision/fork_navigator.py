@@ -23,8 +23,10 @@ only the fallback, junction_fallback_m after it (on a track drawn differently th
 further), and a turn begun by the fallback says so (the note of at_fork, `fallback_note` after
 loop_exit).  Turns to other sides fire at the stored distances."""
 
+import math
+import statistics
 from dataclasses import dataclass
-from typing import Optional, Sequence, Tuple
+from typing import List, Optional, Sequence, Tuple
 
 
 @dataclass
@@ -52,6 +54,7 @@ class ForkNavigator:
         self.tracked_lane_unsure = False  # conde_tracking may measure the lane on the left (after such a crossing)
         self.ignored_order = ""  # the last order ignored while latched
         self.fallback_note = ""  # set by loop_exit when a merge began at the fallback, not at a corner seen
+        self.road_directions_rad: List[float] = []  # the road's direction seen before the next fork [rad]
 
     def on_direction(self, order: str) -> str:
         """A direction signal: "forward", "left" or "right".  Returns a note when it is ignored
@@ -72,6 +75,26 @@ class ForkNavigator:
 
     def on_crosswalk_left(self) -> None:
         self.fork_pending = True
+        self.road_directions_rad = []
+
+    def on_road_direction(self, since_crosswalk_m: Optional[float], direction_rad: float) -> None:
+        """The road's direction [rad] (unwrapped, in the odometry's frame: the robot's heading less
+        the heading error the cameras measured, from a measurement with both lines) at
+        since_crosswalk_m [m] past the crosswalk.  Kept on the straight road between the crosswalk
+        and junction_window_m before the fork: the loop's sweep counts from their median, not from
+        the robot's heading at the fork (in D2 the robot pointed about 6 deg left there, after its
+        lane follower swerved at the fork, and the sweep never completed)."""
+        c = self.config
+        if (self.fork_pending and since_crosswalk_m is not None and math.isfinite(direction_rad)
+                and since_crosswalk_m <= c.fork_distance_m - c.junction_window_m):
+            self.road_directions_rad.append(direction_rad)
+
+    def road_direction_rad(self) -> Optional[float]:
+        """The median of the road directions seen since the crosswalk [rad]; None below
+        min_road_direction_samples of them."""
+        if len(self.road_directions_rad) < self.config.min_road_direction_samples:
+            return None
+        return statistics.median(self.road_directions_rad)
 
     def _next_fork(self) -> Tuple[int, str, str]:
         """(index in fork_sides, the side it opens to, the way the order takes there: a side or "forward")."""
@@ -109,8 +132,11 @@ class ForkNavigator:
         if side == "right":
             self.crossing_end_m = c.fork_distance_m + c.straight_crossing_m
         # Straight on: the loop turns toward the fork's side and comes back to the fork, where its
-        # road joins the central road with a turn to the other side.
-        self.loop = LoopExit(sign=1.0 if side == "left" else -1.0, yaw0_rad=yaw_rad, radius_m=c.loop_lane_radii_m[fork],
+        # road joins the central road with a turn to the other side.  Its sweep counts from the road's
+        # direction seen before the fork (the robot's heading there when none was seen).
+        road_rad = self.road_direction_rad()
+        self.loop = LoopExit(sign=1.0 if side == "left" else -1.0, yaw0_rad=yaw_rad if road_rad is None else road_rad,
+                             radius_m=c.loop_lane_radii_m[fork],
                              merge="right" if side == "left" else "left", crossed_junction=side == "right")
         return "fork_straight", note
 
@@ -142,17 +168,22 @@ class ForkNavigator:
         spacing."""
         return self.tracked_lane_unsure
 
-    def on_lane_measured(self, offset_m: float, both_lines: bool, own_lane_m: float) -> None:
-        """A lane measurement's offset [m] (as measured): once the loop is over, one with both
-        lines within own_lane_m of the lane's centre is against the own lane: the doubt ends."""
-        if self.tracked_lane_unsure and self.loop is None and both_lines and abs(offset_m) <= own_lane_m:
+    def on_lane_measured(self, offset_m: float, both_lines: bool, own_lane_m: float, lane_index: int = -1) -> None:
+        """A lane measurement's offset [m] (as measured) and lane_index (conde_tracking's: 1 = the
+        lane on the left): once the loop is over, one with both lines within own_lane_m of the lane's
+        centre, not said to be the lane on the left, is against the own lane: the doubt ends."""
+        if (self.tracked_lane_unsure and self.loop is None and both_lines and abs(offset_m) <= own_lane_m
+                and lane_index != 1):
             self.tracked_lane_unsure = False
 
     def loop_exit(self, yaw_rad: Optional[float], travelled_m: float,
-                  corners_seen: Sequence[str] = ()) -> Optional[str]:
+                  corners_seen: Sequence[str] = (), visible: Sequence[str] = ("right", "left")) -> Optional[str]:
         """merge_left / merge_right where the loop driven after a fork_straight turns back onto the
         central road (up to junction_window_m earlier where the cameras see that turn's corner,
-        corners_seen), else None; yaw_rad: unwrapped heading [rad], travelled_m: distance [m]."""
+        corners_seen), else None; yaw_rad: unwrapped heading [rad], travelled_m: distance [m].
+        visible: the sides whose corners the lane measured now can show (junction_corners.py); a
+        marked merge that cannot be seen now (the tracker on the lane on the left cannot show the
+        right turn's corner) begins at the stored distance, not at the late fallback."""
         c, loop = self.config, self.loop
         self.fallback_note = ""
         if loop is None or yaw_rad is None:
@@ -165,14 +196,14 @@ class ForkNavigator:
             return None
         exit_m = c.loop_exit_m + c.loop_exit_tolerance_rad * loop.radius_m
         driven_m = travelled_m - loop.exit_mark_m
-        if loop.merge in self.marked_sides:
+        if loop.merge in self.marked_sides and loop.merge in visible:
             seen = loop.merge in corners_seen and driven_m >= exit_m - c.junction_window_m
             due = driven_m >= exit_m + c.junction_fallback_m
         else:
             seen, due = False, driven_m >= exit_m
         if seen or due:
             self.loop = None
-            if not seen and loop.merge in self.marked_sides:
+            if not seen and loop.merge in self.marked_sides and loop.merge in visible:
                 self.fallback_note = fallback_note("merge_" + loop.merge, exit_m + c.junction_fallback_m,
                                                    "past the end of the loop's sweep")
             return "merge_" + loop.merge

@@ -22,6 +22,17 @@ LINE_END_FIELDS_ONE_LANE_LEFT = {"right": None, "left": "left_line_end_m"}
 SIDES = tuple(LINE_END_FIELDS)
 
 
+def visible_sides(tracked_lanes_left: int) -> Tuple[str, ...]:
+    """The sides whose corners a lane measurement against that lane can show (tracked_lanes_left: 0
+    the own lane, 1 the lane on the left: the robot's own edge line, which marks a right turn's
+    corner, is then not measured)."""
+    if tracked_lanes_left == 0:
+        return SIDES
+    if tracked_lanes_left == 1:
+        return tuple(side for side in SIDES if LINE_END_FIELDS_ONE_LANE_LEFT[side])
+    return ()
+
+
 class JunctionCorners:
     """Call update() with each lane measurement and the distance driven [m]: it returns the sides
     whose corner the robot has reached (within corner_lead_m)."""
