@@ -10,6 +10,7 @@ from conde_decision.decision_logic import FORWARD, PARKING, DecisionConfig, Deci
 from conde_decision.parking import ParallelGapFinder, manoeuvre_advance_m
 from conde_decision.state_machine import load_state_machine
 from road_model import DT_S, Road
+from test_decision_logic import drive_to_parked, with_parallel_bay
 
 PACKAGE_DIR = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 SPEC = load_state_machine(os.path.join(PACKAGE_DIR, "config", "conde_states.yaml"))
@@ -25,19 +26,6 @@ S_ADVANCE_M = 0.43 + 2 * 0.4 * math.sin(0.6437 / 0.4)
 
 def make(**config):
     return Road(DecisionLogic(SPEC, replace(CONFIG, **config)))
-
-
-def with_parallel_bay(road, start_m=BAY_START_M, boxes=P2_BOXES_M):
-    road.parallel_start_s = start_m
-    road.parallel_boxes_s = list(boxes)
-    return road
-
-
-def drive_to_parked(road, max_s=120.0):
-    for _ in range(int(max_s / DT_S)):
-        if road.step().state == "parked":
-            return
-    raise AssertionError("not parked within %g s (state %s)" % (max_s, road.logic.state))
 
 
 def event_positions(road, event):
