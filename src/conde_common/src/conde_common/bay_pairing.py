@@ -13,7 +13,10 @@ BAY_WIDTH_M = (0.6, 0.95)
 
 def pair_bays(lines_m: Sequence[float], box_near_ends_m: Sequence[float],
               width_m: Tuple[float, float] = BAY_WIDTH_M) -> List[Tuple[float, float, bool]]:
-    """(start, end, occupied) of each bay between neighbouring lines (sorted positions [m]), in order.
+    """(start, end, occupied) of each bay between neighbouring lines (positions [m]), in order.
+    Lines less than a bay's width beyond a line are skipped: the bay ends at the next line at
+    least that far (B2 on track seed 3: a false line 0.58 m after the south border, 0.22 m
+    before the divider, had split the south bay into none).
 
     A bay is occupied when the near end of a box standing off the road lies within one bay width
     before the bay's centre: a box in the bay covers its middle (a 0.6 m box in a 0.77 m bay
@@ -22,8 +25,16 @@ def pair_bays(lines_m: Sequence[float], box_near_ends_m: Sequence[float],
     lo, hi = width_m
     out = []
     lines = sorted(lines_m)
-    for a, b in zip(lines, lines[1:]):
-        if lo <= b - a <= hi:
+    i = 0
+    while i < len(lines) - 1:
+        a = lines[i]
+        # a line nearer than a bay's width is no bay's end (the "P" painted in a bay, a dashed
+        # divider seen twice): the bay ends at the next line at least that far
+        j = next((k for k in range(i + 1, len(lines)) if lines[k] - a >= lo), None)
+        if j is None:
+            break
+        b, i = lines[j], j
+        if b - a <= hi:
             edges = [a, b]
         elif 2 * lo <= b - a <= 2 * hi:
             edges = [a, 0.5 * (a + b), b]
