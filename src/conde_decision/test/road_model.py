@@ -31,6 +31,7 @@ NEW_LANE_SEEN_RAD = math.radians(45)  # a junction's turn shows the lane it lead
 LANE_SPACING_M = 0.782  # own lane centre to the other (left) lane's centre [m]
 OBSTACLE_VIEW_M = (-0.2, 2.5)  # x range [m] in which the ground cameras see objects on the floor
 BAY_LINE_VIEW_M = (0.3, 1.6)  # x range [m] in which conde_tracking reports the bay lines
+PARALLEL_START_VIEW_M = (0.2, 1.8)  # x range [m] in which it reports the parallel bay's start
 CORNER_VIEW_M = 1.0  # a line's end is seen up to this far ahead [m] (the fit's range, less the end's gap)
 OFFSET_TIME_CONSTANT_S = 0.3  # with follow_reference: the lateral offset follows its reference this fast [s]
 
@@ -55,6 +56,8 @@ class Lane:
     bay_line_distances_m: Tuple[float, ...] = ()
     lane_index: int = -1  # which lane conde_tracking measured: 0 own, 1 the one on the left, -1 not known
     lane_spacing_m: float = float("nan")  # the lanes' centres apart as it measured them [m]
+    parallel_bay_start_m: float = float("nan")
+    obstacle_far_distances_m: Tuple[float, ...] = ()  # set for the bays' boxes only
 
 
 @dataclass
@@ -94,6 +97,8 @@ class Road:
         self.relock = True  # the tracker measures against the lane whose centre the robot is nearer
         self.bay_lines_s = []  # the bay-parking area's lines across the road on the right, along the route [m]
         self.bay_boxes_s = []  # near edges of boxes in its bays, along the route [m]
+        self.parallel_start_s = None  # where the parallel bay's straight part begins, along the route [m]
+        self.parallel_boxes_s = []  # (near, far) ends of boxes standing in it, along the route [m]
         # junction corners the cameras see: (side, s of the corner, how far beyond it the line leaves its band [m])
         self.corners = []
         # which lane the tracker measures (0 own, 1 the lane on the left; None: the nearer one, see relock)
@@ -103,8 +108,30 @@ class Road:
         # and reference), not the reference in the tracked lane's frame
         self.steer_on_output = False
 
+    def _with_parallel_bay(self, lane):
+        """The lane measurement with the parallel bay's start and its boxes in view (their far ends
+        seen up to OBSTACLE_VIEW_M's end, their near ends from OBSTACLE_VIEW_M's start)."""
+        if self.parallel_start_s is not None:
+            ahead_m = self.parallel_start_s - self.s
+            if PARALLEL_START_VIEW_M[0] <= ahead_m <= PARALLEL_START_VIEW_M[1]:
+                lane = replace(lane, parallel_bay_start_m=ahead_m)
+        seen = [(max(near - self.s, OBSTACLE_VIEW_M[0]), far - self.s) for near, far in self.parallel_boxes_s
+                if near - self.s <= OBSTACLE_VIEW_M[1] and far - self.s >= OBSTACLE_VIEW_M[0]]
+        if not seen:
+            return lane
+        n = len(lane.obstacle_kinds)
+        fars = tuple(lane.obstacle_far_distances_m) or (float("nan"),) * n
+        return replace(lane, obstacle_kinds=lane.obstacle_kinds + ("box",) * len(seen),
+                       obstacle_distances_m=lane.obstacle_distances_m + tuple(near for near, _ in seen),
+                       obstacle_lane_y_min_m=lane.obstacle_lane_y_min_m + (-1.1,) * len(seen),
+                       obstacle_lane_y_max_m=lane.obstacle_lane_y_max_m + (-0.53,) * len(seen),
+                       obstacle_y_max_m=(tuple(lane.obstacle_y_max_m) or (0.0,) * n) + (-0.53,) * len(seen),
+                       obstacle_far_distances_m=fars + tuple(far for _, far in seen))
+
     def _with_bay_area(self, lane):
-        """The lane measurement with the bay lines and bay boxes in view (BAY_LINE_VIEW_M ahead)."""
+        """The lane measurement with the bay lines and bay boxes in view (BAY_LINE_VIEW_M ahead), and
+        the parallel bay."""
+        lane = self._with_parallel_bay(lane)
         if not self.bay_lines_s and not self.bay_boxes_s:
             return lane
         lines = tuple(s - self.s for s in self.bay_lines_s if BAY_LINE_VIEW_M[0] <= s - self.s <= BAY_LINE_VIEW_M[1])
@@ -114,7 +141,7 @@ class Road:
                        obstacle_distances_m=lane.obstacle_distances_m + boxes,
                        obstacle_lane_y_min_m=lane.obstacle_lane_y_min_m + (-1.6,) * len(boxes),
                        obstacle_lane_y_max_m=lane.obstacle_lane_y_max_m + (-0.9,) * len(boxes),
-                       obstacle_y_max_m=(0.0,) * n + (-0.9,) * len(boxes))
+                       obstacle_y_max_m=(tuple(lane.obstacle_y_max_m) or (0.0,) * n) + (-0.9,) * len(boxes))
 
     def _tracked_shift_m(self):
         """The tracked lane's centre from the own lane's centre [m]."""

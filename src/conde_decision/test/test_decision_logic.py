@@ -421,6 +421,14 @@ def with_bays(road, first_line_m=1.53, width_m=BAY_M, occupied=None, divider_see
     return road
 
 
+def with_parallel_bay(road, start_m=1.551, boxes=((1.8825, 2.4825), (3.6825, 4.2825))):
+    """The parallel bay beside the road: its straight part from start_m (the nominal track from the P
+    start pose), boxes (near, far) standing in it (P2's by default)."""
+    road.parallel_start_s = start_m
+    road.parallel_boxes_s = list(boxes)
+    return road
+
+
 @pytest.mark.parametrize("first_line_m, width_m, occupied, divider_seen, bay", [
     (1.53, BAY_M, None, True, 0),  # B1: both free, the first
     (1.53, BAY_M, 1, True, 0),  # B2 v1: the north (second) bay holds the box
@@ -461,12 +469,14 @@ def test_auto_with_bay_lines_in_view_does_not_take_the_parallel_bay_before_a_bay
 def test_a_bay_line_is_known_after_two_sightings_and_twice_a_bay_apart_are_two_bays():
     finder = BayFinder((0.6, 0.95), 0.1, 2)
     finder.on_lines(0.0, [1.0, 2.5])
-    assert finder.any_line_seen and finder.lines_m == [] and finder.bays() == []
+    assert finder.lines_m == [] and finder.bays() == []
     finder.on_lines(0.2, [0.86, 2.36])  # the same lines (within 0.1 m along the road)
     assert finder.lines_m == pytest.approx([1.03, 2.53])
     assert [b[:2] for b in finder.bays()] == [pytest.approx((1.03, 1.78)), pytest.approx((1.78, 2.53))]
-    finder.on_box(0.5, 0.6, -0.9)  # near edge at 1.1: in the first bay
+    finder.on_box(0.5, 0.6, -0.9)  # near edge at 1.1: in the first bay (known after two sightings)
+    finder.on_box(0.6, 0.5, -0.9)
     finder.on_box(0.5, 1.5, -0.2)  # on the road: not in a bay
+    finder.on_box(0.6, 1.4, -0.2)
     assert [b[2] for b in finder.bays()] == [True, False]
     assert finder.free_bay() == pytest.approx((1.78, 2.53))
 
@@ -634,6 +644,10 @@ def test_every_transition_fires_from_inputs(source, event, target):
         parking_place=parking_place_for(source, event))
     if parking_place_for(source, event) == "auto":
         with_bays(road)
+    if event == "park_entry_near":
+        with_parallel_bay(road)
+    if (source, event) == ("bay_approach", "parking_parallel"):  # a box in each bay: no free bay
+        road.bay_boxes_s = [1.53 + (k + 0.2) * BAY_M for k in (0, 1)]
     road.new_lane_in_turns = event == "lane_aligned"
     if event in ("fork_left", "fork_right"):
         reach_before_fork(road, source, event[len("fork_"):])

@@ -23,7 +23,7 @@ import pytest
 import rosgraph
 import rospy
 import tf2_ros
-from conde_msgs.msg import LaneMeasurement
+from conde_msgs.msg import DecisionState, LaneMeasurement
 from conde_msgs.srv import SetStartPose, StepSimulation
 from geometry_msgs.msg import TransformStamped
 from nav_msgs.msg import Odometry
@@ -244,6 +244,8 @@ def test_names_the_camera_info_topic_it_waits_for_and_stops_on_sigint_right_afte
 @pytest.mark.parametrize("name, value, message", [
     ("timing_report_period_s", "0.0", "conde_tracking: parameter ~timing_report_period_s must be > 0 [s], got 0.0"),
     ("white_threshold", "bright", "conde_tracking: parameter ~white_threshold must be of type int, got 'bright'"),
+    ("parking_search", "sometimes", "conde_tracking: parameter ~parking_search must be one of auto, always, never, "
+                                    "got 'sometimes'"),
 ])
 def test_exits_with_status_1_on_a_bad_parameter(sim, node_processes, name, value, message):
     node = sim.start_node(**{name: value})
@@ -402,26 +404,37 @@ def test_drops_images_of_unexpected_size_or_encoding_and_measures_later_good_one
         cameras.close()
 
 
-def test_publishes_the_bay_lines_it_sees(sim, node_processes):
+def test_publishes_the_bay_lines_it_sees_while_the_decision_searches(sim, node_processes):
     """Cameras played from a view rendered in the B2 world (south border and divider ahead, the box
-    in the north bay): /conde_lane carries both lines at their distance ahead (parking_area.py)."""
+    in the north bay): no bay lines while the decision does not look for a parking place (the
+    search is off: ~parking_search auto); once conde_decision/state says it does, /conde_lane
+    carries both lines at their distance ahead (parking_area.py)."""
     cameras = PlayedCameras("b2v1_bays_ahead_0_5m", Image())
     cameras.use_good_images()
     lanes = LaneListener()
+    state_pub = rospy.Publisher("/conde_decision/state", DecisionState, queue_size=1, latch=True)
     try:
         topics = cameras.topics
         node = sim.start_node(camera_left=topics["left"][0], camera_left_info=topics["left"][1],
                               camera_right=topics["right"][0], camera_right_info=topics["right"][1])
         node_processes.append(node)
         wait_until_node_ready(sim, node, (topics["left"][0], topics["right"][0]), step=False)
-        measured = wait_until(lambda: lanes.since(0.0),
-                              lambda: f"/conde_lane with the bays in view\n--- node output:\n{node.output()}")
+        off = wait_until(lambda: lanes.since(0.0),
+                         lambda: f"/conde_lane with the bays in view\n--- node output:\n{node.output()}")
+        assert all(len(lane.bay_line_distances_m) == 0 for lane in off)
+        state_pub.publish(DecisionState(state="go_to_parking", parking_search=True))
+        wait_until(lambda: node.lines_ending_with("parking-area search on (decision state go_to_parking)"),
+                   lambda: f"the search turned on\n--- node output:\n{node.output()}")
+        count = len(lanes.since(0.0))
+        measured = wait_until(lambda: lanes.since(0.0)[count:],
+                              lambda: f"/conde_lane with the search on\n--- node output:\n{node.output()}")
         truth = lines_in_robot_frame(cameras.data["pose_xy_yaw"])
         for lane in measured:
             assert len(lane.bay_line_distances_m) == 2, lane.bay_line_distances_m
             assert abs(lane.bay_line_distances_m[0] - truth["south_border"]) < 0.04
             assert abs(lane.bay_line_distances_m[1] - truth["divider"]) < 0.04
     finally:
+        state_pub.unregister()
         lanes.close()
         cameras.close()
 

@@ -94,6 +94,7 @@ import math
 from dataclasses import dataclass, field, fields
 from typing import List, Optional, Tuple
 
+from conde_common.bay_pairing import BAY_WIDTH_M
 from conde_common.panel_signals import NAMES_BY_CODE, SIGNAL_CODES
 from conde_decision.avoidance import Avoidance, AvoidanceConfig, EventDelay, Obstacle
 from conde_decision.crosswalk import CrosswalkTracker
@@ -101,7 +102,8 @@ from conde_decision.fork_navigator import ForkNavigator
 from conde_decision.junction_corners import JunctionCorners, visible_sides
 from conde_decision.lane_frame import UNKNOWN_LANE, LaneFrame, lane_frame
 from conde_decision.lap_counter import LapCounter
-from conde_decision.parking import (BLIND_SPEEDS, PARKING_PLACES, BayFinder, bay_entry_lead_m, check_parking_place,
+from conde_decision.parking import (BLIND_SPEEDS, PARKING_PLACES, PARKING_SEARCH_EVENTS, BayFinder,
+                                    ParallelGapFinder, bay_entry_lead_m, check_parking_place, manoeuvre_advance_m,
                                     parking_event)
 from conde_decision.road_distance import RoadDistance
 from conde_decision.speed_profile import SpeedProfile
@@ -174,10 +176,20 @@ class DecisionConfig:
     parking_place: str = "auto"
     # parking_parallel fires after this distance in go_to_parking (auto: if no bay line was seen) [m]
     parking_search_m: float = 0.3
-    bay_width_min_m: float = 0.6  # neighbouring bay lines this far apart (or twice) enclose a bay ... [m]
-    bay_width_max_m: float = 0.95  # ... up to this [m] (0.773 on the competition track)
+    # neighbouring bay lines this far apart (or twice) enclose a bay ... [m] (conde_common.bay_pairing)
+    bay_width_min_m: float = BAY_WIDTH_M[0]
+    bay_width_max_m: float = BAY_WIDTH_M[1]  # ... up to this [m] (0.773 on the competition track)
     bay_line_merge_m: float = 0.1  # sightings of a bay line within this along the road are one line [m]
     bay_line_sightings: int = 2  # a bay line is known after this many sightings
+    # auto: lines of the bay-parking area known but no free bay between them when the robot is this far
+    # past the last one: the search gives up and heads for the parallel bay (parking_parallel) [m]
+    bay_search_past_m: float = 1.0
+    # parallel parking (ParallelGapFinder): park in the middle of the first free stretch this long ... [m]
+    park_min_gap_m: float = 0.9
+    # ... or, with no box in the bay, this far beyond the start of its straight part (half of it) [m]
+    park_bay_centre_m: float = 1.53
+    # the manoeuvre ends with base_footprint (the wheels' axle; the body trails) this far past that middle [m]
+    park_axle_past_centre_m: float = 0.25
 
     def check(self) -> "DecisionConfig":
         """Returns self if every value is usable, else raises ValueError naming the field."""
@@ -218,7 +230,7 @@ class DecisionConfig:
             need(name, getattr(self, name) >= 0, "must be >= 0")
         for name in ("min_signal_confidence", "min_lane_confidence"):
             need(name, 0 <= getattr(self, name) <= 1, "must be in [0, 1]")
-        for name in ("bay_width_min_m", "bay_line_merge_m", "parking_search_m"):
+        for name in ("bay_width_min_m", "bay_line_merge_m", "parking_search_m", "bay_search_past_m"):
             need(name, getattr(self, name) > 0, "must be > 0")
         need("bay_width_max_m", self.bay_width_max_m > self.bay_width_min_m, "must be > bay_width_min_m")
         need("crosswalk_zone_m", self.crosswalk_zone_m >= self.stop_margin_m,
@@ -270,6 +282,8 @@ class DecisionLogic:
         self.parking_event = parking_event(check_parking_place(config.parking_place))
         self.bays = BayFinder((config.bay_width_min_m, config.bay_width_max_m), config.bay_line_merge_m,
                               config.bay_line_sightings)
+        self.gap = ParallelGapFinder(config.park_min_gap_m, config.park_bay_centre_m,
+                                     min_sightings=config.bay_line_sightings)
         self.corners = JunctionCorners(config)  # the junctions' corners the cameras see, both sides
         self.last_time_s: Optional[float] = None
         self.state_entry_m = 0.0  # travelled_m when the current state was entered
@@ -287,6 +301,13 @@ class DecisionLogic:
     @property
     def last_event(self) -> str:
         return self.machine.last_event
+
+    @property
+    def parking_search(self) -> bool:
+        """The current state looks for a parking place (listens to a parking_* / *_entry_near event):
+        conde_tracking's search of the parking areas is wanted."""
+        listens = self.machine.spec.states[self.state].transitions
+        return any(e in listens for e in PARKING_SEARCH_EVENTS)
 
     # --- inputs ---------------------------------------------------------------------------------
 
@@ -473,14 +494,17 @@ class DecisionLogic:
         c = self.config
         listens = self.machine.spec.states[self.state].transitions
         in_state_m = self.road.travelled_m - self.state_entry_m
-        watching = any(e in listens for e in ("parking_bays_seen", "parking_parallel", "bay_entry_near"))
-        if watching:  # put what the cameras see of the bay-parking area along the road
+        if self.parking_search:  # put what the cameras see of the parking areas along the road
             travelled_m = self.road.travelled_m
             self.bays.on_lines(travelled_m, getattr(lane, "bay_line_distances_m", ()))
-            for kind, d, y_max in zip(getattr(lane, "obstacle_kinds", ()), getattr(lane, "obstacle_distances_m", ()),
-                                      getattr(lane, "obstacle_y_max_m", ())):
+            self.gap.on_bay_start(travelled_m, float(getattr(lane, "parallel_bay_start_m", float("nan"))))
+            kinds = getattr(lane, "obstacle_kinds", ())
+            fars = list(getattr(lane, "obstacle_far_distances_m", ())) or [float("nan")] * len(kinds)
+            for kind, d, far, y_max in zip(kinds, getattr(lane, "obstacle_distances_m", ()), fars,
+                                           getattr(lane, "obstacle_y_max_m", ())):
                 if kind == "box":
                     self.bays.on_box(travelled_m, float(d), float(y_max))
+                    self.gap.on_box(travelled_m, float(d), float(far), float(y_max))
         events = []
         if self.parking_event is not None:
             if self.parking_event in listens and (self.parking_event != "parking_parallel"
@@ -488,13 +512,35 @@ class DecisionLogic:
                 events.append(self.parking_event)
         elif "parking_bays_seen" in listens and self.bays.bays():
             events.append("parking_bays_seen")
-        elif "parking_parallel" in listens and not self.bays.any_line_seen and in_state_m >= c.parking_search_m:
+        elif "parking_parallel" in listens and not self.bays.lines_m and in_state_m >= c.parking_search_m:
+            events.append("parking_parallel")  # no line of the bay-parking area known (one sighting is none)
+        elif "parking_parallel" in listens and self.bays.lines_m and self.bays.free_bay() is None \
+                and self.road.travelled_m >= self.bays.lines_m[-1] + c.bay_search_past_m:
             events.append("parking_parallel")
+            self.notes.append("parking: the bay-parking area's lines seen (%s m along the road) enclose no free bay; "
+                              "heading for the parallel bay" % ", ".join("%.2f" % m for m in self.bays.lines_m))
         if "bay_entry_near" in listens:
             free = self.bays.free_bay()
             lead_m = bay_entry_lead_m(self.machine.spec, self.state)
             if free is not None and lead_m is not None and self.road.travelled_m >= 0.5 * sum(free) - lead_m:
                 events.append("bay_entry_near")
+        if "park_entry_near" in listens:
+            target_m = self.gap.target_m()
+            advance_m = manoeuvre_advance_m(self.machine.spec, listens["park_entry_near"])
+            if target_m is not None and advance_m is not None:
+                if self.road.travelled_m >= target_m + c.park_axle_past_centre_m - advance_m:
+                    events.append("park_entry_near")
+                    self.notes.append("parallel parking: the free stretch's middle at %.2f m along the road (bay start "
+                                      "%s, boxes %s); the manoeuvre begins at %.2f m" % (
+                                          target_m, _m(self.gap.bay_start_m),
+                                          ", ".join("%s-%s" % (_m(a), _m(b)) for a, b in self.gap.boxes()) or "none",
+                                          self.road.travelled_m))
+            else:
+                command = self.machine.command
+                due = command.distance_m is not None and in_state_m >= command.distance_m - 1e-9
+                if due and not self.distance_fired:
+                    self.notes.append("parallel parking: no free stretch of the parallel bay seen; the manoeuvre "
+                                      "begins by the stored distance (%.2f m in %s)" % (command.distance_m, self.state))
         return events
 
     def _lane_aligned_in_arc(self, lane, command) -> bool:
@@ -511,6 +557,10 @@ class DecisionLogic:
             return 1.0
         u = (self.road.travelled_m - self.state_entry_m) / command.distance_m
         return max(0.0, min(1.0, 4.0 * u, 2.0 * (1.0 - u)))
+
+
+def _m(value: Optional[float]) -> str:
+    return "?" if value is None else "%.2f" % value
 
 
 def obstacles_of(lane) -> List[Obstacle]:

@@ -66,6 +66,9 @@ EVENTS = OrderedDict([
     ("parking_bays_seen", "parking_place auto: a bay of the bay-parking area is known (two of its lines seen)"),
     ("bay_entry_near", "a free bay is known and the robot has reached the point before its centre line where "
                        "the straight and the turn into it (the states this event leads to) begin"),
+    ("park_entry_near", "the free stretch of the parallel bay is known (its start or the boxes in it seen) and the "
+                        "robot has reached the point where the manoeuvre into its middle (the states this event "
+                        "leads to) begins"),
     ("lane_aligned", "in an arc driven blind (command.radius_m), past half its command.distance_m, the cameras see "
                      "a lane with both lines and the robot heading along it (within lane_aligned_rad)"),
     # Obstacles and the working zone (conde_decision/avoidance.py):

@@ -13,12 +13,19 @@ Pipeline per image pair:
      the lateral extent their y range;
   4. blobs of the same colour (from both cameras, or two faces of a box) overlapping or touching
      in y (merge_gap_m) with near edges close along x (merge_box_dx_m, merge_cone_dx_m) are one
-     object: the union of their extents.
+     object: the union of their extents;
+  5. an object wholly to one side shows its side facing the robot's axis (y = 0) down to the
+     floor.  With the outline turned into the road's direction (detect's road_direction_rad: a
+     box stands along the road), the points within side_band_m of that side (its largest y right
+     of the axis, its smallest left of it) run along it to its far end, far_x_m (NaN for an
+     object across the axis: its far end is hidden behind it).  Points higher up on the far
+     vertical edge land farther out sideways (and farther ahead): the narrow band keeps them out.
 
-Output: Detection(kind, near_x_m, y_min_m, y_max_m, pixels) per object, nearest first.
+Output: Detection(kind, near_x_m, y_min_m, y_max_m, pixels, far_x_m) per object, nearest first.
 Which lane an object blocks is the caller's business (conde_decision.avoidance), because that
 needs the lane measurement.
 """
+import math
 from dataclasses import dataclass
 from typing import List, Sequence, Tuple
 
@@ -44,11 +51,12 @@ class ObstacleConfig:
     merge_gap_m: float = 0.15  # blobs of one colour this close in y merge ...                        [m]
     merge_box_dx_m: float = 0.5  # ... when their near edges are this close along x: boxes (a face per camera)
     merge_cone_dx_m: float = 0.15  # ... cones (a row of cones 0.45 m apart stays apart)                      [m]
+    side_band_m: float = 0.02  # the far end: outline points this close to the side facing the axis [m]
 
     def check(self) -> "ObstacleConfig":
         """Returns self if usable, else raises ValueError naming the field."""
         for name in ("min_blob_px", "outline_depth_m", "max_range_m", "merge_gap_m", "merge_box_dx_m",
-                     "merge_cone_dx_m"):
+                     "merge_cone_dx_m", "side_band_m"):
             if not getattr(self, name) > 0:
                 raise ValueError("%s: must be > 0, got %r" % (name, getattr(self, name)))
         if not 0 <= self.near_percentile <= 50:
@@ -63,6 +71,9 @@ class Detection:
     y_min_m: float  # lateral extent of its outline on the floor (the part in view), + = left [m]
     y_max_m: float
     pixels: int  # image pixels that saw it (both cameras)
+    # ahead of base_footprint to its far end, along its side facing the robot's axis [m]; NaN: the
+    # object lies across the axis (y_min_m < 0 < y_max_m) or the side was not seen
+    far_x_m: float = float("nan")
 
     @property
     def y_centre_m(self) -> float:
@@ -91,7 +102,7 @@ class ObstacleDetector:
         self.ground_maps = list(ground_maps)
         self.config = config.check()
 
-    def _blobs(self, mask, ground_map: GroundMap, kind: str) -> List[Detection]:
+    def _blobs(self, mask, ground_map: GroundMap, kind: str, road_direction_rad: float = 0.0) -> List[Detection]:
         c = self.config
         if not mask.any():
             return []
@@ -113,9 +124,25 @@ class ObstacleDetector:
                 continue
             # Columns beside the floor outline see the object's top edges at their lowest: they
             # land far behind the near edge and wide; keep the outline near the near edge.
-            xy = xy[xy[:, 0] <= near_x + c.outline_depth_m]
-            out.append(Detection(kind, near_x, float(xy[:, 1].min()), float(xy[:, 1].max()), len(rows)))
+            outline = xy[xy[:, 0] <= near_x + c.outline_depth_m]
+            y_min, y_max = float(outline[:, 1].min()), float(outline[:, 1].max())
+            far_x = self._far_x(xy, y_min, y_max, road_direction_rad)
+            out.append(Detection(kind, near_x, y_min, y_max, len(rows), far_x))
         return out
+
+    def _far_x(self, xy, y_min_m: float, y_max_m: float, road_direction_rad: float) -> float:
+        """The far end [m] along the side facing the robot's axis of an outline (N, 2) [m] with
+        lateral extent y_min_m .. y_max_m, that side running in road_direction_rad; NaN across the axis."""
+        if y_min_m < 0.0 < y_max_m:
+            return float("nan")
+        c, s = math.cos(road_direction_rad), math.sin(road_direction_rad)
+        along_m, across_m = xy[:, 0] * c + xy[:, 1] * s, -xy[:, 0] * s + xy[:, 1] * c  # the road's frame
+        side_m = across_m.max() if y_max_m <= 0.0 else across_m.min()
+        on_side = np.abs(across_m - side_m) <= self.config.side_band_m
+        if not on_side.any():
+            return float("nan")
+        k = np.flatnonzero(on_side)[np.argmax(along_m[on_side])]
+        return float(xy[k, 0])
 
     def _merge(self, detections: List[Detection]) -> List[Detection]:
         c = self.config
@@ -127,20 +154,38 @@ class ObstacleDetector:
                 if (m.kind == d.kind and abs(m.near_x_m - d.near_x_m) <= dx_m
                         and d.y_min_m <= m.y_max_m + gap and m.y_min_m <= d.y_max_m + gap):
                     merged[i] = Detection(m.kind, min(m.near_x_m, d.near_x_m), min(m.y_min_m, d.y_min_m),
-                                          max(m.y_max_m, d.y_max_m), m.pixels + d.pixels)
+                                          max(m.y_max_m, d.y_max_m), m.pixels + d.pixels,
+                                          _merged_far_x(m, d))
                     break
             else:
                 merged.append(d)
         return sorted(merged, key=lambda d: d.near_x_m)
 
-    def detect(self, images) -> List[Detection]:
-        """Boxes and cones in one image per ground map, nearest first."""
+    def detect(self, images, road_direction_rad: float = 0.0) -> List[Detection]:
+        """Boxes and cones in one image per ground map, nearest first.  road_direction_rad: the
+        road's direction in base_footprint [rad] (minus the lane's heading error), along which
+        the objects' sides run (far_x_m)."""
         found = []
         for image, gm in zip(images, self.ground_maps):
             green, orange = colour_masks(image, self.config)
-            found += self._blobs(green, gm, BOX)
-            found += self._blobs(orange, gm, CONE)
+            found += self._blobs(green, gm, BOX, road_direction_rad)
+            found += self._blobs(orange, gm, CONE, road_direction_rad)
         return self._merge(found)
+
+
+def _merged_far_x(a: Detection, b: Detection) -> float:
+    """far_x_m of two blobs merged into one object: the far end of the side facing the axis (the
+    blob reaching nearer the axis holds that side); NaN when the union lies across the axis."""
+    y_min, y_max = min(a.y_min_m, b.y_min_m), max(a.y_max_m, b.y_max_m)
+    if y_min < 0.0 < y_max:
+        return float("nan")
+    side = max((a, b), key=lambda d: d.y_max_m) if y_max <= 0.0 else min((a, b), key=lambda d: d.y_min_m)
+    other = b if side is a else a
+    # the other blob's far end counts where it reaches that side too (a face seen by each camera)
+    if abs((other.y_max_m if y_max <= 0.0 else other.y_min_m) - (side.y_max_m if y_max <= 0.0 else side.y_min_m)) \
+            <= 0.05 and math.isfinite(other.far_x_m):
+        return max(side.far_x_m, other.far_x_m) if math.isfinite(side.far_x_m) else other.far_x_m
+    return side.far_x_m
 
 
 def lane_relative_extent(detection: Detection, lane_coeffs) -> Tuple[float, float]:

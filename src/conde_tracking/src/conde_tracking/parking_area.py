@@ -15,8 +15,9 @@ across it (perpendicular to the road) that close the bays.  Per image pair:
      it is reported by its x at its road end (largest y: where a robot turning in crosses it); a
      chain counts only if it begins at the road side, unbroken for near_solid_m (bay lines meet
      the border along the road, the "P" stands 0.19 m off it);
-  4. bays are pairs of neighbouring lines bay_width_m apart; a bay is occupied when a box seen by
-     conde_tracking.obstacles lies (its near edge and centre) between its lines, right of the road.
+  4. bays are pairs of neighbouring lines a bay width apart (or twice: two bays); a bay is
+     occupied when a box seen by conde_tracking.obstacles right of the road begins within a bay
+     width before its centre (conde_common.bay_pairing, the rule the decision shares).
 
 Which line is which (border or divider) and the bays' positions along the road are the
 decision's business (conde_decision.parking), which accumulates sightings while it drives.
@@ -26,10 +27,12 @@ from dataclasses import dataclass
 from typing import List, Sequence, Tuple
 
 import numpy as np
+from conde_common.bay_pairing import BAY_WIDTH_M, pair_bays
 
 from conde_tracking.ipm import GroundMap
-from conde_tracking.lane_measurement import LaneConfig, line_mask
+from conde_tracking.lane_measurement import LaneConfig
 from conde_tracking.obstacles import BOX, Detection
+from conde_tracking.parallel_bay import white_ground_points
 
 
 @dataclass(frozen=True)
@@ -48,11 +51,10 @@ class ParkingAreaConfig:
     min_length_m: float = 0.7  # shorter chains are not a bay line [m]
     min_fill: float = 0.6  # a bay line's chain is painted for at least this share of min_length_m
     min_separation_m: float = 0.15  # lines closer than this along the road (at y = -1 m) are one [m]
-    bay_width_m: Tuple[float, float] = (0.6, 0.95)  # neighbouring lines this far apart enclose a bay [m]
 
     def check(self) -> "ParkingAreaConfig":
         """Returns self if usable, else raises ValueError naming the field."""
-        for name in ("band_x_m", "band_y_m", "bay_width_m"):
+        for name in ("band_x_m", "band_y_m"):
             lo, hi = getattr(self, name)
             if not lo < hi:
                 raise ValueError("%s: expected (low, high) with low < high, got %r" % (name, getattr(self, name)))
@@ -129,9 +131,11 @@ class ParkingAreaDetector:
 
     def ground_points(self, images) -> np.ndarray:
         """White marking points (N, 2) [m] in the band, from every camera."""
+        return self.in_band(white_ground_points(images, self.ground_maps, self.lane_config))
+
+    def in_band(self, xy: np.ndarray) -> np.ndarray:
+        """The points (N, 2) [m] in the band."""
         c = self.config
-        pts = [gm.points(line_mask(image, self.lane_config)) for image, gm in zip(images, self.ground_maps)]
-        xy = np.concatenate(pts) if pts else np.zeros((0, 2))
         keep = ((xy[:, 0] >= c.band_x_m[0]) & (xy[:, 0] <= c.band_x_m[1])
                 & (xy[:, 1] >= c.band_y_m[0]) & (xy[:, 1] <= c.band_y_m[1]))
         return xy[keep]
@@ -178,15 +182,10 @@ class ParkingAreaDetector:
 
 
 def bays_between(lines: Sequence[BayLine], boxes: Sequence[Detection],
-                 config: ParkingAreaConfig = ParkingAreaConfig()) -> List[Bay]:
-    """The bays enclosed by neighbouring lines (nearest first), each occupied if a box's near edge
-    lies between its lines, right of the road side (below the lines' y_near_m)."""
-    out = []
-    lo, hi = config.bay_width_m
-    for a, b in zip(lines, lines[1:]):
-        if not lo <= b.x_m - a.x_m <= hi:
-            continue
-        side_y = max(a.y_near_m, b.y_near_m)
-        occupied = any(d.kind == BOX and d.y_centre_m < side_y and a.x_m <= d.near_x_m <= b.x_m for d in boxes)
-        out.append(Bay(a.x_m, b.x_m, occupied))
-    return out
+                 width_m: Tuple[float, float] = BAY_WIDTH_M) -> List[Bay]:
+    """The bays enclosed by neighbouring lines (nearest first) and which hold a box standing right
+    of the road side (below the lines' y_near_m): conde_common.bay_pairing's rule, the one
+    conde_decision applies to its sightings along the road."""
+    side_y = max((line.y_near_m for line in lines), default=0.0)
+    near_ends = [d.near_x_m for d in boxes if d.kind == BOX and d.y_centre_m < side_y]
+    return [Bay(a, b, occupied) for a, b, occupied in pair_bays([line.x_m for line in lines], near_ends, width_m)]
