@@ -110,7 +110,10 @@ def test_the_parking_search_flag_is_set_while_a_state_looks_for_a_parking_place(
     assert not road.logic.parking_search  # wait_for_go
     road.logic.on_signal(FORWARD, 1.0)
     assert road.logic.state == "follow_lane" and not road.logic.parking_search
-    road.logic.on_signal(PARKING, 1.0)
+    road.logic.on_signal(PARKING, 1.0)  # while driving: on to the end of the lap first, no search yet
+    assert road.logic.state == "drive_to_parking" and not road.logic.parking_search
+    road = with_parallel_bay(make())
+    road.logic.on_signal(PARKING, 1.0)  # standing at the start (P challenges): the search begins
     assert road.logic.state == "go_to_parking" and road.logic.parking_search
     road.until("parking_parallel")
     assert road.logic.state == "park_drive" and road.logic.parking_search
