@@ -10,8 +10,6 @@ import subprocess
 import threading
 import time
 
-from conde_common.process_groups import stop_process_group
-
 PROGRESS = re.compile(r"(run \d+/\d+ [^:{]*)")
 
 
@@ -52,7 +50,13 @@ def run_odometry(engine, output_dir, tag="", launch_args=(), timeout_s=900, prog
             proc.wait()
         finally:
             timer.cancel()
-            stop_process_group(proc)  # if interrupted: stop the simulation and its master too
+            if proc.poll() is None:  # interrupted: stop the simulation and its master too
+                os.killpg(proc.pid, signal.SIGINT)
+                try:
+                    proc.wait(timeout=30)
+                except subprocess.TimeoutExpired:
+                    os.killpg(proc.pid, signal.SIGKILL)
+                    proc.wait()
         status = f"roslaunch exit {proc.returncode}" if time.monotonic() - started < timeout_s else \
             f"stopped after the time limit of {timeout_s} s"
     wall_s = time.monotonic() - started
