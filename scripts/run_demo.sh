@@ -3,7 +3,9 @@
 # competition (D1 D2 D3 D4 P1 P2 B1 B2 V1) with Conde, headless in lock-step, each challenge
 # scored by the referee; prints the table and writes the reports, path plots and a summary page
 # (summary.md, summary.html) to results/competition/. Options (checked before installing):
-#   --challenge D3[,P1] (repeatable)  --engine bullet  --track-seed N  --rviz  --output-dir DIR
+#   --challenge D3[,P1] (repeatable)  --engine bullet  --robot major_alvega  --track-seed N  --rviz
+#   --output-dir DIR   (--robot major_alvega: Major Alvega through conde_major's adapter; D1 and D2 by default)
+#   --profile (also the CPU time per challenge, phase and node)
 # scripts/main_job.sh (the Docker run stage's command) is the two-lap run with lap times.
 set -euo pipefail
 cd "$(dirname "$0")/.."

@@ -70,3 +70,18 @@ def test_lockstep_links_wait_for_the_connection_to_a_registered_subscriber():
     bus = links(("i", "/conde_lane"), ("i", "/cmd_vel"))
     assert startup.lockstep_links_missing(LOCKSTEP_CONFIG, SIM, graph(), bus) == [
         "/camera/image_raw: not connected to its subscribers yet"]
+
+
+def test_a_rule_owing_nothing_before_its_first_answer_holds_no_start_without_its_node():
+    # V1's sign node: its rule is in the stack's config, but only V1 starts the node
+    signs = {"answer": "signs/detections", "inputs": ["camera/image_raw"], "wait_for_first_answer": False}
+    config = {"rules": LOCKSTEP_CONFIG["rules"] + [signs]}
+    bus = links(("o", "/camera/image_raw"), ("i", "/conde_lane"), ("i", "/cmd_vel"))
+    assert startup.lockstep_links_missing(config, SIM, graph(), bus) == []
+    publishers, subscribers, services = graph()
+    with_node = (publishers + [["/signs/detections", ["/signs"]]], subscribers, services)
+    assert startup.lockstep_links_missing(config, SIM, with_node, bus) == [
+        "/signs/detections: not connected to its publisher yet"]
+    owed = dict(signs, wait_for_first_answer=True)
+    assert startup.lockstep_links_missing({"rules": [owed]}, SIM, graph(), bus) == [
+        "/signs/detections: no publisher yet"]

@@ -1,14 +1,17 @@
 """major_ackermann_controller against a real roscore on a free loopback port: each start-up
 problem stops it with exit status 1 and one line naming the file or parameter and the field.
-(The node driving the simulated robot: tests/major_alvega.test.)"""
+(The node driving the simulated robot: tests/major_alvega.test.) cmd_vel_to_ackermann: the period
+of its steering rate limit is the controller's own rate (~command_rate_param), a missing, bad or
+doubly given period is named. (The adapter driving the robot: tests/test_major_alvega_d1.py.)"""
 
 import os
 import subprocess
+import time
 
 import pytest
 import yaml
 
-from conde_testing.ros_harness import Roscore
+from conde_testing.ros_harness import Roscore, stop_process
 
 PACKAGE_DIR = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 WORKSPACE = os.path.normpath(os.path.join(PACKAGE_DIR, '..', '..'))
@@ -121,3 +124,52 @@ def test_bad_parameters(core, robot_description, joint_controllers, params, args
     proc = run_node(core, *args)
     assert proc.returncode == 1
     assert error_lines(proc.stderr) == ['%s: error: %s' % (NODE, message)]
+
+
+# --- cmd_vel_to_ackermann (the adapter of the Conde stack): the period of its steering rate limit ---
+
+ADAPTER = 'cmd_vel_to_ackermann'
+
+
+def start_adapter(core, robot_description, joint_controllers, params, *args):
+    reset_params(core, dict(joint_controllers, **{'/robot_description': robot_description}, **params))
+    return subprocess.Popen(['rosrun', 'conde_major', ADAPTER, '_config_file:=' + CONFIG] + list(args), env=core.env,
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True)
+
+
+def test_the_adapters_command_period_is_the_controllers_rate(core, robot_description, joint_controllers):
+    """~command_rate_param names the parameter of the rate conde_control publishes cmd_vel at."""
+    proc = start_adapter(core, robot_description, joint_controllers, {'/conde_control/rate_hz': 25},
+                         '_command_rate_param:=/conde_control/rate_hz')
+    try:
+        deadline, line = time.monotonic() + 90, ''
+        while time.monotonic() < deadline and 'command period' not in line:
+            line = proc.stdout.readline()
+            if not line and proc.poll() is not None:
+                break
+    finally:
+        stop_process(proc, timeout_s=20, group=True)
+    assert 'command period 0.040000 s' in line, (line, proc.stderr.read())
+
+
+@pytest.mark.parametrize('params, args, message', [
+    ({}, ['_command_rate_param:=/conde_control/rate_hz'],
+     'parameter /cmd_vel_to_ackermann/command_rate_param: names /conde_control/rate_hz, which is not set (the '
+     'controller publishing cmd_vel sets its rate there)'),
+    ({'/conde_control/rate_hz': 0}, ['_command_rate_param:=/conde_control/rate_hz'],
+     'parameter /conde_control/rate_hz (named by /cmd_vel_to_ackermann/command_rate_param): expected a rate > 0 '
+     '[Hz], got 0'),
+    ({'/conde_control/rate_hz': 30}, ['_command_rate_param:=/conde_control/rate_hz', '_command_period_s:=0.03'],
+     'parameters /cmd_vel_to_ackermann/command_period_s and /cmd_vel_to_ackermann/command_rate_param: set one of '
+     'them, not both'),
+])
+def test_a_bad_adapter_command_period_names_the_parameter(core, robot_description, joint_controllers, params, args,
+                                                          message):
+    proc = start_adapter(core, robot_description, joint_controllers, params, *args)
+    try:
+        _, stderr = proc.communicate(timeout=90)
+    finally:
+        stop_process(proc, timeout_s=20, group=True)
+    assert proc.returncode == 1
+    assert [line for line in stderr.splitlines() if line.startswith(ADAPTER + ': error: ')] == \
+        ['%s: error: %s' % (ADAPTER, message)]

@@ -2,6 +2,7 @@
 on the real Major Alvega description and on small made-up robots; the controller YAMLs of
 this package name joints and links that the robot has."""
 
+import math
 import os
 import xml.etree.ElementTree as ET
 
@@ -9,7 +10,9 @@ import pytest
 import yaml
 
 from conde_major.controller_config import load_wheel_config
-from conde_major.urdf_geometry import GeometryError, UrdfTree, car_dimensions
+from conde_major.ackermann_targets import max_centre_steering_rad
+from conde_major.urdf_geometry import (GeometryError, UrdfTree, car_dimensions, car_turning_radius_m,
+                                       min_turning_radius_m)
 from conde_testing.ros_harness import xacro_finding
 
 PACKAGE_DIR = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -109,3 +112,21 @@ def test_malformed_urdf():
         UrdfTree('<robot><link name="a"></robot>')
     with pytest.raises(GeometryError, match='the root element is <sdf>'):
         UrdfTree('<sdf/>')
+
+
+def test_major_alvega_minimum_turning_radius_from_its_urdf(major_urdf):
+    c = load_wheel_config(os.path.join(PACKAGE_DIR, 'config', 'major_ackermann_controller.yaml'))
+    radius_m, what = car_turning_radius_m(major_urdf, c.left_front.link, c.right_front.link, c.left_rear.link,
+                                          c.right_rear.link)
+    assert radius_m == pytest.approx(0.445, abs=1e-6)
+    assert what == 'wheelbase 0.320 m, hinges 0.250 m apart, steering limit 0.7854 rad'
+    # the adapter's largest centre angle (inner hinge at its limit) drives exactly this circle
+    assert 0.32 / math.tan(max_centre_steering_rad(0.32, 0.125, 0.785398)) == pytest.approx(radius_m, abs=1e-9)
+
+
+def test_minimum_turning_radius_of_a_made_up_car():
+    # hinges 0.3 m ahead of the rear wheels, 0.2 m apart, the tighter side of the limit 0.5 rad
+    radius_m, _ = car_turning_radius_m(robot(rpy='0 0 0'), 'lf', 'rf', 'lr', 'rr')
+    assert radius_m == pytest.approx(0.3 / math.tan(0.5) + 0.1)
+    with pytest.raises(GeometryError, match='steering limit 0.0000 rad'):
+        min_turning_radius_m(0.3, 0.1, 0.0)

@@ -26,7 +26,8 @@ def test_default_options_run_every_challenge_on_ode():
     options = parse_options([])
     assert options.challenges == ("D1", "D2", "D3", "D4", "P1", "P2", "B1", "B2", "V1")
     assert (options.engine, options.track_seed, options.rviz) == ("ode", 0, False)
-    assert options.launch_args() == ["track_seed:=0"]
+    assert options.robot == "conde"
+    assert options.launch_args() == ["track_seed:=0", "robot:=conde"]
 
 
 def test_challenges_repeatable_or_listed_in_competition_order():
@@ -34,12 +35,28 @@ def test_challenges_repeatable_or_listed_in_competition_order():
                              "--rviz"])
     assert options.challenges == ("D3", "P1", "B2")
     assert options.engine == "bullet"
-    assert options.launch_args() == ["track_seed:=7", "rviz:=true", "real_time_factor:=1"]
+    assert options.launch_args() == ["track_seed:=7", "robot:=conde", "rviz:=true", "real_time_factor:=1"]
+
+
+def test_robot_major_alvega_runs_its_challenges_and_reaches_every_job():
+    options = parse_options(["--robot", "major_alvega"])
+    assert options.robot == "major_alvega"
+    assert options.challenges == ("D1", "D2")  # what Major Alvega is set up for
+    assert "robot:=major_alvega" in options.launch_args()
+    chosen = parse_options(["--robot", "major_alvega", "--challenge", "P1", "--engine", "bullet"])
+    assert chosen.challenges == ("P1",) and chosen.launch_args() == ["track_seed:=0", "robot:=major_alvega"]
+    # the launch arguments reach each job's roslaunch command
+    from conde_tournament.job import launch_command
+    from conde_tournament.tournament_file import Job, Team
+    command = launch_command(Job(Team("reference"), "D2", "", 0, "bullet", 0), 11311, "/tmp/j", 0.0,
+                             options.launch_args())
+    assert "robot:=major_alvega" in command[-1].split()
 
 
 @pytest.mark.parametrize("argv, message", [
     (["--challenge", "D5"], "--challenge: unknown challenge 'D5' (expected D1, D2, D3, D4, P1, P2, B1, B2, V1)"),
     (["--engine", "physx"], "--engine: unknown engine 'physx' (expected ode or bullet)"),
+    (["--robot", "nao"], "--robot: unknown robot 'nao' (expected conde or major_alvega)"),
     (["--track-seed", "-1"], "--track-seed: expected an integer >= 0, got '-1'"),
     (["--track-seed", "x"], "--track-seed: expected an integer >= 0, got 'x'"),
     (["--wall-limit", "0"], "--wall-limit: expected a number of seconds > 0, got '0'"),
@@ -102,7 +119,15 @@ def test_summary_pages_embed_each_plot_and_link_each_report(tmp_path):
     assert "![D3 path](D3/challenge/referee.png)" in md and "(D3/challenge/referee.md)" in md
     assert '<img src="D3/challenge/referee.png" alt="D3 path">' in page
     assert '<a href="D3/challenge/referee.json">JSON</a>' in page
-    assert "engine ode, track seed 3" in page and '<tr class="fail">' in page
+    assert "robot Conde, engine ode, track seed 3" in page and '<tr class="fail">' in page
+    assert "robot Conde, engine ode, track seed 3" in md
+
+
+def test_summary_records_the_robot(tmp_path):
+    rows = [row(dict(result("D2", report(challenge="D2", laps=2)), folder="D2"))]
+    paths = competition.write_summary(str(tmp_path), rows, parse_options(["--robot", "major_alvega"]))
+    assert "robot Major Alvega, engine ode, track seed 0" in open(paths["md"]).read()
+    assert "robot Major Alvega, engine ode, track seed 0" in open(paths["html"]).read()
 
 
 def test_two_challenges_at_a_time_by_default_one_with_rviz():

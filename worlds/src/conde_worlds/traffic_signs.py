@@ -15,19 +15,15 @@ import math
 import cv2
 import numpy as np
 
+# The names live in sign_names.py (no OpenCV for who only needs them); here for the drawing's users.
+from .sign_names import DANGER, FAMILY, INFORMATION, MANDATORY, SIGNS  # noqa: F401
+
 SIZE_PX = 128
 RED = (255, 0, 0)
 BLUE = (0, 117, 189)
 WHITE = (255, 255, 255)
 BLACK = (0, 0, 0)
 PLATE = (200, 200, 200)
-
-DANGER = ("other_danger", "uneven_road", "cattle", "road_narrows")
-INFORMATION = ("parking", "recommended_60", "hospital", "pedestrian_crossing")
-MANDATORY = ("turn_left", "lights_on", "roundabout", "buses")
-SIGNS = DANGER + INFORMATION + MANDATORY
-FAMILY = {**{s: "danger" for s in DANGER}, **{s: "information" for s in INFORMATION},
-          **{s: "mandatory" for s in MANDATORY}}
 
 _AA = cv2.LINE_AA
 

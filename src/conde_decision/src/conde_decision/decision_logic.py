@@ -156,6 +156,10 @@ class DecisionConfig:
     branch_offset_m: float = 0.2  # peak lateral offset reference while taking a branch [m] (+ = left branch)
     branch_heading_rad: float = 0.0  # peak heading reference while taking a branch [rad] (+ = left branch)
     min_signal_confidence: float = 0.5  # panel signals below this confidence are ignored
+    # a robot whose panel camera is this far ahead of base_footprint sees the panel at an angle that
+    # far earlier: driving (not stopping at the line), its direction orders are latched from there
+    # on before the crosswalk's stop line [m] (Major Alvega: 0.448, its top camera; Conde: 0)
+    order_latch_lead_m: float = 0.0
     min_lane_confidence: float = 0.3  # lane measurements below this confidence are not used
     lane_lost_timeout_s: float = 1.0  # stop after this long without a confident lane [s]
     max_step_s: float = 1.0  # longest time step dead-reckoned at once [s] (gaps in the input)
@@ -203,7 +207,8 @@ class DecisionConfig:
                      "loop_exit_tolerance_rad", "loop_exit_m", "junction_window_m", "junction_fallback_m",
                      "corner_sight_m", "straight_crossing_m",
                      "line_spacing_m", "own_lane_offset_m",
-                     "corner_line_offset_m", "corner_lead_m", "min_line_end_m", "lane_aligned_rad"):
+                     "corner_line_offset_m", "corner_lead_m", "min_line_end_m", "lane_aligned_rad",
+                     "order_latch_lead_m"):
             need(name, getattr(self, name) >= 0, "must be >= 0")
         for name in ("min_signal_confidence", "min_lane_confidence"):
             need(name, 0 <= getattr(self, name) <= 1, "must be in [0, 1]")
@@ -419,8 +424,10 @@ class DecisionLogic:
             self._fire("crosswalk_reached")
             if lap_done:
                 self._fire("lap_completed")
-        if (self.crosswalk.at_crosswalk and self.crosswalk.to_near_edge_m is not None
-                and self.crosswalk.to_near_edge_m < 0.0):
+        # Standing at the line (stopping there) every order counts; driving, from order_latch_lead_m before it.
+        lead_m = 0.0 if self.machine.command.speed in ("stop", "stop_at_crosswalk") else self.config.order_latch_lead_m
+        if ((self.crosswalk.at_crosswalk or lead_m > 0.0) and self.crosswalk.to_near_edge_m is not None
+                and self.crosswalk.to_near_edge_m < lead_m):
             self.forks.on_stop_line_passed()
         if self.crosswalk.left():
             self.forks.on_crosswalk_left()

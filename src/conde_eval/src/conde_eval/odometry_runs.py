@@ -10,6 +10,8 @@ import subprocess
 import threading
 import time
 
+from conde_common.processes import stop_process_group
+
 PROGRESS = re.compile(r"(run \d+/\d+ [^:{]*)")
 
 
@@ -50,13 +52,7 @@ def run_odometry(engine, output_dir, tag="", launch_args=(), timeout_s=900, prog
             proc.wait()
         finally:
             timer.cancel()
-            if proc.poll() is None:  # interrupted: stop the simulation and its master too
-                os.killpg(proc.pid, signal.SIGINT)
-                try:
-                    proc.wait(timeout=30)
-                except subprocess.TimeoutExpired:
-                    os.killpg(proc.pid, signal.SIGKILL)
-                    proc.wait()
+            stop_process_group(proc)  # interrupted: stop the simulation and its master too
         status = f"roslaunch exit {proc.returncode}" if time.monotonic() - started < timeout_s else \
             f"stopped after the time limit of {timeout_s} s"
     wall_s = time.monotonic() - started

@@ -53,7 +53,9 @@ def lockstep_links_missing(config, sim_name, system_state, bus_info):
     strings, sorted; empty when every link is up. An input the simulator does not publish itself
     (a chain: /conde_lane answers the cameras and is the input of the decision) needs a connection
     from its publishers, as an answer. A node that subscribes to its camera only after
-    its start-up (conde_tracking waits for CameraInfo and TF) thus holds the start."""
+    its start-up (conde_tracking waits for CameraInfo and TF) thus holds the start. A rule with
+    wait_for_first_answer false whose answer has no publisher at all is left out (its node is not
+    part of this run, and the simulator owes it nothing until it answers)."""
     namespace = sim_name.rsplit("/", 1)[0] + "/"
     publishers, subscribers, _services = system_state
     own = {topic for topic, nodes in publishers if sim_name in nodes}
@@ -72,6 +74,8 @@ def lockstep_links_missing(config, sim_name, system_state, bus_info):
             missing.add(f"{topic}: not connected to its publisher yet")
 
     for rule in config.get("rules", []):
+        if rule.get("wait_for_first_answer", True) is False and not pubs.get(resolve(rule["answer"], namespace)):
+            continue  # owes nothing before its first answer: a node this run does not start (V1's signs)
         check_publishers(resolve(rule["answer"], namespace))
         for name in rule.get("inputs", []):
             topic = resolve(name, namespace)

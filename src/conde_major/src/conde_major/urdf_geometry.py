@@ -120,3 +120,22 @@ def car_dimensions(urdf_xml, left_front, right_front, left_rear, right_rear):
                             % (left_front, right_front, half_track_m))
     limit_rad = min(tree.steering_limit_rad(left_front), tree.steering_limit_rad(right_front))
     return wheelbase_m, half_track_m, limit_rad
+
+
+def min_turning_radius_m(wheelbase_m, half_track_m, hinge_limit_rad):
+    """The tightest circle [m] the rear-axle centre (base_footprint) of an Ackermann car can drive:
+    the inner hinge at its limit turns about a point wheelbase / tan(limit) beside the inner rear
+    wheel, half the track inside the rear-axle centre (Major Alvega: 0.32 / tan(45 deg) + 0.125 =
+    0.445 m)."""
+    if not 0 < hinge_limit_rad < math.pi / 2:
+        raise GeometryError('steering limit %.4f rad: expected a number in (0, pi/2)' % hinge_limit_rad)
+    return wheelbase_m / math.tan(hinge_limit_rad) + half_track_m
+
+
+def car_turning_radius_m(urdf_xml, left_front, right_front, left_rear, right_rear):
+    """(minimum turning radius of the rear-axle centre [m], what it comes from) of the car whose
+    URDF is `urdf_xml`, its wheels the four named links (as car_dimensions)."""
+    wheelbase_m, half_track_m, limit_rad = car_dimensions(urdf_xml, left_front, right_front, left_rear, right_rear)
+    what = 'wheelbase %.3f m, hinges %.3f m apart, steering limit %.4f rad' % (
+        wheelbase_m, 2 * half_track_m, limit_rad)
+    return min_turning_radius_m(wheelbase_m, half_track_m, limit_rad), what

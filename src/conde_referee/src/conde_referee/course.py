@@ -14,7 +14,7 @@ from conde_worlds import track_geometry as tg
 from conde_worlds.challenge_world import layout, objects_of
 from conde_worlds.challenges import load_challenges, parse_seed
 from conde_worlds.track_variation import track_dimensions
-from conde_worlds.traffic_signs import SIGNS
+from conde_worlds.sign_names import SIGNS
 
 #: The start/finish line across the straight, 0.21 m behind the crosswalk (as conde_eval's lap
 #: timer), on the nominal track (Course.start_line_y_m: on the course's track).

@@ -16,6 +16,11 @@ from conde_tournament.leaderboard import scored
 
 CHALLENGES = ("D1", "D2", "D3", "D4", "P1", "P2", "B1", "B2", "V1")
 ENGINES = ("ode", "bullet")
+#: The robots that drive the stack (team_run.launch robot:=...), each with the challenges it runs
+#: by default: Major Alvega (through conde_major's Ackermann adapter) is set up for D1 and D2; the
+#: others can still be chosen with --challenge.
+ROBOT_CHALLENGES = {"conde": CHALLENGES, "major_alvega": ("D1", "D2")}
+ROBOT_NAMES = {"conde": "Conde", "major_alvega": "Major Alvega"}
 TABLE_COLUMNS = ("challenge", "result", "time [s]", "penalties", "score", "wall [s]")
 
 
@@ -51,10 +56,13 @@ class Options:
     wall_limit_s: float = 600.0
     sim_limit_s: float = 0.0   # 0 = each challenge's own end (its time limit)
     jobs: int = 2              # challenges run at a time (lock-step: the same results with 1 or 2)
+    robot: str = "conde"       # team_run.launch robot: conde | major_alvega
+    profile: bool = False      # print where the CPU time went (conde_tournament.cpu_profile)
 
     def launch_args(self) -> List[str]:
-        """team_run.launch arguments of every job: the track and, with --rviz, rviz paced to the wall clock."""
-        args = ["track_seed:=%d" % self.track_seed]
+        """team_run.launch arguments of every job: the track, the robot and, with --rviz, rviz paced
+        to the wall clock."""
+        args = ["track_seed:=%d" % self.track_seed, "robot:=" + self.robot]
         if self.rviz:
             args += ["rviz:=true", "real_time_factor:=1"]
         return args
@@ -68,6 +76,9 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument("--challenge", action="append", default=[], metavar="NAME[,NAME...]",
                         help="run only these challenges (repeatable or a comma-separated list; default all)")
     parser.add_argument("--engine", default="ode", help="physics engine: ode (default) or bullet")
+    parser.add_argument("--robot", default="conde",
+                        help="the robot driving the stack: conde (default) or major_alvega (default challenges: %s)"
+                        % ", ".join(ROBOT_CHALLENGES["major_alvega"]))
     parser.add_argument("--track-seed", default="0", metavar="N",
                         help="0 = the nominal track (default), N > 0 = a track varied within the rules' tolerance")
     parser.add_argument("--rviz", action="store_true", help="show each run in rviz, paced to the wall clock")
@@ -78,6 +89,8 @@ def _parser() -> argparse.ArgumentParser:
                         help="stop each run at this simulated time [s] (default 0: the challenge's own time limit)")
     parser.add_argument("--jobs", default="2", metavar="N",
                         help="challenges run at a time (default 2; lock-step keeps each run's result the same)")
+    parser.add_argument("--profile", action="store_true",
+                        help="also print the CPU time [s] per challenge and phase and per node per simulated second")
     parser.add_argument("--check", action="store_true", help=argparse.SUPPRESS)
     return parser
 
@@ -93,6 +106,8 @@ def parse_options(argv) -> Options:
                 raise OptionError("--challenge: unknown challenge %r (expected %s)" % (name, ", ".join(CHALLENGES)))
             if name not in challenges:
                 challenges.append(name)
+    if args.robot not in ROBOT_CHALLENGES:
+        raise OptionError("--robot: unknown robot %r (expected %s)" % (args.robot, " or ".join(ROBOT_CHALLENGES)))
     if args.engine not in ENGINES:
         raise OptionError("--engine: unknown engine %r (expected %s)" % (args.engine, " or ".join(ENGINES)))
     try:
@@ -109,10 +124,11 @@ def parse_options(argv) -> Options:
     if not sim_limit_s >= 0:
         raise OptionError("--sim-limit: expected a number of seconds >= 0, got %r" % args.sim_limit)
     jobs = jobs_count(args.jobs)
-    ordered = tuple(c for c in CHALLENGES if c in challenges) or CHALLENGES
+    ordered = tuple(c for c in CHALLENGES if c in challenges) or ROBOT_CHALLENGES[args.robot]
     # With rviz each run is shown paced, one window at a time.
     jobs = 1 if args.rviz else jobs
-    return Options(ordered, args.engine, track_seed, args.rviz, args.output_dir, wall_limit_s, sim_limit_s, jobs)
+    return Options(ordered, args.engine, track_seed, args.rviz, args.output_dir, wall_limit_s, sim_limit_s, jobs,
+                   args.robot, profile=args.profile)
 
 
 def outcome(report: Optional[dict], laps_required: int, signs_total: int) -> Tuple[bool, str]:
@@ -148,7 +164,8 @@ def row(result: dict, laps_required: int = 2, signs_total: int = 12) -> dict:
             "time_s": report.get("driving_time_s"), "penalties": float(report.get("penalty_total", 0.0)),
             "score": float(report.get("score", 0.0)), "wall_s": float(result.get("wall_s", 0.0)),
             "events": [e.get("kind", "?") for e in report.get("events", []) if e.get("penalty")],
-            "folder": result.get("folder", result["challenge"]), "timing": result.get("timing") or {}}
+            "folder": result.get("folder", result["challenge"]), "timing": result.get("timing") or {},
+            "cpu": result.get("cpu")}
 
 
 def totals(rows: List[dict]) -> dict:
@@ -204,7 +221,8 @@ def timing_text(rows: List[dict], elapsed_s: float, jobs: int) -> str:
 
 
 def heading(options: Options) -> str:
-    return "engine %s, track seed %d%s" % (options.engine, options.track_seed, ", rviz (paced)" if options.rviz else "")
+    return "robot %s, engine %s, track seed %d%s" % (ROBOT_NAMES[options.robot], options.engine, options.track_seed,
+                                                     ", rviz (paced)" if options.rviz else "")
 
 
 def summary_markdown(rows: List[dict], options: Options, title: str = "Conde competition") -> str:

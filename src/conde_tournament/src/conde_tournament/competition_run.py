@@ -1,16 +1,18 @@
 """Runs the competition (conde_tournament.competition's options), `--jobs` challenges at a time
 (default 2: on two cores the lock-step runs leave each other idle time; each run's result stays
 the same), each an isolated tournament job of the reference Conde stack (conde_tournament.job: own
-master, lock-step, referee), with a progress line per challenge; then prints the table, where the
-wall time went (start-up, run, stop per challenge) and writes the summary page. Exit status: 0
+master, lock-step, referee; the long challenges started first), with a progress line per challenge;
+then prints the table, where the wall time went (start-up, run, stop per challenge), with --profile
+where the CPU time went, and writes the summary page. Exit status: 0
 when the referee judged every challenge (whatever the robot did), 1 when some run has no referee
 report, 2 on bad options."""
 import os
+import resource
 import shutil
 import sys
 import time
 
-from conde_tournament import competition
+from conde_tournament import competition, cpu_profile
 from conde_tournament.job import run_job
 from conde_tournament.pools import run_each
 from conde_tournament.progress import Progress
@@ -21,8 +23,27 @@ LAPS_REQUIRED = 2
 
 
 def signs_total() -> int:
-    from conde_worlds.traffic_signs import SIGNS
+    from conde_worlds.sign_names import SIGNS
     return len(SIGNS)
+
+
+def start_order(challenges, time_limits_s: dict) -> list:
+    """The order the challenges start in (pure): the longest first by their time limit [s] (equal
+    ones as given), so that with two at a time a long run does not end alone after the short ones
+    (D1-D4 and V1 take about 170 simulated seconds, P and B about 20). The table keeps the given order."""
+    return sorted(challenges, key=lambda name: -time_limits_s.get(name, 0.0))
+
+
+def challenge_time_limits_s() -> dict:
+    from conde_worlds.challenges import load_challenges
+    return {name: ch.time_limit_s for name, ch in load_challenges().challenges.items()}
+
+
+def runner_cpu_s() -> float:
+    """CPU seconds of this runner itself (its threads poll the jobs; the jobs' process trees are
+    reaped with their own rusage, not counted here)."""
+    usage = resource.getrusage(resource.RUSAGE_SELF)
+    return usage.ru_utime + usage.ru_stime
 
 
 def run(options: competition.Options) -> int:
@@ -30,7 +51,7 @@ def run(options: competition.Options) -> int:
     os.makedirs(out_dir, exist_ok=True)
     team = Team("reference")
     total_signs = signs_total()
-    print("competition: %s with Conde (%s), lock-step, %s; output %s"
+    print("competition: %s (%s), lock-step, %s; output %s"
           % (" ".join(options.challenges), competition.heading(options),
              "paced with rviz" if options.rviz else "headless", out_dir), flush=True)
     progress = Progress(len(options.challenges), unit="challenge")
@@ -46,7 +67,8 @@ def run(options: competition.Options) -> int:
 
     by_name = {}
     try:
-        for name, row in run_each(run_challenge, options.challenges, options.jobs, on_start=progress.start):
+        order = start_order(options.challenges, challenge_time_limits_s())
+        for name, row in run_each(run_challenge, order, options.jobs, on_start=progress.start):
             by_name[name] = row
             progress.done("%-3s %s  time %s s  penalties %g  score %.1f  (%.0f s wall, %.0f s in all)"
                           % (name, row["result"], "-" if row["time_s"] is None else "%.1f" % row["time_s"],
@@ -59,6 +81,9 @@ def run(options: competition.Options) -> int:
     print(competition.table_text(rows), end="")
     print()
     print(competition.timing_text(rows, elapsed_s, options.jobs), end="")
+    if options.profile:
+        print()
+        print(cpu_profile.profile_text([(r["challenge"], r["cpu"]) for r in rows], runner_cpu_s=runner_cpu_s()), end="")
     paths = competition.write_summary(out_dir, rows, options)
     print("competition: %.0f s wall; summary %s, %s" % (elapsed_s, paths["md"], paths["html"]), flush=True)
     judged = all(os.path.isfile(os.path.join(out_dir, r["folder"], "challenge", "referee.json")) for r in rows)

@@ -20,6 +20,7 @@ import time
 
 from conde_eval import launch_log
 
+from conde_tournament import cpu_profile
 from conde_tournament.tournament_file import REFERENCE_NODES, Job, team_problem
 
 RESULT_FILE = "result.json"
@@ -171,6 +172,32 @@ def _kill_leftovers(job_dir: str):
             pass
 
 
+def _reap(process):
+    """process.poll() through os.wait4, which also gives the CPU time [s] of the process and of every
+    child it reaped (process.cpu_s; roslaunch reaps its nodes): the job's whole process tree."""
+    if process.returncode is not None:
+        return process.returncode
+    try:
+        pid, status, usage = os.wait4(process.pid, os.WNOHANG)
+    except ChildProcessError:  # reaped elsewhere: no rusage
+        return process.poll()
+    if pid == 0:
+        return None
+    process.returncode = os.waitstatus_to_exitcode(status)
+    process.cpu_s = usage.ru_utime + usage.ru_stime
+    return process.returncode
+
+
+def _wait(process, timeout_s: float) -> bool:
+    """Whether the process ended (and was reaped by _reap) within timeout_s."""
+    deadline = time.monotonic() + timeout_s
+    while _reap(process) is None:
+        if time.monotonic() > deadline:
+            return False
+        time.sleep(0.1)
+    return True
+
+
 def _stop(process, grace_s: float):
     """SIGINT to the job's process group (the referee writes its report on shutdown), then SIGKILL."""
     for sig, wait_s in ((signal.SIGINT, grace_s), (signal.SIGKILL, 10.0)):
@@ -178,12 +205,8 @@ def _stop(process, grace_s: float):
             os.killpg(process.pid, sig)
         except ProcessLookupError:
             return
-        try:
-            process.wait(timeout=wait_s)
-            if sig == signal.SIGKILL:
-                return
-        except subprocess.TimeoutExpired:
-            continue
+        if _wait(process, wait_s) and sig == signal.SIGKILL:
+            return
     # roslaunch may have gone while nodes of its group linger: end them too.
     try:
         os.killpg(process.pid, signal.SIGKILL)
@@ -255,16 +278,24 @@ def _run_job_once(job: Job, job_dir: str, sim_limit_s: float, wall_limit_s: floa
     over_wall_limit = False
     log_bytes = None  # what roslaunch wrote before the job was stopped (then nodes die on purpose)
     running, decided_at, frozen = _LogWatch(log_path, RUNNING_MARK), None, []
+    parsed = _LogWatch(log_path, cpu_profile.PARSED_MARK)
+    cpu = cpu_profile.JobCpu(lambda: job_processes(job_dir))
     stalled = False  # the simulation did not start running within STARTUP_LIMIT_S
     with open(log_path, "w") as log:
         process = subprocess.Popen(command, stdout=log, stderr=subprocess.STDOUT, env=env, cwd=job_dir,
                                    start_new_session=True, preexec_fn=_default_signals)
         try:
-            while process.poll() is None:
-                running.poll(time.monotonic())
+            while _reap(process) is None:
+                now = time.monotonic()
+                for watch, phase in ((parsed, "parse"), (running, "nodes")):
+                    watch.poll(now)
+                    if watch.seen_at is not None:
+                        cpu.mark(phase, now)
+                cpu.sample(now)
                 if os.path.exists(report_path):
                     decided_at = time.monotonic()
                     frozen = _signal_simulator(job_dir, signal.SIGSTOP)
+                    cpu.mark("run", decided_at)
                     # The referee ended the run (end of trial, parked, disqualified, time limit);
                     # its path plot is written last.
                     _wait_for_file(report_path[:-len(".json")] + ".png", timeout_s=30.0)
@@ -278,7 +309,7 @@ def _run_job_once(job: Job, job_dir: str, sim_limit_s: float, wall_limit_s: floa
                 time.sleep(0.2)
         finally:
             log.flush()
-            log_bytes = os.path.getsize(log_path) if process.poll() is None else None
+            log_bytes = os.path.getsize(log_path) if _reap(process) is None else None
             for pid in frozen:  # a stopped process would not act on SIGINT
                 try:
                     os.kill(pid, signal.SIGCONT)
@@ -286,6 +317,7 @@ def _run_job_once(job: Job, job_dir: str, sim_limit_s: float, wall_limit_s: floa
                     pass
             _stop(process, grace_s=15.0)
             _kill_leftovers(job_dir)
+            cpu.finish(getattr(process, "cpu_s", None))
     with open(log_path, "rb") as f:
         dead = launch_log.dead_nodes(f.read(log_bytes if log_bytes is not None else -1).decode(errors="replace"))
     report = None
@@ -300,7 +332,8 @@ def _run_job_once(job: Job, job_dir: str, sim_limit_s: float, wall_limit_s: floa
     if decided_at is None and report is not None:
         decided_at = ended  # the report came with roslaunch's own end (the simulator's time limit)
     result.update(status=status, reason=reason, report=report, wall_s=round(ended - started, 1), port=port,
-                  timing=timing(started, running.seen_at, decided_at, ended))
+                  timing=timing(started, running.seen_at, decided_at, ended),
+                  cpu=cpu.result(cpu_profile.sim_seconds(report)))
     return result  # run_job writes it once no attempt is left
 
 

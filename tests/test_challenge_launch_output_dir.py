@@ -1,0 +1,23 @@
+"""challenge.launch with output_dir (the tournament's jobs): the generator runs once, for the world,
+and the schedule and summary parameters name the files it wrote there (roslaunch --dump-params
+reads the launch files and runs their commands; no node starts)."""
+import os
+import subprocess
+
+import yaml
+
+
+def test_schedule_and_summary_are_the_generated_files(tmp_path):
+    out_dir = tmp_path / "job" / "challenge"
+    env = dict(os.environ, ROS_HOME=str(tmp_path / "ros"))
+    done = subprocess.run(["roslaunch", "--dump-params", "conde_bringup", "challenge.launch", "challenge:=P1",
+                           "output_dir:=" + str(out_dir)], env=env, capture_output=True, text=True, timeout=300)
+    assert done.returncode == 0, done.stdout[-2000:] + done.stderr[-2000:]
+    params = yaml.safe_load(done.stdout)
+    assert params["/conde_sim/world_file"] == str(out_dir / "world.yaml")
+    assert params["/signalling_panel_controller/schedule"] == str(out_dir / "schedule.yaml")
+    assert params["/challenge/summary_file"] == str(out_dir / "challenge.yaml")
+    summary = yaml.safe_load((out_dir / "challenge.yaml").read_text())
+    assert summary["challenge"] == "P1" and summary["schedule_file"] == str(out_dir / "schedule.yaml")
+    assert yaml.safe_load((out_dir / "schedule.yaml").read_text())["steps"]
+    assert not (tmp_path / "ros" / "conde_challenges").exists()  # nothing generated elsewhere
