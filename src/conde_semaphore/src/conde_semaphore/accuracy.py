@@ -2,7 +2,6 @@
 degradation, the confusion table and starting / stopping panel_rendering.launch on a free port.
 The start poses of the grid come from conde_worlds (start_pose_grid, pure)."""
 import os
-import signal
 import socket
 import subprocess
 import tempfile
@@ -10,6 +9,7 @@ import tempfile
 import numpy as np
 
 from conde_common.panel_signals import SIGNAL_NAMES
+from conde_common.processes import stop_process_group
 
 #: The challenges whose start poses the grid covers: crosswalk (D*, P*, V1) and before_bays (B*).
 GRID_CHALLENGES = {"crosswalk": "P1", "before_bays": "B2"}
@@ -83,11 +83,4 @@ def launch_error(launch, error):
 
 
 def stop_simulation(launch):
-    if launch is None or launch.poll() is not None:
-        return
-    os.killpg(launch.pid, signal.SIGINT)
-    try:
-        launch.wait(timeout=30)
-    except subprocess.TimeoutExpired:
-        os.killpg(launch.pid, signal.SIGKILL)
-        launch.wait()
+    stop_process_group(launch)
