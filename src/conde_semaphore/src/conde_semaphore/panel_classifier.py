@@ -8,18 +8,38 @@ saturated, so the panel content is found as the largest blob of strongly saturat
 classified by its colours and, for a green arrow, by where its head is.
 
 Assumptions: the content is seen roughly head-on (the robot faces the monitor within about 10 deg),
-at least MIN_BLOB_AREA_PX pixels large, and the image is RGB (bgr=True for BGR). Brightness
+at least MIN_BLOB_AREA_PX pixels large (or MIN_SMALL_BLOB_AREA_PX on a dark screen: a monitor up to
+5 m away), and the image is RGB (bgr=True for BGR). Brightness
 scaling (0.6..1.4) and Gaussian noise (sigma up to ~0.03 of full scale) are tolerated because
 the tests are on saturation (chroma relative to the brightest channel), not on absolute values.
 """
+import functools
+
 import cv2
 import numpy as np
 
 from conde_common.panel_signals import SIGNAL_CODES, SIGNAL_NAMES  # noqa: F401 (re-exported)
+from conde_signalling_panel_control.panel_images import draw_signal
 
 MIN_CHROMA = 60.0          # max - min channel [0..255]; sky is ~50 at most, dimmed green ~150
 MIN_SATURATION = 0.5       # chroma / max channel; sky and grey are below 0.3, the panel near 1
-MIN_BLOB_AREA_PX = 40      # smaller saturated blobs are noise, not a monitor
+MIN_BLOB_AREA_PX = 40      # a saturated blob this large is taken for the panel content as it is
+# A monitor far away (B1/B2 start 4.5..5.0 m before it: content 15..48 px, arrows the smallest) is
+# taken too when its blob lies on the dark screen: most uncoloured pixels around and between its
+# strokes are near black (a traffic sign's are white, the sky light blue), and it is not a solid
+# patch of one colour (no one-colour picture of the panel fills its box).
+MIN_SMALL_BLOB_AREA_PX = 12
+SMALL_BLOB_MAX_FILL = 0.85     # larger share of its box: a solid patch
+SCREEN_DARK_FRACTION = 0.35    # darker than this share of the content's brightness = the screen
+SCREEN_MIN_DARK_SHARE = 0.6    # share of the uncoloured pixels of the box (+1 px) that must be dark
+# Below this many pixels an arrow's head is only 2..5 px across, too few lines for the profile test
+# (arrow_direction): the blob is compared with the panel's own arrow pictures instead
+# (small_arrow_direction); full confidence when the best leads the second best by
+# TEMPLATE_SURE_MARGIN in mean squared difference.
+SMALL_ARROW_AREA_PX = 100
+ARROWS = ("left", "right", "forward")
+TEMPLATE_SIZE_PX = (320, 240)  # the panel pictures the templates are cut from (challenge.launch's size)
+TEMPLATE_SURE_MARGIN = 0.05
 MIXED_MIN_FRACTION = 0.15  # the checkerboard has at least this much of both red and green
 YELLOW_MIN_FRACTION = 0.5  # the P is mostly yellow (red/green borders of the checkerboard are not)
 
@@ -65,22 +85,49 @@ def colour_classes(rgb):
 
 
 def find_panel_blob(rgb):
-    """(mask of the panel content, colour classes) of the largest saturated blob, or None.
+    """(mask of the panel content, colour classes) of the largest saturated blob that can be the
+    panel's content, or None.
 
     Saturated pixels are closed with a 3 x 3 kernel so that the cells of the checkerboard and
-    pixels split by noise join one blob."""
+    pixels split by noise join one blob. A blob of MIN_BLOB_AREA_PX or more is the content; a
+    smaller one (down to MIN_SMALL_BLOB_AREA_PX: a monitor seen from 5 m) only if it is on a dark
+    screen (on_dark_screen) and is not a solid patch of one colour."""
     classes = colour_classes(rgb)
     saturated = (classes > 0).astype(np.uint8)
     closed = cv2.morphologyEx(saturated, cv2.MORPH_CLOSE, np.ones((3, 3), np.uint8))
     count, labels, stats, _ = cv2.connectedComponentsWithStats(closed, connectivity=8)
-    if count <= 1:
-        return None
-    areas = stats[1:, cv2.CC_STAT_AREA]
-    best = 1 + int(np.argmax(areas))
-    if stats[best, cv2.CC_STAT_AREA] < MIN_BLOB_AREA_PX:
-        return None
-    mask = labels == best
-    return mask, np.where(mask, classes, 0)
+    for label in 1 + np.argsort(-stats[1:, cv2.CC_STAT_AREA], kind="stable"):
+        area = stats[label, cv2.CC_STAT_AREA]
+        if area < MIN_SMALL_BLOB_AREA_PX:
+            return None
+        mask = labels == label
+        if area >= MIN_BLOB_AREA_PX or (not _solid_one_colour(mask, classes, stats[label])
+                                        and on_dark_screen(rgb, mask, classes, stats[label])):
+            return mask, np.where(mask, classes, 0)
+    return None
+
+
+def _solid_one_colour(mask, classes, box_stats):
+    """True for a blob of one colour class filling more than SMALL_BLOB_MAX_FILL of its box."""
+    box_area = int(box_stats[cv2.CC_STAT_WIDTH]) * int(box_stats[cv2.CC_STAT_HEIGHT])
+    present = np.unique(classes[mask & (classes > 0)])
+    return len(present) == 1 and np.count_nonzero(mask) > SMALL_BLOB_MAX_FILL * box_area
+
+
+def on_dark_screen(rgb, mask, classes, box_stats):
+    """True when most uncoloured pixels of the blob's bounding box grown by 1 px are near black
+    (below SCREEN_DARK_FRACTION of the content's median brightest channel)."""
+    x, y, w, h = (int(box_stats[k]) for k in (cv2.CC_STAT_LEFT, cv2.CC_STAT_TOP, cv2.CC_STAT_WIDTH,
+                                              cv2.CC_STAT_HEIGHT))
+    rows = slice(max(y - 1, 0), y + h + 1)
+    cols = slice(max(x - 1, 0), x + w + 1)
+    brightest = rgb[rows, cols].max(axis=2).astype(np.float32)
+    content = mask[rows, cols] & (classes[rows, cols] > 0)
+    around = ~mask[rows, cols] & (classes[rows, cols] == 0)
+    if not content.any() or not around.any():
+        return False
+    dark = brightest[around] < SCREEN_DARK_FRACTION * float(np.median(brightest[content]))
+    return float(np.mean(dark)) >= SCREEN_MIN_DARK_SHARE
 
 
 def classify_blob(mask, colours):
@@ -98,7 +145,10 @@ def classify_blob(mask, colours):
         return "end_of_trial", min(1.0, 2.0 * min(red, green) / (red + green) + 0.5)
     if red > green:
         return "stop", red / (red + green + yellow)
-    direction, margin = arrow_direction(mask)
+    if np.count_nonzero(mask) < SMALL_ARROW_AREA_PX:
+        direction, margin = small_arrow_direction(mask)
+    else:
+        direction, margin = arrow_direction(mask)
     return direction, (green / (red + green + yellow)) * margin
 
 
@@ -122,6 +172,33 @@ def arrow_direction(mask):
     # A real arrow gives a log ratio near 1 on its axis and near 0 across it.
     confidence = float(np.clip((strength - other) / 0.5, 0.0, 1.0))
     return direction, confidence
+
+
+@functools.lru_cache(maxsize=1)
+def arrow_templates():
+    """{arrow name: float32 mask of the panel's arrow picture cropped to the arrow}."""
+    templates = {}
+    for name in ARROWS:
+        arrow = draw_signal(name, *TEMPLATE_SIZE_PX)[:, :, 1] > 127
+        ys, xs = np.nonzero(arrow)
+        templates[name] = arrow[ys.min():ys.max() + 1, xs.min():xs.max() + 1].astype(np.float32)
+    return templates
+
+
+def small_arrow_direction(mask):
+    """("left" | "right" | "forward", confidence) of a small arrow-shaped mask: the arrow picture
+    that, stretched over the mask's bounding box (as the screen is foreshortened) and averaged
+    down to its pixels, differs least from it (mean squared difference). Confidence: the lead of
+    the best over the second best, TEMPLATE_SURE_MARGIN or more = 1."""
+    ys, xs = np.nonzero(mask)
+    blob = mask[ys.min():ys.max() + 1, xs.min():xs.max() + 1].astype(np.float32)
+    height, width = blob.shape
+    differences = {name: float(np.mean((cv2.resize(template, (width, height), interpolation=cv2.INTER_AREA)
+                                        - blob) ** 2))
+                   for name, template in arrow_templates().items()}
+    ranked = sorted(differences, key=differences.get)
+    lead = differences[ranked[1]] - differences[ranked[0]]
+    return ranked[0], float(min(1.0, lead / TEMPLATE_SURE_MARGIN))
 
 
 def _outer_third_widths(along):
