@@ -123,6 +123,17 @@ def test_parking_in_the_occupied_bay_fails():
     assert kinds(report) == ["collision", "parked_in_occupied_bay"] and report["score"] == 0
 
 
+def test_d2_parking_order_after_two_laps_parks_in_the_parallel_bay():
+    """D2's parking order comes near the end of the second lap: the robot drives on past the
+    crosswalk and parks in the parallel bay, which counts in a D challenge as well as the bays."""
+    (x0, x1), (y0, y1) = co.parallel_bay()
+    x, y = (x0 + x1) / 2, (y0 + y1) / 2
+    path = laps(n=2) + line([(EAST_LANE_X, 0.0), (EAST_LANE_X, y - 0.6), (x, y)]) + stand(x, y, NORTH, 6.0)
+    _, report = judge("D2", path, panel=[(0.0, "forward"), (150.0, "parking")])
+    assert report["laps"] == 2 and report["parked"] == "parallel"
+    assert "parked" in kinds(report) and report["penalty_total"] == 0
+
+
 def test_touching_a_parking_line():
     x, y = _bay_centre("south")
     y = co.parking_bays()["south"][1][1] - 0.1  # the footprint's side on the dashed divider

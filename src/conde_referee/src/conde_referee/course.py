@@ -162,10 +162,15 @@ class Course:
         return None
 
     def free_bays(self) -> Dict[str, tuple]:
-        """{name: ((x0, x1), (y0, y1))} of the places the robot may park in [m]."""
+        """{name: ((x0, x1), (y0, y1))} of the places the robot may park in [m]: the parallel bay in
+        the P challenges, the free bays in the B ones, and in the D challenges (a parking order on the
+        panel, e.g. at the end of D2's second lap) any parking place: both bays and the parallel bay."""
         if self.challenge.startswith("P"):
             return {"parallel": co.parallel_bay(self.dims)}
-        return {k: v for k, v in co.parking_bays(self.dims).items() if k != self.occupied_bay}
+        bays = {k: v for k, v in co.parking_bays(self.dims).items() if k != self.occupied_bay}
+        if self.challenge.startswith("D"):
+            bays["parallel"] = co.parallel_bay(self.dims)
+        return bays
 
 
 def inside_box(points, box) -> np.ndarray:
