@@ -6,7 +6,7 @@ and stands there when "end of trial" is shown. Prints one JSON line: the events 
 published, its report, the report files and its last rviz markers.
 
 Scenario moved_box (D3 v1): the north loop's box is moved 0.3 m with /gazebo/set_model_state while
-the robot stands at its start; the referee follows it from /gazebo/model_states.
+the robot stands at its start; the referee follows it from /conde_sim/model_poses.
 
 Scenario push (D3 v1): Conde drives into that box and pushes it (real contacts).
 

@@ -59,9 +59,9 @@ def test_referee_judges_a_stepped_run(master, engine, tmp_path):
 
 
 @pytest.mark.parametrize("engine", ["ode", "bullet"])
-def test_a_moved_box_is_followed_from_the_model_states(master, engine, tmp_path):
+def test_a_moved_box_is_followed_from_the_model_poses(master, engine, tmp_path):
     # D3 v1: the north loop's box is moved 0.3 m along its lane (/gazebo/set_model_state) while
-    # the robot stands at its start; the referee reads it from /gazebo/model_states.
+    # the robot stands at its start; the referee reads it from /conde_sim/model_poses (stamped).
     _set(master, "/robot_description", conde_urdf())
     out = subprocess.run(["/usr/bin/python3", os.path.join(HERE, "referee_probe.py"), engine, str(tmp_path),
                           "moved_box"], env=master, capture_output=True, text=True, timeout=240)
@@ -76,7 +76,7 @@ def test_a_moved_box_is_followed_from_the_model_states(master, engine, tmp_path)
 @pytest.mark.parametrize("engine", ["ode", "bullet"])
 def test_a_pushed_box_is_a_contact_and_is_followed(master, engine, tmp_path):
     # D3 v1: Conde drives 0.5 m/s into the north loop's box (10 kg): a real contact, and the box's
-    # pose from /gazebo/model_states shows it pushed (the robot may turn onto a line meanwhile).
+    # pose from /conde_sim/model_poses shows it pushed (the robot may turn onto a line meanwhile).
     _set(master, "/robot_description", conde_urdf())
     out = subprocess.run(["/usr/bin/python3", os.path.join(HERE, "referee_probe.py"), engine, str(tmp_path), "push"],
                          env=master, capture_output=True, text=True, timeout=240)

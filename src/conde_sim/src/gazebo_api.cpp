@@ -2,6 +2,7 @@
 
 #include <gazebo_msgs/LinkStates.h>
 #include <gazebo_msgs/ModelStates.h>
+#include <tf2_msgs/TFMessage.h>
 
 #include <cmath>
 #include <exception>
@@ -94,6 +95,7 @@ GazeboApi::GazeboApi(SimHost& host, Simulation& sim, const std::string& ns, ros:
   ros::NodeHandle nh;
   model_states_pub_ = nh.advertise<gazebo_msgs::ModelStates>(p + "model_states", 1);
   link_states_pub_ = nh.advertise<gazebo_msgs::LinkStates>(p + "link_states", 1);
+  model_poses_pub_ = ros::NodeHandle("~").advertise<tf2_msgs::TFMessage>("model_poses", 10);
   model_state_sub_ = nh.subscribe(p + "set_model_state", 10,
                                   &GazeboApi::onStateTopic<gazebo_msgs::ModelState, &GazeboApi::setModelState>, this);
   link_state_sub_ = nh.subscribe(p + "set_link_state", 10,
@@ -145,11 +147,26 @@ void GazeboApi::afterStep() {
   if (!states_timer_.due(sim_.stepCount())) return;  // first: the cheaper test, every step
   const bool models = model_states_pub_.getNumSubscribers() > 0;
   const bool links = link_states_pub_.getNumSubscribers() > 0;
-  if (!models && !links) return;
+  const bool poses = model_poses_pub_.getNumSubscribers() > 0;
+  if (!models && !links && !poses) return;
   gazebo_msgs::ModelStates model_states;
   gazebo_msgs::LinkStates link_states;
+  tf2_msgs::TFMessage model_poses;
+  const ros::Time stamp(sim_.timeS());
   for (const ModelRef& model : sim_.models()) {
     const std::string name = sim_.modelName(model);
+    if (poses) {
+      geometry_msgs::TransformStamped t;
+      t.header.stamp = stamp;
+      t.header.frame_id = "world";
+      t.child_frame_id = name;
+      const geometry_msgs::Pose pose = toMsg(sim_.linkPose(model, ""));
+      t.transform.translation.x = pose.position.x;
+      t.transform.translation.y = pose.position.y;
+      t.transform.translation.z = pose.position.z;
+      t.transform.rotation = pose.orientation;
+      model_poses.transforms.push_back(t);
+    }
     if (models) {
       model_states.name.push_back(name);
       model_states.pose.push_back(toMsg(sim_.linkPose(model, "")));
@@ -164,6 +181,7 @@ void GazeboApi::afterStep() {
   }
   if (models) model_states_pub_.publish(model_states);
   if (links) link_states_pub_.publish(link_states);
+  if (poses) model_poses_pub_.publish(model_poses);
 }
 
 void GazeboApi::forgetModel(const std::string& model_name) {

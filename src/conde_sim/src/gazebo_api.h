@@ -9,6 +9,10 @@
 //   conde_physics/sdf_world.h; a URDF given to it is spawned as by spawn_urdf_model), delete_model.
 // Topics: model_states, link_states (gazebo_msgs/*States, at ~gazebo_states_rate_hz of
 //   simulated time, only while someone subscribes); set_model_state, set_link_state (input).
+// Beside them, on the node's private namespace: ~model_poses (tf2_msgs/TFMessage), the same
+//   models' poses (world -> model, child_frame_id = model name) stamped with the simulated time of
+//   the step, at the same rate while someone subscribes: model_states has no stamp, so a reader
+//   (the referee) cannot tell which step it shows.
 //
 // Semantics as in Gazebo: reference frames "" or "world" are the world, a model name or
 // "model::link" a frame of the simulation; twists are in the reference frame's axes (world
@@ -142,7 +146,7 @@ class GazeboApi : public StepHooks {
   SimHost& host_;
   Simulation& sim_;
   std::vector<ros::ServiceServer> services_;
-  ros::Publisher model_states_pub_, link_states_pub_;
+  ros::Publisher model_states_pub_, link_states_pub_, model_poses_pub_;
   ros::Subscriber model_state_sub_, link_state_sub_;
   UpdateTimer states_timer_;
   std::vector<Wrench> wrenches_;  // loop thread only

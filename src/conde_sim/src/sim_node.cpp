@@ -19,6 +19,9 @@
 //   ~lockstep_config   {timeout_s, rules: [{answer, inputs, rate_hz, wait_for_first_answer}]}
 //   ~contacts_rate_hz  ~contacts (gazebo_msgs/ContactsState: robots against world objects and
 //                      robots, not the ground; contacts.h) per simulated second, while subscribed  [50]
+//   ~loop_stall_s      wall-clock time [s] the step loop may stand still (no step, no callback,
+//                      no lock-step poll) before the node logs, once per stall, where it stands
+//                      and the call stack of every thread (loop_watch.h); 0 = not watched   [60]
 // Topics: ~lockstep_timeouts (std_msgs/UInt64, latched): frames given up at the lock-step timeout.
 // Services: ~pause_physics, ~unpause_physics, ~reset_world (std_srvs/Empty),
 //           ~step (conde_msgs/StepSimulation), ~set_start_pose (conde_msgs/SetStartPose);
@@ -50,11 +53,15 @@
 #include <string>
 #include <thread>
 
+#include <unistd.h>
+
 #include "conde_sim/contacts.h"
 #include "conde_sim/lockstep_frames.h"
+#include "conde_sim/loop_watch.h"
 #include "conde_sim/plugin_loader.h"
 #include "conde_sim/simulation.h"
 #include "conde_sim/step_loop.h"
+#include "conde_sim/thread_backtraces.h"
 #include "conde_sim/update_timer.h"
 #include "conde_sim/world_displays.h"
 #include "conde_sim/world_markers.h"
@@ -187,6 +194,7 @@ void logVisualErrors(const cp::ArticulatedModel& model) {
 class SimNode : public SimHost {
  public:
   SimNode() : pnh_("~") {}
+  ~SimNode() override { stopLoopWatch(); }
 
   void start() {
     std::string world_file;
@@ -201,6 +209,8 @@ class SimNode : public SimHost {
     pnh_.param("gazebo_namespace", gazebo_ns_, std::string("/gazebo"));
     pnh_.param("gazebo_states_rate_hz", gazebo_states_rate_hz_, 100.0);
     pnh_.param("lockstep", lockstep_enabled_, false);
+    pnh_.param("loop_stall_s", loop_stall_s_, 60.0);
+    if (!(loop_stall_s_ >= 0)) throw StartupError("parameter ~loop_stall_s must be >= 0 (0 = not watched)");
     if (gazebo_states_rate_hz_ <= 0) throw StartupError("parameter ~gazebo_states_rate_hz must be > 0");
     gazebo_ns_ = ros::names::resolve(gazebo_ns_);
     if (real_time_factor_ < 0) throw StartupError("parameter ~real_time_factor must be >= 0 (0 = as fast as possible)");
@@ -331,11 +341,14 @@ class SimNode : public SimHost {
     double sim_start_s = sim_->timeS();
     double paused_wall_s = 0.0;  // not counted in the real-time factor reported at the end
     auto& queue = *ros::getGlobalCallbackQueue();
+    startLoopWatch();
     while (ros::ok()) {
+      beat("serving requests (pause, step, reset, Gazebo services)");
       handleRequests();
       if (paused_ && pending_steps_ == 0) {
         const auto pause_start = std::chrono::steady_clock::now();
         const double pause_start_cpu_s = processCpuSeconds();
+        beat("paused: serving callbacks");
         queue.callAvailable(ros::WallDuration(0.005));
         paused_wall_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - pause_start).count();
         paused_cpu_s += processCpuSeconds() - pause_start_cpu_s;
@@ -343,9 +356,12 @@ class SimNode : public SimHost {
         sim_start_s = sim_->timeS();
         continue;
       }
+      beat("serving callbacks");
       queue.callAvailable();
+      beat("stepping: plugins and physics");
       loop_->update();
       if (lockstep_) waitForAnswers(queue);
+      beat("ending a step request");
       if (pending_steps_ > 0 && --pending_steps_ == 0) finishStepRequest();
       if (max_sim_time_s_ > 0 && sim_->timeS() >= max_sim_time_s_ - 1e-9) {
         ROS_INFO("conde_sim: reached ~max_sim_time_s = %.3f s; stopping", max_sim_time_s_);
@@ -358,6 +374,7 @@ class SimNode : public SimHost {
         if (target > std::chrono::steady_clock::now()) std::this_thread::sleep_until(target);
       }
     }
+    stopLoopWatch();
     service_spinner_->stop();
     const double wall_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - run_start).count() - paused_wall_s;
@@ -521,6 +538,7 @@ class SimNode : public SimHost {
   // After a step: serve callbacks (the triggers just published, the answers) until nothing is
   // owed or the frame times out.
   void waitForAnswers(ros::CallbackQueue& queue) {
+    beat("lock-step: sending the simulator's own inputs");
     for (OwnInput& input : own_inputs_) {
       const ros::PublicationPtr publication = ros::TopicManager::instance()->lookupPublication(input.topic);
       if (publication) publication->processPublishQueue();
@@ -528,19 +546,61 @@ class SimNode : public SimHost {
       if (sequence != input.sequence) lockstep_->onMessage(input.topic, sim_->timeS(), wallNowS());
       input.sequence = sequence;
     }
+    beat("lock-step: serving callbacks");
     queue.callAvailable();
     while (lockstep_->waiting() && ros::ok()) {
+      beat("lock-step: waiting for answers");
       queue.callAvailable(ros::WallDuration(0.001));
       const std::string missing = lockstep_->missing();
       if (lockstep_->checkTimeout(wallNowS())) {
-        ROS_WARN_THROTTLE(
-            1.0,
-            "conde_sim: lock-step: no answer within %.3f s at t = %.3f s: %s; going on (%lu frames timed out so far)",
-            lockstep_->timeoutS(), sim_->timeS(), missing.c_str(),
-            static_cast<unsigned long>(lockstep_->timedOutFrames()));
+        // Throttled on the wall clock: simulated time stands still while the loop waits, and
+        // ROS_WARN_THROTTLE (simulated time) would stay silent through a whole stall.
+        if (wallNowS() - last_timeout_warning_wall_s_ >= 1.0) {
+          last_timeout_warning_wall_s_ = wallNowS();
+          ROS_WARN(
+              "conde_sim: lock-step: no answer within %.3f s at t = %.3f s: %s; going on (%lu frames timed out so "
+              "far)",
+              lockstep_->timeoutS(), sim_->timeS(), missing.c_str(),
+              static_cast<unsigned long>(lockstep_->timedOutFrames()));
+        }
         publishLockstepTimeouts();
       }
     }
+  }
+
+  // --- the loop's watch (loop_watch.h) ---
+  void beat(const char* phase) {
+    if (loop_watch_) loop_watch_->beat(phase, sim_->timeS(), wallNowS());
+  }
+
+  // A thread that logs where the loop stands, with every thread's stack, when it stops moving.
+  // On stderr too, unbuffered: a stuck roscpp thread may be the one that sends /rosout.
+  void startLoopWatch() {
+    if (loop_stall_s_ <= 0) return;
+    loop_watch_ = std::make_unique<LoopWatch>(loop_stall_s_);
+    beat("starting the step loop");
+    watch_thread_ = std::thread([this] {
+      std::unique_lock<std::mutex> lock(watch_mutex_);
+      while (!watch_stop_) {
+        watch_cv_.wait_for(lock, std::chrono::seconds(1));
+        std::string report;
+        if (watch_stop_ || !loop_watch_->checkStall(wallNowS(), &report)) continue;
+        ROS_ERROR("conde_sim: %s (the call stack of every thread follows on stderr)", report.c_str());
+        std::fprintf(stderr, "conde_sim: error: %s; the call stack of every thread:\n", report.c_str());
+        std::fflush(stderr);
+        writeThreadBacktraces(STDERR_FILENO, 2.0);
+      }
+    });
+  }
+
+  void stopLoopWatch() {
+    if (!watch_thread_.joinable()) return;
+    {
+      std::lock_guard<std::mutex> lock(watch_mutex_);
+      watch_stop_ = true;
+    }
+    watch_cv_.notify_all();
+    watch_thread_.join();
   }
 
   void publishLockstepTimeouts() {
@@ -697,6 +757,13 @@ class SimNode : public SimHost {
   };
   std::vector<OwnInput> own_inputs_;  // inputs the simulator publishes (advertised at start-up)
   ros::Publisher lockstep_timeouts_pub_;
+  double last_timeout_warning_wall_s_ = -1e9;
+  double loop_stall_s_ = 60.0;
+  std::unique_ptr<LoopWatch> loop_watch_;  // null when ~loop_stall_s is 0
+  std::thread watch_thread_;
+  std::mutex watch_mutex_;
+  std::condition_variable watch_cv_;
+  bool watch_stop_ = false;  // guarded by watch_mutex_
   bool paused_ = false;
   std::uint64_t pending_steps_ = 0;
 
@@ -720,6 +787,9 @@ class SimNode : public SimHost {
 }  // namespace conde_sim
 
 int main(int argc, char** argv) {
+  // Line by line into a log file too: what a stuck node wrote must survive the SIGKILL that ends it.
+  std::setvbuf(stdout, nullptr, _IOLBF, 0);
+  conde_sim::installThreadBacktraceHandler();
   ros::init(argc, argv, "conde_sim");
   try {
     conde_sim::SimNode node;

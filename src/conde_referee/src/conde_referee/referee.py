@@ -176,13 +176,17 @@ class Referee:
         self.colliding = now
         return self.events[before:]
 
-    def on_object_poses(self, t_s: float, poses) -> List[Event]:
+    def on_object_poses(self, t_s: float, poses, robot_xy=None) -> List[Event]:
         """Where the world's objects are at t_s: {name: (x [m], y [m], yaw [rad])} (e.g. from
-        /gazebo/model_states; unknown names are ignored). The geometric collision check follows
-        them, and an object pushed more than OBJECT_DISPLACED_M from its layout pose is an event
-        (once per object, no penalty of its own: the collision that pushed it has one)."""
+        the simulator's stamped model poses; unknown names are ignored). The geometric collision
+        check follows them, and an object pushed more than OBJECT_DISPLACED_M from its layout pose
+        is an event (once per object, no penalty of its own: the collision that pushed it has one),
+        placed at robot_xy (the robot at t_s, [m]) or, without it, at the last pose judged."""
         before = len(self.events)
-        x, y = (self.path[-1][1], self.path[-1][2]) if self.path else (0.0, 0.0)
+        if robot_xy is not None:
+            x, y = robot_xy
+        else:
+            x, y = (self.path[-1][1], self.path[-1][2]) if self.path else (0.0, 0.0)
         for ob in self.course.obstacles:
             if ob.name not in poses:
                 continue

@@ -1,0 +1,85 @@
+"""TimeOrder: inputs of several topics handed on in simulated-time order, whatever their arrival."""
+import math
+import random
+
+import pytest
+
+from conde_referee.time_order import TimeOrder, judging_due
+
+
+def test_released_in_time_order_once_old_enough():
+    order = TimeOrder(lag_s=0.1)
+    order.push(0.02, 1, "contacts 0.02")
+    order.push(0.04, 0, "odom 0.04")
+    order.push(0.02, 0, "odom 0.02")  # arrived after the contacts of its step and a later odom
+    assert order.release() == []  # newest 0.04: nothing is 0.1 s older yet
+    order.push(0.12, 0, "odom 0.12")
+    assert order.release() == [(0.02, "odom 0.02"), (0.02, "contacts 0.02")]  # rank orders equal stamps
+    order.push(0.14, 0, "odom 0.14")
+    assert order.release() == [(0.04, "odom 0.04")]
+    assert order.flush() == [(0.12, "odom 0.12"), (0.14, "odom 0.14")]
+    assert len(order) == 0
+
+
+def test_equal_stamp_and_rank_keep_their_arrival_order():
+    order = TimeOrder(lag_s=0.0)
+    order.push(1.0, 2, "a")
+    order.push(1.0, 2, "b")
+    assert order.release() == [(1.0, "a"), (1.0, "b")]
+
+
+def test_any_arrival_order_gives_the_same_sequence():
+    # Three topics of one simulated run: each in order on its own connection, interleaved at random.
+    streams = {0: [(0.02 * k, 0, "odom%d" % k) for k in range(50)],
+               1: [(0.02 * k, 1, "contacts%d" % k) for k in range(50)],
+               2: [(0.01 * k, 2, "poses%d" % k) for k in range(100)]}
+    results = []
+    for seed in range(20):
+        rng = random.Random(seed)
+        cursors = {k: 0 for k in streams}
+        order, out = TimeOrder(lag_s=0.1), []
+        while any(cursors[k] < len(s) for k, s in streams.items()):
+            # a connection may run up to 0.06 s ahead of the others (within the lag)
+            ready = [k for k, s in streams.items() if cursors[k] < len(s)]
+            earliest = min(streams[k][cursors[k]][0] for k in ready)
+            ready = [k for k in ready if streams[k][cursors[k]][0] <= earliest + 0.06]
+            k = rng.choice(ready)
+            order.push(*streams[k][cursors[k]])
+            cursors[k] += 1
+            out += order.release()
+        out += order.flush()
+        results.append(out)
+    assert all(r == results[0] for r in results)
+    assert [t for t, _ in results[0]] == sorted(t for t, _ in results[0])
+
+
+def test_late_input_is_recognised():
+    order = TimeOrder(lag_s=0.1)
+    order.push(0.5, 0, "x")
+    order.push(0.7, 0, "y")
+    order.release()
+    assert order.late(0.4) and not order.late(0.5) and not order.late(0.6)
+
+
+@pytest.mark.parametrize("lag", [-0.1, math.nan, math.inf, "0.1"])
+def test_bad_lag_is_refused(lag):
+    with pytest.raises(ValueError, match="lag_s must be a finite number >= 0"):
+        TimeOrder(lag_s=lag)
+
+
+def test_judging_due_on_a_grid_of_simulated_time():
+    assert judging_due(0.01, None, 0.1)
+    stamps = [round(0.01 * k, 2) for k in range(1, 40)]
+    judged, last = [], None
+    for t in stamps:
+        if judging_due(t, last, 0.1):
+            judged.append(t)
+            last = t
+    assert judged == [0.01, 0.1, 0.2, 0.3]
+    # the same grid whatever the first stamp
+    judged, last = [], None
+    for t in stamps[4:]:
+        if judging_due(t, last, 0.1):
+            judged.append(t)
+            last = t
+    assert judged == [0.05, 0.1, 0.2, 0.3]
