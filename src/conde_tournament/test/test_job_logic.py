@@ -107,7 +107,8 @@ def test_only_the_jobs_simulator_is_frozen(tmp_path):
         wait_for(lambda: comm(sim) == comm(other_sim) == SIMULATOR_PROGRAM and comm(node) == "sleep")  # exec done
         assert _signal_simulator(job_dir, signal.SIGSTOP) == [sim.pid]
         wait_for(lambda: state(sim) == "T")
-        assert (state(sim), state(other_sim), state(node)) == ("T", "S", "S")
+        # the others are not stopped (sleeping, or still running right after their start)
+        assert state(sim) == "T" and state(other_sim) != "T" and state(node) != "T"
         assert _signal_simulator(job_dir, signal.SIGCONT) == [sim.pid]
     finally:
         for p in (sim, other_sim, node):
