@@ -10,8 +10,9 @@ import time
 
 from conde_testing.ros_harness import stop_process
 
-# Seed 3: it got one line touch in the south loop's second lap (as seeds 1 and 2) until the control
-# law's approach angle was limited (conde_control's max_approach_rad); seed 5 passed throughout.
+# Seed 3: it got one line touch in the south loop's second lap (as seeds 1 and 2) and passes again
+# with the tracker's fresh-search candidates and the control law's approach angle (conde_control's
+# max_approach_rad); seed 5 passed throughout.
 TRACK_SEED = 3
 # the run takes about 2 min of wall time alone (178 s simulated; 25 min at load 45 beside seven others);
 # the simulator stops at 260 s anyway
