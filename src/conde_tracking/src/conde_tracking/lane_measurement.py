@@ -69,6 +69,8 @@ class LaneConfig:
     min_line_points: int = 25  # white pixels for a line to count as found
     min_line_extent_m: float = 0.15  # ... spread over at least this distance along x [m]
     search_points: int = 300  # points used by the coarse grid search (subsampled)
+    search_candidates: int = 4  # a fit without prior refines this many of the search's best (unlike) models
+    candidate_margin: float = 0.2  # ... and takes another than the best when its lines reach this share further
     # a line ends where its band is seen this far beyond its last point without it [m] (> a dash gap)
     end_gap_m: float = 0.25
     min_end_gap_points: int = 40  # ground pixels in that stretch of the band for it to count as seen
@@ -168,6 +170,21 @@ def _line_positions(coeffs, x, offset_m):
     return coeffs[0] + coeffs[1] * x + coeffs[2] * x * x + offset_m * np.sqrt(1.0 + slope * slope)
 
 
+@dataclass
+class _Refined:
+    """A refined lane model (LaneMeasurement._refine): its coefficients, which lines it found, the
+    points in each line's band (masks), how far its found lines reach (support: style_bin_m bins
+    along x holding points, both lines together), its separation [m]."""
+    coeffs: np.ndarray
+    right_found: bool
+    left_found: bool
+    right: np.ndarray
+    left: np.ndarray
+    support: int
+    separation_m: float
+    separation_fitted: bool
+
+
 class LaneMeasurement:
     """Measures the lane from image pairs of two calibrated cameras (ground maps computed once)."""
 
@@ -209,7 +226,12 @@ class LaneMeasurement:
         return self._ground_xy[flags], self._ground_xy, flags
 
     def _coarse_search(self, pts):
-        """The grid model (c0, c1, c2) that puts most points within line_window_m of its two lines.
+        """The grid model (c0, c1, c2) that puts most points within line_window_m of its two lines."""
+        return self._coarse_candidates(pts, 1)[0]
+
+    def _coarse_candidates(self, pts, count):
+        """Up to `count` grid models (c0, c1, c2), the best first: those that put most points within
+        line_window_m of their two lines, each unlike the ones before it (_alike).
 
         A point lies on the line `off` of model (c0, c1, c2) when |y - c1 x - c2 x^2 - off k - c0| <
         window (k = sqrt(1 + (c1 + 2 c2 x)^2)): for each (c1, c2) the residuals without c0 are
@@ -235,9 +257,22 @@ class LaneMeasurement:
             score += np.searchsorted(r, high, "left") - np.searchsorted(r, low, "right")
         score = score.reshape(len(shapes), len(c0s))
         # The grid's order (c0 slowest, then c1, then c2) decides ties, as a search over it would.
-        best = int(np.argmax(score.T.reshape(-1)))
-        c0_index, shape_index = divmod(best, len(shapes))
-        return np.array([c0s[c0_index], shapes[shape_index, 0], shapes[shape_index, 1]])
+        order = np.argsort(-score.T.reshape(-1), kind="stable")
+        picked = []
+        for index in order:
+            c0_index, shape_index = divmod(int(index), len(shapes))
+            model = np.array([c0s[c0_index], shapes[shape_index, 0], shapes[shape_index, 1]])
+            if all(not self._alike(model, other) for other in picked):
+                picked.append(model)
+                if len(picked) == count:
+                    break
+        return picked
+
+    def _alike(self, a, b) -> bool:
+        """Two grid models whose lines lie within a line window of each other near the robot and
+        whose headings differ by less than the grid's slope step: one model, for the candidates."""
+        return (abs(a[0] - b[0]) < 2.0 * self.config.line_window_m
+                and abs(math.atan(a[1]) - math.atan(b[1])) < math.radians(6.0))
 
     def line_offsets(self, separation_m):
         """(right, left) line-centre offsets [m] from the lane centre for a line separation [m]."""
@@ -248,7 +283,13 @@ class LaneMeasurement:
         return len(pts) >= c.min_line_points and np.ptp(pts[:, 0]) >= c.min_line_extent_m
 
     def fit_lane(self, pts, prior: Optional[np.ndarray] = None):
-        """LaneFit from white ground points (N, 2), starting from prior coefficients or a grid search.
+        """LaneFit from white ground points (N, 2), starting from prior coefficients or, without
+        one, from the coarse search's search_candidates best models, each refined.  Of these the
+        first (the grid's best) is kept unless another one's found lines reach over candidate_margin
+        more of the fit range (counted in style_bin_m bins along x): lane lines run on through the
+        view, while the crosswalk's white stripes and bars fill the bands of many slanted models
+        over its length only (standing at the crosswalk, the grid's best model on its subsampled
+        points was one 40 deg off; the next frames' fits, started from it, kept it).
         Returns (fit or None, right-line points, left-line points)."""
         c = self.config
         sel = (pts[:, 0] >= c.fit_range_m[0]) & (pts[:, 0] <= c.fit_range_m[1]) & (np.abs(pts[:, 1]) <= c.max_abs_y_m)
@@ -256,10 +297,33 @@ class LaneMeasurement:
         empty = np.zeros((0, 2))
         if len(pts) < c.min_line_points:
             return None, empty, empty
-        coeffs = np.asarray(prior, float).copy() if prior is not None else self._coarse_search(pts)
+        starts = ([np.asarray(prior, float).copy()] if prior is not None
+                  else self._coarse_candidates(pts, c.search_candidates))
+        first = best = None
+        for start in starts:
+            refined = self._refine(pts, start)
+            if refined is None:
+                continue
+            if first is None:
+                first = best = refined
+            elif refined.support > max((1.0 + c.candidate_margin) * first.support, best.support):
+                best = refined
+        if best is None:
+            return None, empty, empty
+        if best is not first:  # it started farther from where it ended: a few more rounds
+            best = self._refine(pts, best.coeffs) or best
+        if best.separation_fitted:
+            self.line_separation_m += c.separation_smoothing * (best.separation_m - self.line_separation_m)
+        return (LaneFit(best.coeffs, best.right_found, best.left_found), pts[best.right], pts[best.left])
+
+    def _refine(self, pts, coeffs) -> Optional["_Refined"]:
+        """A few rounds of windowed least squares from coeffs, both lines together (and their
+        separation, where both are seen long enough); None when no line is found."""
+        c = self.config
         x, y = pts[:, 0], pts[:, 1]
         right = left = np.zeros(len(pts), bool)
         separation_m, separation_fitted = self.line_separation_m, False
+        use = right
         for window in (c.line_window_m, c.line_window_m, 0.75 * c.line_window_m, 0.75 * c.line_window_m):
             right_m, left_m = self.line_offsets(separation_m)
             right = np.abs(y - _line_positions(coeffs, x, right_m)) < window
@@ -267,7 +331,7 @@ class LaneMeasurement:
             found_r, found_l = self._line_found(pts[right]), self._line_found(pts[left])
             use = (right & found_r) | (left & found_l)
             if not use.any():
-                return None, empty, empty
+                return None
             xu = x[use]
             slope = coeffs[1] + 2 * coeffs[2] * xu
             k = np.sqrt(1.0 + slope * slope)
@@ -296,9 +360,10 @@ class LaneMeasurement:
                 sol = np.linalg.lstsq(A * sqrt_w[:, None], target * sqrt_w, rcond=None)[0]
             coeffs = np.zeros(3)
             coeffs[:degree + 1] = sol
-        if separation_fitted:
-            self.line_separation_m += c.separation_smoothing * (separation_m - self.line_separation_m)
-        return LaneFit(coeffs, bool(found_r), bool(found_l)), pts[right], pts[left]
+        bins = [np.unique(np.floor(x[band] / c.style_bin_m)).size
+                for band, found in ((right, found_r), (left, found_l)) if found]
+        return _Refined(coeffs, bool(found_r), bool(found_l), right, left, int(sum(bins)),
+                        separation_m, separation_fitted)
 
     def find_crosswalk(self, coeffs, everything, flags):
         """(seen, distance_m to the near edge of the crosswalk's first bar) along the fitted lane."""
