@@ -15,11 +15,15 @@ from conde_tracking.obstacles import BOX, ObstacleDetector
 from conde_tracking.parallel_bay import ParallelBayConfig, ParallelBayDetector, lateral_from_lane
 from conde_worlds.challenge_objects import parallel_boxes
 from conde_worlds.track_geometry import build_track
+from conde_worlds.track_variation import track_dimensions
 
 DATA = os.path.join(os.path.dirname(os.path.abspath(__file__)), "data")
 POSES = ("at_start", "bay_ahead_1m", "gap_ahead", "before_entry", "heading_right_5deg", "heading_left_5deg")
 P_VIEWS = ["%s_%s" % (c, p) for c in ("p1v1", "p2v1") for p in POSES]
-OTHER_VIEWS = sorted(f[:-4] for f in os.listdir(DATA) if f.endswith(".npz") and not f.startswith(("p1v1", "p2v1")))
+# views recorded on a varied track, standing at the crosswalk with the bay's start in view: {name: track seed}
+VARIED_START_VIEWS = {"track1_place2_start": 1}
+OTHER_VIEWS = sorted(f[:-4] for f in os.listdir(DATA)
+                     if f.endswith(".npz") and not f.startswith(("p1v1", "p2v1")) and f[:-4] not in VARIED_START_VIEWS)
 CORNER_XY_M = build_track().bulge_outline[1]  # where the bay's outer line begins (the straight part's start)
 BOXES = [(b["pose"]["xyz"][:2], b["size_m"][:2]) for b in parallel_boxes({"gap_m": 1.2})]  # P2 v1
 
@@ -109,3 +113,10 @@ def test_no_lane_fit_no_start():
     maps = [GroundMap.from_camera(160, 120, d[f"{k}_K"], d[f"{k}_D"], d[f"{k}_T_base_optical"])
             for k in ("left", "right")]
     assert math.isnan(ParallelBayDetector(maps).detect([d["left_image"], d["right_image"]], None))
+
+
+@pytest.mark.parametrize("name", sorted(VARIED_START_VIEWS))
+def test_the_bays_start_on_a_varied_track_is_found_from_the_crosswalk(name):
+    start, _, _, pose = measure(name)
+    truth_x, _ = robot_frame(pose, build_track(track_dimensions(VARIED_START_VIEWS[name])).bulge_outline[1])
+    assert start == pytest.approx(truth_x, abs=0.04)
