@@ -9,7 +9,7 @@ from conde_control.control_law import ConfigError, ControlConfig, load_config
 PACKAGE_DIR = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 DEFAULT_YAML = os.path.join(PACKAGE_DIR, "config", "control.yaml")
 KEYS = ("offset_gain_per_m2, heading_gain_per_m, max_linear_mps, max_angular_radps, max_linear_accel_mps2, "
-        "max_angular_accel_radps2, max_approach_rad")
+        "max_angular_accel_radps2")
 
 
 def write(tmp_path, text, name="control.yaml"):

@@ -70,7 +70,7 @@ def test_bad_config_exits_with_the_message(core, tmp_path):
     lines = [line for line in proc.stderr.splitlines() if line.startswith("conde_control: error: ")]
     assert lines == ["conde_control: error: %s: unknown key 'max_speed' (expected one of: offset_gain_per_m2, "
                      "heading_gain_per_m, max_linear_mps, max_angular_radps, max_linear_accel_mps2, "
-                     "max_angular_accel_radps2, max_approach_rad)" % path], proc.stderr
+                     "max_angular_accel_radps2)" % path], proc.stderr
 
 
 def test_bad_rate_exits_with_the_message(core):

@@ -24,14 +24,6 @@ along the travelled distance (natural "frequency" sqrt(k_o) [1/m], damping k_h /
 Using v for the offset term and |v| for the heading term keeps that true when reversing.  A robot
 that stands still does not turn on measurement noise.
 
-Approach angle: the offset error (offset - offset_ref) is clipped to +-max_approach_rad *
-heading_gain_per_m / offset_gain_per_m2 (0.056 m with the defaults): the heading the offset term
-alone would settle at, (offset_gain / heading_gain) * offset error, stays within max_approach_rad.
-Farther from its reference the robot comes back along a straight approach at that angle instead of
-swinging round: Conde's body trails 0.44 m behind its wheel axle, so a large heading swing sweeps
-its rear over the line on the outside (D1, track seed 1: a right turn's arc ended 13 cm inside the
-new lane, the correction swung the robot 22 deg and its rear touched the edge line).
-
 Limits, in this order: the wanted speed is clipped to +-max_linear_mps and approached at
 max_linear_accel_mps2; omega is computed from that limited speed, clipped to +-max_angular_radps
 and approached at max_angular_accel_radps2.  What the model ignores: lane curvature (a curve of
@@ -58,12 +50,10 @@ class ControlConfig:
     max_angular_radps: float = 3.0  # |omega| limit [rad/s]
     max_linear_accel_mps2: float = 1.0  # |dv/dt| limit [m/s^2]
     max_angular_accel_radps2: float = 8.0  # |domega/dt| limit [rad/s^2]
-    max_approach_rad: float = 0.2  # heading toward the reference that the offset term asks for at most [rad]
 
 
 #: Keys that are limits (must be > 0); the gains must be >= 0.
-_LIMIT_KEYS = ("max_linear_mps", "max_angular_radps", "max_linear_accel_mps2", "max_angular_accel_radps2",
-               "max_approach_rad")
+_LIMIT_KEYS = ("max_linear_mps", "max_angular_radps", "max_linear_accel_mps2", "max_angular_accel_radps2")
 
 
 class ConfigError(ValueError):
@@ -125,9 +115,6 @@ class LaneFollowingController:
 
     def __init__(self, config: ControlConfig = ControlConfig()):
         self.config = config
-        # the offset error beyond which the offset term would ask for more than max_approach_rad [m]
-        self.max_offset_error_m = (config.max_approach_rad * config.heading_gain_per_m / config.offset_gain_per_m2
-                                   if config.offset_gain_per_m2 > 0.0 else math.inf)
         self.v_mps = 0.0
         self.omega_radps = 0.0
 
@@ -145,7 +132,7 @@ class LaneFollowingController:
             raise ValueError("reference has a non-finite field: %r" % (values,))
         c = self.config
         v = self._next_v(clip(ref.linear_velocity_mps, c.max_linear_mps), dt_s)
-        offset_error_m = clip(ref.lateral_offset_m - ref.lateral_offset_ref_m, self.max_offset_error_m)
+        offset_error_m = ref.lateral_offset_m - ref.lateral_offset_ref_m
         heading_error_rad = ref.heading_error_rad - ref.heading_ref_rad
         omega_target = (v * curvature_per_m - c.offset_gain_per_m2 * v * offset_error_m
                         - c.heading_gain_per_m * abs(v) * heading_error_rad)
