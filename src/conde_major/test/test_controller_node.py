@@ -5,6 +5,7 @@ of its steering rate limit is the controller's own rate (~command_rate_param), a
 doubly given period is named. (The adapter driving the robot: tests/test_major_alvega_d1.py.)"""
 
 import os
+import select
 import subprocess
 import time
 
@@ -133,8 +134,10 @@ ADAPTER = 'cmd_vel_to_ackermann'
 
 def start_adapter(core, robot_description, joint_controllers, params, *args):
     reset_params(core, dict(joint_controllers, **{'/robot_description': robot_description}, **params))
-    return subprocess.Popen(['rosrun', 'conde_major', ADAPTER, '_config_file:=' + CONFIG] + list(args), env=core.env,
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True)
+    # unbuffered: its log lines reach the pipe as they are written (a clean environment has no PYTHONUNBUFFERED)
+    return subprocess.Popen(['rosrun', 'conde_major', ADAPTER, '_config_file:=' + CONFIG] + list(args),
+                            env=dict(core.env, PYTHONUNBUFFERED='1'), stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                            text=True, start_new_session=True)
 
 
 def test_the_adapters_command_period_is_the_controllers_rate(core, robot_description, joint_controllers):
@@ -144,6 +147,9 @@ def test_the_adapters_command_period_is_the_controllers_rate(core, robot_descrip
     try:
         deadline, line = time.monotonic() + 90, ''
         while time.monotonic() < deadline and 'command period' not in line:
+            # wait for a line at most until the deadline (readline alone would block past it)
+            if not select.select([proc.stdout], [], [], max(0.0, deadline - time.monotonic()))[0]:
+                break
             line = proc.stdout.readline()
             if not line and proc.poll() is not None:
                 break
