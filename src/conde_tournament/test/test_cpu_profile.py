@@ -1,5 +1,6 @@
 """The CPU accounting of a job (conde_tournament.cpu_profile) and the job's reaping with rusage."""
 import os
+import signal
 import subprocess
 import sys
 import time
@@ -164,7 +165,10 @@ def test_reap_gives_the_cpu_of_the_whole_tree():
 
 
 def test_stop_ends_the_process_group_and_reaps_with_rusage():
-    process = subprocess.Popen(["bash", "-c", "sleep 60 & sleep 60; wait"], start_new_session=True)
+    # SIGINT as a terminal would deliver it, whatever this test inherited (a run started in the
+    # background of a script inherits SIGINT ignored: the foreground sleep would then wait for the kill)
+    process = subprocess.Popen(["bash", "-c", "sleep 60 & sleep 60; wait"], start_new_session=True,
+                               preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     started = time.monotonic()
     _stop(process, grace_s=20.0)
     assert time.monotonic() - started < 15.0
