@@ -110,7 +110,7 @@ def test_the_coarse_search_finds_the_model_its_definition_finds():
         clutter = rng.uniform([0.0, -1.3], [1.3, 1.3], (60, 2))
         point_sets.append(np.vstack([np.column_stack([x, y]), clutter]))
     for pts in point_sets:
-        np.testing.assert_array_equal(lm._coarse_search(pts), brute_force_search(lm, pts))
+        np.testing.assert_array_equal(lm._coarse_candidates(pts, 1)[0], brute_force_search(lm, pts))
 
 
 def test_standing_at_the_crosswalk_the_fresh_fit_is_the_lane_not_a_slant_across_the_stripes():
@@ -133,7 +133,7 @@ def test_the_search_candidates_are_unlike_and_the_best_comes_first():
     pts = pts[(pts[:, 0] <= c.fit_range_m[1]) & (np.abs(pts[:, 1]) <= c.max_abs_y_m)]
     candidates = lm._coarse_candidates(pts, 4)
     assert len(candidates) == 4
-    np.testing.assert_array_equal(candidates[0], lm._coarse_search(pts))
+    np.testing.assert_array_equal(candidates[0], lm._coarse_candidates(pts, 1)[0])
     for i, a in enumerate(candidates):
         for b in candidates[:i]:
             assert abs(a[0] - b[0]) >= 2 * c.line_window_m or abs(math.atan(a[1]) - math.atan(b[1])) >= math.radians(6)

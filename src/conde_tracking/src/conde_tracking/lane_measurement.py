@@ -225,10 +225,6 @@ class LaneMeasurement:
                                 for img, pixels in zip(images, self._ground_pixels)])
         return self._ground_xy[flags], self._ground_xy, flags
 
-    def _coarse_search(self, pts):
-        """The grid model (c0, c1, c2) that puts most points within line_window_m of its two lines."""
-        return self._coarse_candidates(pts, 1)[0]
-
     def _coarse_candidates(self, pts, count):
         """Up to `count` grid models (c0, c1, c2), the best first: those that put most points within
         line_window_m of their two lines, each unlike the ones before it (_alike).
