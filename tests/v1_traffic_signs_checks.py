@@ -4,7 +4,6 @@ then backing away slowly (cmd_vel): the conde_traffic_sign node reports a sign o
 approach (sign_tracker), and the referee counts every sign right, none wrong."""
 import json
 import math
-import time
 import unittest
 
 import rospy
@@ -12,7 +11,7 @@ import rostest
 from conde_msgs.srv import SetStartPose
 from geometry_msgs.msg import Twist
 from std_srvs.srv import Empty
-from std_msgs.msg import String
+from std_msgs.msg import Header, String
 from visualization_msgs.msg import MarkerArray
 
 from conde_referee.course import Course
@@ -22,7 +21,12 @@ from stepped_sim import Latest, SteppedSim, wait_for
 
 LAYOUT_SEED = 3  # v1_traffic_signs.test
 BACK_MPS = -0.15  # backing away from the sign: the distance grows, the node reports
-REFEREE_CATCH_UP_S = 1.5  # [s, wall] see below
+# [s of simulated time] judged past a placement by more than the ground truth's period (50 Hz): the
+# referee has judged a pose at the new place
+JUDGED_PAST_PLACEMENT_S = 0.05
+# [s of simulated time] stepped after a placement at most, then waited for the referee: more than its
+# release lag (0.1 s) plus its ~judged_until period (0.1 s) plus the margin above
+STAND_AFTER_PLACEMENT_S = 0.5
 COURSE = Course("V1", {"signs": "shuffle"}, LAYOUT_SEED, 300.0)
 
 
@@ -45,12 +49,17 @@ class V1TrafficSignsTest(unittest.TestCase):
         rospy.init_node("v1_traffic_signs_test")
         cls.sim = SteppedSim()
         cls.events = Latest("/conde_referee/events", String)
+        cls.judged_until = Latest("/conde_referee/judged_until", Header)
         rospy.wait_for_service("/conde_sim/set_start_pose", timeout=60)
         cls.set_pose = rospy.ServiceProxy("/conde_sim/set_start_pose", SetStartPose)
         rospy.wait_for_service("/conde_traffic_sign/forget_tracks", timeout=60)
         cls.forget_tracks = rospy.ServiceProxy("/conde_traffic_sign/forget_tracks", Empty)
         cls.cmd_vel = rospy.Publisher("/cmd_vel", Twist, queue_size=10)
         wait_for(lambda: cls.cmd_vel.get_num_connections() > 0, "the simulator's /cmd_vel subscription")
+
+    def judged_past(self, time_s):
+        last = self.judged_until.last
+        return last is not None and last.stamp.to_sec() >= time_s
 
     def back_away(self):
         twist = Twist()
@@ -71,11 +80,20 @@ class V1TrafficSignsTest(unittest.TestCase):
             x, y, heading = view_on_road(sx, sy, yaw)
             self.assertTrue(self.set_pose("", x, y, heading).success)
             self.forget_tracks()  # set_start_pose restarted the odometry: the last sign's place is here now
-            # The referee judges a report at the last robot pose it has read; it reads the ground truth
-            # outside lock-step and, on a busy machine, lags the stepping by up to ~2 s of simulated time
-            # (a Bullet run at load 40 judged sign 4's report at sign 3's place). While the simulation
-            # stands, it catches up.
-            time.sleep(REFEREE_CATCH_UP_S)
+            # The referee judges a report at the robot pose it judged last; it reads the ground truth
+            # outside lock-step and, on a busy machine, lags the stepping (a Bullet run at load 40 judged
+            # sign 4's report at sign 3's place). The robot stands until the referee has judged past the
+            # placement (its ~judged_until), so a report that comes later is judged here.
+            placed_s = self.sim.time_s
+
+            def judged_or_stand():
+                if self.judged_past(placed_s + JUDGED_PAST_PLACEMENT_S):
+                    return True
+                if self.sim.time_s < placed_s + STAND_AFTER_PLACEMENT_S:
+                    self.sim.step(34)
+                return False
+
+            wait_for(judged_or_stand, "the referee judging past the placement at sign %d (%.3f s)" % (i + 1, placed_s))
 
             def sign_judged():
                 kinds = [json.loads(m.data) for m in self.events.messages]

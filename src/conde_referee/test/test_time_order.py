@@ -4,7 +4,7 @@ import random
 
 import pytest
 
-from conde_referee.time_order import TimeOrder, judging_due
+from conde_referee.time_order import TimeOrder, judging_due, progress_mark
 
 
 def test_released_in_time_order_once_old_enough():
@@ -83,3 +83,26 @@ def test_judging_due_on_a_grid_of_simulated_time():
             judged.append(t)
             last = t
     assert judged == [0.05, 0.1, 0.2, 0.3]
+
+
+def test_progress_marks_once_per_period_of_released_time():
+    assert progress_mark(-math.inf, None, 0.1) is None  # nothing judged yet
+    assert progress_mark(0.02, None, 0.1) == 0.02  # the first mark
+    assert progress_mark(0.08, 0.02, 0.1) is None  # the same period
+    assert progress_mark(0.1, 0.02, 0.1) == 0.1  # a new period begins
+    assert progress_mark(0.1, 0.1, 0.1) is None  # nothing new
+    assert progress_mark(0.37, 0.1, 0.1) == 0.37  # periods skipped: one mark at the newest
+    assert progress_mark(0.2, 0.37, 0.1) is None  # never backwards
+
+
+def test_progress_marks_follow_the_released_inputs():
+    order, marks, last = TimeOrder(lag_s=0.1), [], None
+    for k in range(1, 31):  # odometry every 0.02 s
+        order.push(0.02 * k, 0, k)
+        order.release()
+        mark = progress_mark(order.released_until_s, last, 0.1)
+        if mark is not None:
+            marks.append(round(mark, 6))
+            last = mark
+    # released up to 0.6 - 0.1 = 0.5 s: one mark per 0.1 s of judged time, each an input's stamp
+    assert marks == [0.02, 0.1, 0.2, 0.3, 0.4, 0.5]

@@ -64,3 +64,14 @@ def judging_due(stamp_s: float, last_judged_s, period_s: float) -> bool:
     if last_judged_s is None:
         return True
     return math.floor(stamp_s / period_s + 1e-9) > math.floor(last_judged_s / period_s + 1e-9)
+
+
+def progress_mark(released_until_s: float, last_mark_s, period_s: float):
+    """The "judged up to" stamp [s of simulated time] to publish now, or None: released_until_s
+    (TimeOrder.released_until_s) once it reaches a multiple of period_s past last_mark_s (None = no
+    mark yet), so a waiter learns at least every period_s how far the judging has come."""
+    if not math.isfinite(released_until_s):
+        return None
+    if last_mark_s is not None and released_until_s <= last_mark_s:
+        return None
+    return released_until_s if judging_due(released_until_s, last_mark_s, period_s) else None
