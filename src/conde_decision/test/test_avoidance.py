@@ -59,6 +59,23 @@ def test_passed_after_the_far_end_and_back_on_the_own_lane():
     assert back.events == ["lane_returned"] and not a.active
 
 
+def test_back_on_the_own_lane_only_heading_along_it():
+    """Within settle_tolerance_m of the centre but still crossing at an angle the return goes on (ended
+    there, the follower took the full offset and the robot overshot onto the edge line: D3, lap 2)."""
+    a = Avoidance()
+    a.step(0.0, True, 0.0, "own", [Obstacle("box", 1.0, -0.3, 0.3)])
+    far_m = 1.0 + C.box_depth_m + C.avoid_clearance_m
+    a.step(0.4, True, 0.5, "other", heading_error_rad=0.8)
+    a.step(C.lane_spacing_m, True, far_m, "other")
+    a.step(0.4, True, far_m + C.change_length_m / 2, "own", heading_error_rad=-0.9)
+    crossing = a.step(0.05, True, far_m + C.change_length_m, "own", heading_error_rad=-(C.return_heading_rad + 0.05),
+                      lane_index=0)
+    assert crossing.events == [] and a.active
+    along = a.step(0.03, True, far_m + C.change_length_m + 0.05, "own", heading_error_rad=-C.return_heading_rad / 2,
+                   lane_index=0)
+    assert along.events == ["lane_returned"] and not a.active
+
+
 def test_outside_a_lane_change_the_tracker_is_passed_on():
     a = Avoidance()
     a.step(0.0, True, 0.0, "own")

@@ -36,7 +36,7 @@ edge at the floor, lateral extent at their base from the tracked lane's centre l
   behind the robot along the own lane (own_arc_m): its far end is its near edge plus box_depth_m or
   cone_depth_m; cones in a row keep moving it on), lane_returned (lane own after a change, the
   reference back at 0 and the
-  robot within settle_tolerance_m of it).
+  robot within settle_tolerance_m of it, heading along the lane within return_heading_rad).
 * Events the avoid states cannot take (a fork or a loop's end met on the other lane:
   DELAYED_EVENTS) wait in EventDelay until a state takes them, for at most max_delay_m driven.
 """
@@ -75,6 +75,9 @@ class AvoidanceConfig:
     box_depth_m: float = 0.6  # a box's length along the road (hidden behind its near face) [m]
     cone_depth_m: float = 0.15  # a cone's base diameter [m]
     settle_tolerance_m: float = 0.1  # lane_changed / lane_returned within this of the lane's centre [m]
+    # ... lane_returned also heading along the own lane within this [rad]: ended at an angle (D3, lap 2: 0.34 s
+    # earlier than on the way it passed) the follower took the full offset and the robot overshot onto the edge line
+    return_heading_rad: float = 0.15
     max_delay_m: float = 2.0  # a delayed fork / merge event is dropped after this distance driven [m]
 
     def check(self) -> "AvoidanceConfig":
@@ -202,7 +205,8 @@ class Avoidance:
         if other and self.far_end_m is not None and self.own_arc_m >= self.far_end_m + c.avoid_clearance_m:
             out.events.append("obstacle_passed")
             self.far_end_m = None
-        if not other and self.changed and settled:
+        along_rad = heading_rad is not None and abs(heading_rad) <= c.return_heading_rad
+        if not other and self.changed and settled and along_rad:
             out.events.append("lane_returned")
             self.changed = False
             self.far_end_m = None

@@ -71,8 +71,8 @@ Commands (the state's `command` in the YAML):
   measures the robot against the lane it is in (the lane it leaves, then the branch);
 * speed ``creep`` / ``reverse``: forward / backward at park_speed_mps, blind (an arc with
   branch and radius_m, else straight on): the parking manoeuvres (parking.py);
-* lane_aligned: in such an arc, past half its distance_m, the cameras see the lane the turn leads
-  to with both lines and the robot heads along it within lane_aligned_rad: the turn can end there,
+* lane_aligned: in such an arc the cameras see the lane the turn leads to with both lines, confirmed
+  over several frames (arc_end.py), and the robot heads along it: the turn can end there,
   as the cameras see it, rather than after its stored length (the arc's radius is what the robot
   drives, which lags: it ended about 10 deg past the new lane and 9 cm inside it);
 * distance_m: the event distance_elapsed fires after that distance in the state (driven either
@@ -96,6 +96,7 @@ from typing import List, Optional, Tuple
 
 from conde_common.bay_pairing import BAY_WIDTH_M
 from conde_common.panel_signals import NAMES_BY_CODE, SIGNAL_CODES
+from conde_decision.arc_end import ArcEnd
 from conde_decision.avoidance import Avoidance, AvoidanceConfig, EventDelay, Obstacle
 from conde_decision.crosswalk import CrosswalkTracker
 from conde_decision.fork_navigator import ForkNavigator
@@ -160,7 +161,16 @@ class DecisionConfig:
     corner_line_offset_m: float = 0.21
     corner_lead_m: float = 0.05  # the turn begins this far before the corner: the robot follows its commands late [m]
     min_line_end_m: float = 0.1  # line ends nearer than this are no measurement (an unset field is 0) [m]
-    lane_aligned_rad: float = 0.1  # lane_aligned: heading error within this of the lane seen in an arc [rad]
+    lane_aligned_rad: float = 0.1  # lane_aligned: heading within this of (or past) the follower's approach [rad]
+    # ... confirmed (arc_end.py): not before this part of the arc's sweep is turned
+    lane_aligned_min_sweep: float = 0.6
+    lane_aligned_frames: int = 3  # ... in this many consecutive confident measurements of one lane
+    lane_aligned_direction_rad: float = 0.3  # ... each within this of the direction the arc leads to [rad]
+    lane_aligned_spread_rad: float = 0.05  # ... their lane directions within this of each other [rad]
+    lane_aligned_spread_m: float = 0.04  # ... and their lateral offsets [m]
+    # the follower's approach heading per m of offset (conde_control: offset gain / heading gain = 36 / 10) [rad/m]
+    lane_aligned_approach_per_m: float = 3.6
+    lane_aligned_max_approach_rad: float = 0.4  # ... at most this [rad]
     branch_offset_m: float = 0.2  # peak lateral offset reference while taking a branch [m] (+ = left branch)
     branch_heading_rad: float = 0.0  # peak heading reference while taking a branch [rad] (+ = left branch)
     min_signal_confidence: float = 0.5  # panel signals below this confidence are ignored
@@ -212,7 +222,8 @@ class DecisionConfig:
                      "expected one radius > 0 per entry of fork_sides")
             elif f.name == "parking_place":
                 need(f.name, value in PARKING_PLACES, "expected one of %s" % ", ".join(PARKING_PLACES))
-            elif f.name in ("crossings_per_lap", "bay_line_sightings", "min_road_direction_samples"):
+            elif f.name in ("crossings_per_lap", "bay_line_sightings", "min_road_direction_samples",
+                            "lane_aligned_frames"):
                 need(f.name, isinstance(value, int) and not isinstance(value, bool) and value >= 1,
                      "expected an integer >= 1")
             else:
@@ -226,7 +237,9 @@ class DecisionConfig:
                      "corner_sight_m", "straight_crossing_m",
                      "line_spacing_m", "own_lane_offset_m",
                      "corner_line_offset_m", "corner_lead_m", "min_line_end_m", "lane_aligned_rad",
-                     "order_latch_lead_m"):
+                     "order_latch_lead_m", "lane_aligned_min_sweep", "lane_aligned_direction_rad",
+                     "lane_aligned_spread_rad", "lane_aligned_spread_m", "lane_aligned_approach_per_m",
+                     "lane_aligned_max_approach_rad"):
             need(name, getattr(self, name) >= 0, "must be >= 0")
         for name in ("min_signal_confidence", "min_lane_confidence"):
             need(name, 0 <= getattr(self, name) <= 1, "must be in [0, 1]")
@@ -285,6 +298,7 @@ class DecisionLogic:
         self.gap = ParallelGapFinder(config.park_min_gap_m, config.park_bay_centre_m,
                                      min_sightings=config.bay_line_sightings)
         self.corners = JunctionCorners(config)  # the junctions' corners the cameras see, both sides
+        self.arc_end = ArcEnd(self.config)  # where a junction's arc ends on the lane seen (lane_aligned)
         self.last_time_s: Optional[float] = None
         self.state_entry_m = 0.0  # travelled_m when the current state was entered
         self.distance_fired = False  # distance_elapsed already fired in this state
@@ -429,6 +443,7 @@ class DecisionLogic:
             self._transitions.append((before, event, self.state))
             self.state_entry_m = self.road.travelled_m
             self.distance_fired = False
+            self.arc_end.start(self.road.yaw_rad)
             if self.state != before:
                 self.speed.unlatch()
 
@@ -544,12 +559,15 @@ class DecisionLogic:
         return events
 
     def _lane_aligned_in_arc(self, lane, command) -> bool:
-        """In an arc driven blind, past half its distance: the cameras see the lane the turn leads
-        to (both lines) and the robot heads along it."""
-        if command.radius_m is None or command.distance_m is None:
+        """In an arc driven blind: the cameras confirm the lane the turn leads to (both lines, several
+        frames of one lane) and the robot heads along it as the lane follower would (arc_end.py)."""
+        if command.radius_m is None or command.distance_m is None or command.branch == "none":
             return False
-        return (self.road.travelled_m - self.state_entry_m >= 0.5 * command.distance_m
-                and lane.confidence >= 1.0 and abs(lane.heading_error_rad) <= self.config.lane_aligned_rad)
+        side = 1.0 if command.branch == "left" else -1.0
+        own_offset_m = self._lane_frame(lane, True).own_offset_m  # the tracker may measure the lane on the left
+        return self.arc_end.update(side, command.radius_m, command.distance_m,
+                                   self.road.travelled_m - self.state_entry_m, self.road.yaw_rad,
+                                   own_offset_m, lane.heading_error_rad, lane.confidence)
 
     def _branch_shape(self, command) -> float:
         """0..1: trapezoid over the state's distance (rise 1/4, hold to 1/2, fall to the end)."""

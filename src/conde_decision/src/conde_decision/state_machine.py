@@ -69,8 +69,9 @@ EVENTS = OrderedDict([
     ("park_entry_near", "the free stretch of the parallel bay is known (its start or the boxes in it seen) and the "
                         "robot has reached the point where the manoeuvre into its middle (the states this event "
                         "leads to) begins"),
-    ("lane_aligned", "in an arc driven blind (command.radius_m), past half its command.distance_m, the cameras see "
-                     "a lane with both lines and the robot heading along it (within lane_aligned_rad)"),
+    ("lane_aligned", "in an arc driven blind (command.radius_m), past lane_aligned_min_sweep of its sweep, the cameras "
+                     "confirm the lane it leads to (lane_aligned_frames frames of one lane, both lines) and the robot "
+                     "heads along it as the lane follower would (arc_end.py)"),
     # Obstacles and the working zone (conde_decision/avoidance.py):
     ("obstacle_ahead", "a box or cone in the robot's lane, within avoid_trigger_m ahead (conde_tracking's obstacles)"),
     ("lane_changed", "in a state with command.lane other, the robot has reached the other lane's centre"),
