@@ -88,9 +88,11 @@ def to_finish_approach(road):
     assert show(road, END_OF_TRIAL, 1.0, 2.0)[:1] == [("follow_lane", "signal_end_of_trial", "approach_finish")]
 
 
-@pytest.mark.parametrize("hold_s, flips", [(1.5, []), (0.0, [("approach_finish", "signal_right", "follow_lane"),
-                                                            ("follow_lane", "signal_end_of_trial",
-                                                             "approach_finish")])])
+FLIPS_BEFORE = [("approach_finish", "signal_right", "follow_lane"),
+                ("follow_lane", "signal_end_of_trial", "approach_finish")]
+
+
+@pytest.mark.parametrize("hold_s, flips", [(1.5, []), (0.0, FLIPS_BEFORE)])
 def test_the_recorded_far_read_does_not_cancel_the_finish(hold_s, flips):
     """D3 (ODE, nominal, CI): end_of_trial 1.00, then right 0.57 for 0.17 s, then end_of_trial again,
     while the robot drives to the crosswalk to stop: approach_finish stays (with the hold; without it,
