@@ -50,16 +50,48 @@ def test_driving_a_change_counts_after_the_hold():
     assert gate.accept("right", 6.5, standing=False) and gate.held == "right"
 
 
-def test_any_other_message_restarts_the_hold():
+def test_another_signal_restarts_the_hold():
     gate = OrderGate(1.0)
     gate.accept("forward", 0.0, standing=True)
     assert not gate.accept("right", 1.0, standing=False)
-    gate.reset_candidate()  # none / a low-confidence read
-    assert not gate.accept("right", 1.5, standing=False)
-    assert not gate.accept("left", 2.4, standing=False)
+    assert not gate.accept("right", 1.9, standing=False)
+    assert not gate.accept("left", 1.95, standing=False)
+    assert not gate.accept("right", 2.0, standing=False)
+    assert not gate.accept("right", 2.9, standing=False)
+    assert gate.accept("right", 3.0, standing=False)
+
+
+def test_the_held_order_read_again_restarts_the_hold():
+    gate = OrderGate(1.0)
+    gate.accept("forward", 0.0, standing=True)
+    assert not gate.accept("right", 1.0, standing=False)
+    assert gate.accept("forward", 1.5, standing=False)
+    assert not gate.accept("right", 1.6, standing=False)
     assert not gate.accept("right", 2.5, standing=False)
-    assert not gate.accept("right", 3.4, standing=False)
-    assert gate.accept("right", 3.5, standing=False)
+
+
+def test_none_pauses_the_count():
+    """Major Alvega's D1: end_of_trial read from afar in runs of 0.2-1.4 s with frames of none between."""
+    gate = OrderGate(1.5)
+    gate.accept("forward", 0.0, standing=True)
+    assert not gate.accept("end_of_trial", 158.267, standing=False)
+    assert not gate.accept("end_of_trial", 158.4, standing=False)  # 0.133 s read
+    gate.pause()  # none from 158.433 to 158.533: not counted
+    assert not gate.accept("end_of_trial", 158.533, standing=False)
+    assert not gate.accept("end_of_trial", 159.8, standing=False)  # 0.133 + 1.267 = 1.4 s read
+    assert gate.accept("end_of_trial", 159.9, standing=False)  # 1.5 s read
+
+
+def test_a_pause_longer_than_the_hold_restarts_it():
+    """D3: left read 0.1 s, none for 1.77 s, left again: two flickers, not one order."""
+    gate = OrderGate(1.5)
+    gate.accept("forward", 0.0, standing=True)
+    assert not gate.accept("left", 27.633, standing=False)
+    assert not gate.accept("left", 27.7, standing=False)
+    gate.pause()
+    assert not gate.accept("left", 29.5, standing=False)
+    assert not gate.accept("left", 30.95, standing=False)
+    assert gate.accept("left", 31.0, standing=False)
 
 
 def test_a_zero_hold_takes_every_signal():

@@ -169,8 +169,8 @@ class DecisionConfig:
     # far earlier: driving (not stopping at the line), its direction orders are latched from there
     # on before the crosswalk's stop line [m] (Major Alvega: 0.448, its top camera; Conde: 0)
     order_latch_lead_m: float = 0.0
-    # driving, a signal other than the order held counts once it has been the only one published
-    # for this long (image stamps; far reads of the panel flicker for 0.1-0.73 s); standing, at once [s]
+    # driving, a signal other than the order held counts once it has been read this long (image stamps,
+    # none pausing the count; far reads of the panel flicker for 0.1-0.73 s); standing, at once [s]
     order_hold_s: float = 1.5
     min_lane_confidence: float = 0.3  # lane measurements below this confidence are not used
     lane_lost_timeout_s: float = 1.0  # stop after this long without a confident lane [s]
@@ -319,13 +319,13 @@ class DecisionLogic:
     def on_signal(self, signal: int, confidence: float, time_s: Optional[float] = None) -> List[Tuple[str, str, str]]:
         """A panel signal (PanelSignal constant) of an image taken at time_s [s] (None: the time of
         the last lane measurement).  NONE and signals below min_signal_confidence produce no event;
-        driving, a change of order counts once it has stayed order_hold_s (order_gate.py).
+        driving, a change of order counts once it has been read for order_hold_s (order_gate.py).
         Returns the transitions that fired."""
         if signal not in SIGNAL_NAMES:
             raise ValueError("unknown panel signal %r (expected 0..6)" % (signal,))
         self._transitions, self._events, self.notes = [], [], []
         if signal == NONE or not confidence >= self.config.min_signal_confidence:
-            self.orders.reset_candidate()
+            self.orders.pause()
             return []
         if time_s is None:
             time_s = self.last_time_s if self.last_time_s is not None else 0.0
