@@ -332,7 +332,7 @@ class DecisionLogic:
         watched = self.orders.candidate
         if not self.orders.accept(signal, time_s, standing=self.machine.command.speed == "stop"):
             if watched != signal:
-                self.notes.append("signal %s (confidence %.2f) while driving, order %s held: taken if it stays %.1f s"
+                self.notes.append("signal %s (confidence %.2f) while driving, order %s held: taken once read for %.1f s"
                                   % (SIGNAL_NAMES[signal], confidence, SIGNAL_NAMES.get(self.orders.held, "none"),
                                      self.config.order_hold_s))
             return []
