@@ -37,7 +37,7 @@ def replay(logic, rows, stop=lambda t_s, out: False, notes=None):
     outputs = []
     for row in rows:
         if row["kind"] == "signal":
-            logic.on_signal(row["signal"], row["confidence"])
+            logic.on_signal(row["signal"], row["confidence"], row.get("t_s"))
             continue
         logic.on_odometry(row["yaw_rad"], row["odom_path_m"])
         out = logic.on_lane(lane_of(row), row["t_s"])

@@ -103,6 +103,7 @@ from conde_decision.fork_navigator import ForkNavigator
 from conde_decision.junction_corners import JunctionCorners, visible_sides
 from conde_decision.lane_frame import UNKNOWN_LANE, LaneFrame, lane_frame
 from conde_decision.lap_counter import LapCounter
+from conde_decision.order_gate import OrderGate
 from conde_decision.parking import (BLIND_SPEEDS, PARKING_PLACES, PARKING_SEARCH_EVENTS, BayFinder,
                                     ParallelGapFinder, bay_entry_lead_m, check_parking_place, manoeuvre_advance_m,
                                     parking_event)
@@ -178,6 +179,9 @@ class DecisionConfig:
     # far earlier: driving (not stopping at the line), its direction orders are latched from there
     # on before the crosswalk's stop line [m] (Major Alvega: 0.448, its top camera; Conde: 0)
     order_latch_lead_m: float = 0.0
+    # driving, a signal other than the order held counts once it has been read this long (image stamps,
+    # none pausing the count; far reads of the panel flicker for 0.1-0.73 s); standing, at once [s]
+    order_hold_s: float = 1.5
     min_lane_confidence: float = 0.3  # lane measurements below this confidence are not used
     lane_lost_timeout_s: float = 1.0  # stop after this long without a confident lane [s]
     max_step_s: float = 1.0  # longest time step dead-reckoned at once [s] (gaps in the input)
@@ -239,7 +243,7 @@ class DecisionConfig:
                      "corner_line_offset_m", "corner_lead_m", "min_line_end_m", "lane_aligned_rad",
                      "order_latch_lead_m", "lane_aligned_min_sweep", "lane_aligned_direction_rad",
                      "lane_aligned_spread_rad", "lane_aligned_spread_m", "lane_aligned_approach_per_m",
-                     "lane_aligned_max_approach_rad"):
+                     "lane_aligned_max_approach_rad", "order_hold_s"):
             need(name, getattr(self, name) >= 0, "must be >= 0")
         for name in ("min_signal_confidence", "min_lane_confidence"):
             need(name, 0 <= getattr(self, name) <= 1, "must be in [0, 1]")
@@ -303,6 +307,7 @@ class DecisionLogic:
         self.state_entry_m = 0.0  # travelled_m when the current state was entered
         self.distance_fired = False  # distance_elapsed already fired in this state
         self.last_signal = NONE
+        self.orders = OrderGate(config.order_hold_s)  # which signals count as orders (order_gate.py)
         self.lane_bad_since_s: Optional[float] = None
         self.notes: List[str] = []
         self._transitions: List[Tuple[str, str, str]] = []
@@ -325,13 +330,25 @@ class DecisionLogic:
 
     # --- inputs ---------------------------------------------------------------------------------
 
-    def on_signal(self, signal: int, confidence: float) -> List[Tuple[str, str, str]]:
-        """A panel signal (PanelSignal constant).  NONE and signals below min_signal_confidence
-        produce no event.  Returns the transitions that fired."""
+    def on_signal(self, signal: int, confidence: float, time_s: Optional[float] = None) -> List[Tuple[str, str, str]]:
+        """A panel signal (PanelSignal constant) of an image taken at time_s [s] (None: the time of
+        the last lane measurement).  NONE and signals below min_signal_confidence produce no event;
+        driving, a change of order counts once it has been read for order_hold_s (order_gate.py).
+        Returns the transitions that fired."""
         if signal not in SIGNAL_NAMES:
             raise ValueError("unknown panel signal %r (expected 0..6)" % (signal,))
         self._transitions, self._events, self.notes = [], [], []
         if signal == NONE or not confidence >= self.config.min_signal_confidence:
+            self.orders.pause()
+            return []
+        if time_s is None:
+            time_s = self.last_time_s if self.last_time_s is not None else 0.0
+        watched = self.orders.candidate
+        if not self.orders.accept(signal, time_s, standing=self.machine.command.speed == "stop"):
+            if watched != signal:
+                self.notes.append("signal %s (confidence %.2f) while driving, order %s held: taken once read for %.1f s"
+                                  % (SIGNAL_NAMES[signal], confidence, SIGNAL_NAMES.get(self.orders.held, "none"),
+                                     self.config.order_hold_s))
             return []
         self.last_signal = signal
         if signal in DIRECTIONS:
