@@ -4,7 +4,7 @@ import math
 
 import pytest
 
-from conde_decision.avoidance import Avoidance, AvoidanceConfig, EventDelay, Obstacle
+from conde_decision.avoidance import Avoidance, AvoidanceConfig, EventDelay, Obstacle, return_remaining_m
 
 C = AvoidanceConfig()
 
@@ -55,7 +55,8 @@ def test_passed_after_the_far_end_and_back_on_the_own_lane():
     assert "obstacle_passed" not in a.step(C.lane_spacing_m, True, far_m - 0.01, "other").events
     assert "obstacle_passed" in a.step(C.lane_spacing_m, True, far_m, "other").events
     a.step(0.4, True, far_m + C.change_length_m / 2, "own", heading_error_rad=-0.9)  # and back
-    back = a.step(0.0, True, far_m + C.change_length_m, "own", lane_index=0)  # the tracker: on the own lane
+    # the tracker: on the own lane; the reference has landed (return_ease_per_m)
+    back = a.step(0.0, True, far_m + C.change_length_m + 0.2, "own", lane_index=0)
     assert back.events == ["lane_returned"] and not a.active
 
 
@@ -148,7 +149,10 @@ def test_the_heading_reference_is_the_ramps_direction_while_it_moves():
     assert a.step(0.8, True, 0.1 + C.change_length_m, "other", lane_index=1).heading_ref_rad == 0.0  # on the lane
     back_rad = math.atan(0.8 / C.return_length_m)  # the way back is steeper
     assert a.step(0.0, True, 0.2 + C.change_length_m, "own", lane_index=1).heading_ref_rad == pytest.approx(-back_rad)
-    assert a.step(0.0, True, 0.2 + C.change_length_m + C.return_length_m, "own",
+    # it lands: the last part of the way back turns along the lane, then the reference is on it
+    landing = a.step(0.0, True, 0.2 + C.change_length_m + C.return_length_m, "own", lane_index=0)
+    assert -back_rad < landing.heading_ref_rad < 0.0
+    assert a.step(0.0, True, 0.2 + C.change_length_m + 2 * C.return_length_m, "own",
                   lane_index=0).heading_ref_rad == 0.0
 
 
@@ -191,3 +195,69 @@ def test_in_a_left_curve_the_box_is_passed_after_a_shorter_drive_beside_it():
     straight_m, curve_m = far_by_arc
     assert straight_m == pytest.approx(1.0 + C.box_depth_m + C.avoid_clearance_m, abs=0.02)
     assert curve_m == pytest.approx(straight_m * 1.8 / 2.6, abs=0.03)
+
+
+def test_the_way_back_is_laid_along_the_lane_and_lands_on_it():
+    """return_remaining_m: at the ramp's slope per metre along the lane, then exponentially."""
+    slope = C.lane_spacing_m / C.return_length_m
+    knee_m = slope / C.return_ease_per_m
+    assert return_remaining_m(0.782, 0.3, slope, C.return_ease_per_m) == pytest.approx(0.782 - 0.3 * slope)
+    assert return_remaining_m(knee_m, 0.5, slope, C.return_ease_per_m) == pytest.approx(
+        knee_m * math.exp(-0.5 * C.return_ease_per_m))
+    one_go = return_remaining_m(0.782, 1.2, slope, C.return_ease_per_m)
+    assert one_go == pytest.approx(return_remaining_m(return_remaining_m(0.782, 0.4, slope, C.return_ease_per_m),
+                                                      0.8, slope, C.return_ease_per_m))
+    # driven at 60 deg off the lane, the way back advances by half the distance driven
+    a = Avoidance()
+    a.step(0.0, True, -2.0, "other", lane_index=1)
+    a.step(0.0, True, 0.1, "other", lane_index=1)  # on the other lane
+    out = a.step(-0.1, True, 0.3, "own", lane_index=1, heading_error_rad=-math.pi / 3)
+    assert out.offset_ref_m == pytest.approx(0.782 - slope * 0.1)
+
+
+def _return_in_closed_loop(config, heading_seen=1.0):
+    """The robot on the other lane of a straight road, told to come back (lane own), steered by
+    conde_control's law at 30 Hz at 0.5 m/s; exact measurements of the lane it is nearer to, but for
+    the heading error: heading_seen times the true one (the tracker read 0.85 rad for a true 1.03).
+    Returns (the largest overshoot past the own lane's centre [m], |heading error| when the
+    avoidance said lane_returned [rad])."""
+    from conde_control.control_law import ControlConfig, LaneFollowingController, Reference
+
+    control = LaneFollowingController(ControlConfig())
+    a = Avoidance(config)
+    spacing_m, dt_s = 0.782, 1.0 / 30.0
+    y_m, heading_rad, s_m, v_mps = spacing_m, 0.0, 0.0, 0.5
+    control.v_mps = v_mps
+    a.step(0.0, True, s_m - 2.0, "other", lane_index=1, lane_spacing_m=spacing_m)
+    a.step(0.0, True, s_m, "other", lane_index=1, lane_spacing_m=spacing_m)  # on the other lane
+    overshoot_m, returned_heading_rad = 0.0, None
+    for _ in range(int(6.0 / dt_s)):
+        index = 1 if y_m > spacing_m / 2 else 0
+        seen_rad = heading_seen * heading_rad
+        out = a.step(y_m - index * spacing_m, True, s_m, "own", heading_error_rad=seen_rad, lane_index=index,
+                     lane_spacing_m=spacing_m)
+        if "lane_returned" in out.events:
+            returned_heading_rad = abs(heading_rad)
+        offset_m = out.own_lane_offset_m if out.active else y_m - index * spacing_m
+        v, omega = control.update(Reference(offset_m, out.control_ref_m, seen_rad, out.heading_ref_rad, v_mps), dt_s)
+        s_m += v * dt_s
+        y_m += v * dt_s * math.sin(heading_rad)
+        heading_rad += omega * dt_s
+        overshoot_m = max(overshoot_m, -y_m)
+    assert returned_heading_rad is not None
+    return overshoot_m, returned_heading_rad
+
+
+def test_the_way_back_ends_heading_along_the_lane_without_overshoot():
+    """D4 v2 (recorded, ODE): the way back ran 1 m of distance driven, so the robot kept pace only at
+    asin(0.78) = 51 deg off the lane (59 deg by ground truth); it reached the own lane's centre at that
+    angle, went 10 cm past it and touched the outer line (the old code here: 4.9 cm past, 0.96 rad
+    when lane_returned).  Laid along the lane and landing, it arrives parallel to the lane: 0.6 cm
+    past (3.4 cm with the heading under-read), 0.03 rad."""
+    for heading_seen in (1.0, 0.83):
+        overshoot_m, heading_rad = _return_in_closed_loop(C, heading_seen)
+        assert overshoot_m < 0.04 and heading_rad < 0.1
+    # without the landing the robot reaches the lane's centre at the ramp's angle and goes on past it
+    abrupt = AvoidanceConfig(return_ease_per_m=1e6, return_end_m=1e-6)
+    abrupt_overshoot_m, abrupt_heading_rad = _return_in_closed_loop(abrupt, 0.83)
+    assert abrupt_overshoot_m > 0.06 and abrupt_heading_rad > 0.5

@@ -20,6 +20,12 @@ edge at the floor, lateral extent at their base from the tracked lane's centre l
   times its heading gain) then turns the robot at most about 8 deg more than the ramp.  Without
   these the robot lagged, then turned 60-70 deg off the lane, where the lane measurement's offset
   is tens of cm off.
+* The way back is laid along the lane (the distance driven times the cosine of the heading error)
+  and lands: from return_ease_per_m / spacing of it on, the reference approaches the own lane's
+  centre at return_ease_per_m times what remains (heading reference the slope of that curve), and is
+  put on it return_end_m away.  Before, it ran by the distance driven straight into the centre: to
+  keep pace the robot crossed at asin(0.78) = 51 deg (59 deg by ground truth, D4 v2, ODE), reached
+  the centre at that angle, went 10 cm past it and touched the outer line.
 * conde_tracking says which lane it measured (lane_index: 0 the right lane, 1 the left one, -1 not
   known): during a lane change and back, the tracked lane's centre lies lane_index spacings left
   of the own lane's (lane_shift_m), and the robot's offset from the own lane is the tracker's plus
@@ -62,6 +68,12 @@ class AvoidanceConfig:
     change_length_m: float = 1.5  # the reference crosses one lane spacing over this distance driven [m]
     # ... and back over this one: the referee allows the other lane only within 1.5 m of arc of the box
     return_length_m: float = 1.0
+    # On the way back the reference approaches the own lane's centre no faster than this times its
+    # remaining distance [1/m] (an exponential landing from return_ease_per_m / spacing of the way on),
+    # so that the robot arrives heading along the lane ...
+    return_ease_per_m: float = 4.0
+    # ... and it is put on the centre when this close [m]
+    return_end_m: float = 0.02
     max_offset_error_m: float = 0.04  # the reference given to the control is at most this far from the robot [m]
     # Return once the blockers' far ends are this far behind base_footprint [m]: Conde's footprint
     # reaches 0.443 m behind it (base_footprint is near its front), but the way back is a ramp: its
@@ -176,14 +188,22 @@ class Avoidance:
         else:
             self.own_offset_m, self.lane_shift_m = None, tracked_shift_m
         target_m = spacing_m if other else 0.0
-        ramp_length_m = c.change_length_m if other else c.return_length_m
-        slew_m = spacing_m * driven_m / ramp_length_m
-        if abs(target_m - self.ref_m) <= slew_m + 1e-9:
-            self.ref_m = target_m
+        if other:
+            slope = spacing_m / c.change_length_m
+            slew_m = slope * driven_m
+            if abs(target_m - self.ref_m) <= slew_m + 1e-9:
+                self.ref_m = target_m
+            else:
+                self.ref_m += math.copysign(slew_m, target_m - self.ref_m)
         else:
-            self.ref_m += math.copysign(slew_m, target_m - self.ref_m)
+            slope = spacing_m / c.return_length_m
+            # the way back is laid along the lane: the distance driven times cos(heading error)
+            along_m = driven_m if heading_rad is None else driven_m * max(0.0, math.cos(heading_rad))
+            left_m = return_remaining_m(abs(target_m - self.ref_m), along_m, slope, c.return_ease_per_m)
+            self.ref_m = target_m if left_m <= c.return_end_m else math.copysign(left_m, self.ref_m)  # target 0
+            slope = min(slope, c.return_ease_per_m * left_m)
         if self.ref_m != target_m:
-            out.heading_ref_rad = math.copysign(math.atan(spacing_m / ramp_length_m), target_m - self.ref_m)
+            out.heading_ref_rad = math.copysign(math.atan(slope), target_m - self.ref_m)
         if self.own_offset_m is not None:
             own_offset_m = self.own_offset_m
         else:
@@ -227,6 +247,18 @@ class Avoidance:
         if yaw_rad is None or self.lane_yaw_rad is None:
             return None
         return yaw_rad - self.lane_yaw_rad
+
+
+def return_remaining_m(remaining_m: float, along_m: float, slope: float, ease_per_m: float) -> float:
+    """The way back's reference [m from the own lane's centre] after along_m [m] more along the lane:
+    it moves at slope [m per m] while remaining_m > slope / ease_per_m, then at ease_per_m times what
+    remains (an exponential approach)."""
+    knee_m = slope / ease_per_m
+    if remaining_m > knee_m:
+        linear_m = min(along_m, (remaining_m - knee_m) / slope)
+        remaining_m -= slope * linear_m
+        along_m -= linear_m
+    return remaining_m * math.exp(-ease_per_m * along_m) if remaining_m <= knee_m + 1e-12 else remaining_m
 
 
 # Events that the avoid states do not take: they wait until a state does (EventDelay).
