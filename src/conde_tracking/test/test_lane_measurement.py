@@ -126,6 +126,18 @@ def test_standing_at_the_crosswalk_the_fresh_fit_is_the_lane_not_a_slant_across_
     assert abs(math.degrees(r.heading_error_rad - float(d["heading_error_rad"]))) < 2.0
 
 
+def test_at_the_p1_start_on_track_4_placement_4_the_fresh_fit_is_the_lane():
+    """track4_place4_start: the simulator's images at 0.1 s of P1 on track seed 4, placement seed 4
+    (4.9 cm left of the lane centre, 2.8 deg left, 5 cm before the crosswalk's near edge), where
+    the robot once turned left off the start.  The tracker's first fit there is the lane: the left
+    turn of that run was not a start-up fit across the stripes (a guard, it passes before and after)."""
+    d, lm, images = load("track4_place4_start")
+    r = lm.measure(images)
+    assert r.confidence == 1.0
+    assert abs(r.lateral_offset_m - float(d["lateral_offset_m"])) < 0.01
+    assert abs(math.degrees(r.heading_error_rad - float(d["heading_error_rad"]))) < 2.0
+
+
 def test_the_search_candidates_are_unlike_and_the_best_comes_first():
     d, lm, images = load("track1_place2_start")
     pts = lm.ground_white(images)[0]
