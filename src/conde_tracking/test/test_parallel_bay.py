@@ -21,7 +21,7 @@ DATA = os.path.join(os.path.dirname(os.path.abspath(__file__)), "data")
 POSES = ("at_start", "bay_ahead_1m", "gap_ahead", "before_entry", "heading_right_5deg", "heading_left_5deg")
 P_VIEWS = ["%s_%s" % (c, p) for c in ("p1v1", "p2v1") for p in POSES]
 # views recorded on a varied track, standing at the crosswalk with the bay's start in view: {name: track seed}
-VARIED_START_VIEWS = {"track1_place2_start": 1}
+VARIED_START_VIEWS = {"track1_place2_start": 1, "track4_place4_start": 4, "track4_place4_first_frame": 4}
 OTHER_VIEWS = sorted(f[:-4] for f in os.listdir(DATA)
                      if f.endswith(".npz") and not f.startswith(("p1v1", "p2v1")) and f[:-4] not in VARIED_START_VIEWS)
 CORNER_XY_M = build_track().bulge_outline[1]  # where the bay's outer line begins (the straight part's start)

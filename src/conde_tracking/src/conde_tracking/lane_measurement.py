@@ -68,7 +68,7 @@ class LaneConfig:
     separation_smoothing: float = 0.2  # weight of a frame's measured separation in the kept one (0..1)
     min_line_points: int = 25  # white pixels for a line to count as found
     min_line_extent_m: float = 0.15  # ... spread over at least this distance along x [m]
-    search_points: int = 300  # points used by the coarse grid search (subsampled)
+    search_points: int = 1500  # points used by the coarse grid search (subsampled; 300 missed the lane at a crosswalk)
     search_candidates: int = 4  # a fit without prior refines this many of the search's best (unlike) models
     candidate_margin: float = 0.2  # ... and takes another than the best when its lines reach this share further
     # a line ends where its band is seen this far beyond its last point without it [m] (> a dash gap)
