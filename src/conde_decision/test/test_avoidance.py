@@ -70,8 +70,8 @@ def test_back_on_the_own_lane_only_heading_along_it():
     a.step(C.lane_spacing_m, True, far_m, "other")
     a.step(0.4, True, far_m + C.change_length_m / 2, "own", heading_error_rad=-0.9)
     # the reference has landed on the centre (return_ease_per_m): only the heading holds the return
-    crossing = a.step(0.05, True, far_m + C.change_length_m + 0.2, "own", heading_error_rad=-(C.return_heading_rad + 0.05),
-                      lane_index=0)
+    crossing = a.step(0.05, True, far_m + C.change_length_m + 0.2, "own",
+                      heading_error_rad=-(C.return_heading_rad + 0.05), lane_index=0)
     assert crossing.offset_ref_m == 0.0
     assert crossing.events == [] and a.active
     along = a.step(0.03, True, far_m + C.change_length_m + 0.25, "own", heading_error_rad=-C.return_heading_rad / 2,
