@@ -72,6 +72,4 @@ def progress_mark(released_until_s: float, last_mark_s, period_s: float):
     mark yet), so a waiter learns at least every period_s how far the judging has come."""
     if not math.isfinite(released_until_s):
         return None
-    if last_mark_s is not None and released_until_s <= last_mark_s:
-        return None
     return released_until_s if judging_due(released_until_s, last_mark_s, period_s) else None
