@@ -161,3 +161,18 @@ def test_a_left_arc_and_an_arc_without_odometry_are_judged_alike():
 def test_bad_confirmation_settings_are_named(name, value):
     with pytest.raises(ValueError, match=name):
         replace(CONFIG, **{name: value}).check()
+
+
+def test_the_approach_heading_is_conde_controls_own():
+    """arc_end ends a turn at the heading the lane follower steers to: lane_aligned_approach_per_m
+    must be conde_control's offset gain over its heading gain (its config/control.yaml and the
+    default of ControlConfig), or the hand-over swings the robot again."""
+    import os
+
+    from conde_control.control_law import ControlConfig, load_config
+
+    here = os.path.dirname(os.path.abspath(__file__))
+    control_yaml = os.path.join(here, "..", "..", "conde_control", "config", "control.yaml")
+    for control in (load_config(control_yaml), ControlConfig()):
+        assert CONFIG.lane_aligned_approach_per_m == pytest.approx(
+            control.offset_gain_per_m2 / control.heading_gain_per_m)
