@@ -159,6 +159,23 @@ class MajorAlvegaTest(unittest.TestCase):
                           and predicate(self.last_commands())), what)
         return self.last_commands()
 
+    def drive_until(self, speed_mps, steering_rad, predicate, what, limit_s=1.0):
+        """The controller node's six latest commands once `predicate` holds for them, driving on
+        one command period at a time while it does not (the node publishes on its timer, which
+        only runs while simulated time does: a value it published late, e.g. the wheels' 0 of a
+        command timeout after the machine stalled it, is only replaced once time goes on)."""
+        deadline_s = self.sim.time_s + limit_s
+
+        def holds_or_drive():
+            if all(log.last is not None for log in self.commands.values()) and predicate(self.last_commands()):
+                return True
+            if self.sim.time_s < deadline_s:
+                self.drive(speed_mps, steering_rad, COMMAND_PERIOD_S)
+            return False
+
+        wait_for(holds_or_drive, f"{what} (driving on up to {limit_s} s)")
+        return self.last_commands()
+
     def start_over(self):
         """The car back at its spawn pose, standing, wheels straight (the world reset restarts
         the joint controllers; the controller node is told to stand still first)."""
@@ -170,9 +187,9 @@ class MajorAlvegaTest(unittest.TestCase):
         expected = wheel_targets(GEOMETRY, speed_mps, steering_rad)
         values = (expected.left_steering_rad, expected.right_steering_rad, expected.left_front_radps,
                   expected.right_front_radps, expected.left_rear_radps, expected.right_rear_radps)
-        got = self.wait_for_commands(
-            lambda c: all(abs(c[n] - v) < 1e-5 for n, v in zip(CONTROLLERS, values)),
-            f"the six controller commands for {speed_mps} m/s at {steering_rad} rad")
+        what = f"the six controller commands for {speed_mps} m/s at {steering_rad} rad"
+        got = self.drive_until(speed_mps, steering_rad,
+                               lambda c: all(abs(c[n] - v) < 1e-5 for n, v in zip(CONTROLLERS, values)), what)
         for name, value in zip(CONTROLLERS, values):
             self.assertAlmostEqual(got[name], value, places=5, msg=name)  # the command's fields are float32
         return expected
