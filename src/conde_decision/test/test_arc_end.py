@@ -13,7 +13,7 @@ from conde_decision.state_machine import parse_state_machine
 from recorded_sequence import load, replay
 
 # the order is given once, as one message: it counts at once, driving too (test_order_gate.py: the hold)
-CONFIG = replace(DecisionConfig(), order_hold_s=0.0)
+CONFIG = replace(DecisionConfig(), order_hold_s=0.0, order_crosswalk_range_m=0.0)
 RADIUS_M, DISTANCE_M = 0.609, 0.957  # conde_states.yaml's turn_right
 SWEEP_RAD = DISTANCE_M / RADIUS_M
 # the right turn into the south loop, from its first frame: lap 1 (a one-frame false alignment ended the

@@ -14,7 +14,7 @@ from road_model import DT_S, Road
 PACKAGE_DIR = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 SPEC = load_state_machine(os.path.join(PACKAGE_DIR, "config", "conde_states.yaml"))
 # each order is given once, as one message: it counts at once, driving too (test_order_gate.py: the hold)
-CONFIG = replace(DecisionConfig(), junction_fallback_m=0.0, order_hold_s=0.0)
+CONFIG = replace(DecisionConfig(), junction_fallback_m=0.0, order_hold_s=0.0, order_crosswalk_range_m=0.0)
 BAY_M = 0.773
 STEP_M = CONFIG.cruise_speed_mps * DT_S
 

@@ -22,7 +22,7 @@ SPEC = load_state_machine(os.path.join(PACKAGE_DIR, "config", "conde_states.yaml
 # The 1-D model of the route has no camera corners: without the late fallback its turns begin at
 # the stored distances (test_fork_navigator.py tests the fallback).
 # each order is given once, as one message: it counts at once, driving too (test_order_gate.py: the hold)
-CONFIG = replace(DecisionConfig(), junction_fallback_m=0.0, order_hold_s=0.0)
+CONFIG = replace(DecisionConfig(), junction_fallback_m=0.0, order_hold_s=0.0, order_crosswalk_range_m=0.0)
 CONFIG_AS_RUN = DecisionConfig()  # the node's defaults, for the recorded sequences
 CRUISE = CONFIG.cruise_speed_mps
 STEP_M = CRUISE * DT_S  # distance of one step at cruise speed

@@ -8,10 +8,11 @@ from dataclasses import replace
 
 import pytest
 
-from conde_decision.decision_logic import END_OF_TRIAL, FORWARD, LEFT, NONE, RIGHT, DecisionConfig, DecisionLogic
+from conde_decision.decision_logic import (END_OF_TRIAL, FORWARD, LEFT, NONE, RIGHT, STOP, DecisionConfig,
+                                           DecisionLogic)
 from conde_decision.order_gate import OrderGate
 from conde_decision.state_machine import load_state_machine
-from road_model import DT_S, HALF_LAP_M, Road
+from road_model import DT_S, HALF_LAP_M, VIEW_M, Road
 
 SPEC = load_state_machine(os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "config",
                                        "conde_states.yaml"))
@@ -129,7 +130,7 @@ def test_the_recorded_far_read_does_not_cancel_the_finish(hold_s, flips):
     """D3 (ODE, nominal, CI): end_of_trial 1.00, then right 0.57 for 0.17 s, then end_of_trial again,
     while the robot drives to the crosswalk to stop: approach_finish stays (with the hold; without it,
     as before, the robot went to follow_lane and back)."""
-    road = make(order_hold_s=hold_s)
+    road = make(order_hold_s=hold_s, order_crosswalk_range_m=0.0)  # the hold alone: read from 5 m
     to_finish_approach(road)
     fired = show(road, RIGHT, 0.57, 0.17) + show(road, END_OF_TRIAL, 1.0, 1.0)
     assert fired == flips
@@ -163,7 +164,7 @@ def next_fork(road):
 def test_a_change_that_stays_is_taken_after_the_hold():
     """D2: the panel turns from forward to left while the robot drives (read from 41.2 s for 6 s): the
     order is taken order_hold_s after the first read, and it chooses the next fork."""
-    road = make(order_hold_s=1.5)
+    road = make(order_hold_s=1.5, order_crosswalk_range_m=0.0)  # the hold alone: read from 5 m
     show(road, FORWARD, 1.0, DT_S)
     road.drive_m(HALF_LAP_M - 5.0 - road.s)
     first_s = road.t
@@ -174,3 +175,69 @@ def test_a_change_that_stays_is_taken_after_the_hold():
     assert taken_s - first_s >= 1.5 - 1e-9
     assert road.logic.last_signal == LEFT and road.logic.state == "follow_lane"
     assert next_fork(road) == "fork_straight"  # the 2nd fork opens right: "left" goes straight on
+
+
+# --- the panel is over the crosswalk (DecisionConfig.order_crosswalk_range_m) ------------------------
+
+def test_driving_a_change_away_from_the_panel_is_watched_not_taken():
+    gate = OrderGate(1.5)
+    gate.accept("forward", 0.0, standing=True)
+    for frame in range(71):  # read 7 s, one message per 0.1 s: still not taken
+        assert not gate.accept("stop", 5.0 + 0.1 * frame, standing=False, panel_ahead=False)
+    assert gate.held == "forward" and gate.read_s == pytest.approx(7.0)
+    assert gate.accept("stop", 12.1, standing=False, panel_ahead=True) and gate.held == "stop"
+
+
+def test_standing_and_the_order_held_need_no_panel_ahead():
+    gate = OrderGate(1.5)
+    assert gate.accept("forward", 0.0, standing=True, panel_ahead=False)
+    assert gate.accept("forward", 3.0, standing=False, panel_ahead=False)
+    assert gate.accept("stop", 3.1, standing=True, panel_ahead=False)
+
+
+#: V1 (ODE, nominal track, competition run before this gate; the panel showed forward from 3 s to the
+#: end): the red triangles of the danger signs beside the road read as stop by conde_semaphore while
+#: driving, as (distance driven past the last crosswalk's near edge at the first read [m], how long
+#: it was read [s]): 6.767-14.233 s, 16.333-22.2 s, 25.067-31.233 s (north loop, lap 1),
+#: 57.033-62.967 s (south loop).  Each made the robot go to approach_stop.
+V1_STOP_READS = [(0.0, 1.67, 7.47), (0.0, 6.49, 5.87), (0.0, 10.85, 6.17), (HALF_LAP_M, 5.40, 5.93)]
+
+
+@pytest.mark.parametrize("range_m, first_fired", [
+    (2.0, []), (0.0, [("follow_lane", "signal_stop", "approach_stop")])])
+def test_v1_danger_signs_read_as_stop_are_no_order(range_m, first_fired):
+    """With the crosswalk out of sight these reads are no order (the old rule, range 0, took each one)."""
+    road = make(order_crosswalk_range_m=range_m)
+    show(road, FORWARD, 1.0, DT_S)
+    for crossing_s, past_m, seconds in V1_STOP_READS:
+        road.drive_m(crossing_s + past_m - road.s)
+        fired = show(road, STOP, 1.0, seconds)
+        show(road, NONE, 1.0, 2.0)
+        if range_m == 0.0:
+            assert fired[:1] == first_fired
+            return
+        assert fired == []
+        assert road.logic.state == "follow_lane" and road.logic.orders.held == FORWARD
+    assert road.logic.last_signal == FORWARD
+
+
+def test_the_panels_stop_read_from_afar_is_taken_with_the_crosswalk_in_sight():
+    """D2: the panel turns to stop while the robot drives to the crosswalk and is read from 5 m on:
+    the order is taken once conde_tracking sees the crosswalk ahead, and the robot stands before it."""
+    road = make(order_hold_s=1.5)
+    show(road, FORWARD, 1.0, DT_S)
+    road.drive_m(HALF_LAP_M - 5.0 - road.s)
+    fired = []
+    while not fired:
+        assert road.s < HALF_LAP_M, "stop not taken before the crosswalk"
+        assert not road.logic.panel_ahead() or road.logic.crosswalk.to_near_edge_m <= 2.0
+        fired = show(road, STOP, 1.0, DT_S)
+    assert fired == [("follow_lane", "signal_stop", "approach_stop")]
+    assert road.logic.panel_ahead() and HALF_LAP_M - road.s <= VIEW_M[1] + 1e-9
+    assert road.until("crosswalk_reached").state == "stopped"
+    assert road.s < HALF_LAP_M  # stands before the near edge
+
+
+def test_a_bad_crosswalk_range_is_refused_naming_the_field():
+    with pytest.raises(ValueError, match="order_crosswalk_range_m"):
+        DecisionConfig(order_crosswalk_range_m=-1.0).check()

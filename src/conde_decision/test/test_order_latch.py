@@ -15,7 +15,7 @@ from road_model import HALF_LAP_M, Road
 SPEC = load_state_machine(os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "config",
                                        "conde_states.yaml"))
 # each order is given once, as one message: it counts at once, driving too (test_order_gate.py: the hold)
-CONFIG = replace(DecisionConfig(), junction_fallback_m=0.0, order_hold_s=0.0)
+CONFIG = replace(DecisionConfig(), junction_fallback_m=0.0, order_hold_s=0.0, order_crosswalk_range_m=0.0)
 
 
 def make(lead_m):

@@ -15,7 +15,7 @@ from test_decision_logic import drive_to_parked, with_parallel_bay
 PACKAGE_DIR = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 SPEC = load_state_machine(os.path.join(PACKAGE_DIR, "config", "conde_states.yaml"))
 # each order is given once, as one message: it counts at once, driving too (test_order_gate.py: the hold)
-CONFIG = replace(DecisionConfig(), junction_fallback_m=0.0, order_hold_s=0.0)
+CONFIG = replace(DecisionConfig(), junction_fallback_m=0.0, order_hold_s=0.0, order_crosswalk_range_m=0.0)
 STEP_M = CONFIG.cruise_speed_mps * DT_S
 # The nominal track from the P start pose (base_footprint 0.33 m before y = 0), along the road:
 BAY_START_M = 1.551  # the parallel bay's straight part begins (y 1.221)

@@ -182,6 +182,10 @@ class DecisionConfig:
     # driving, a signal other than the order held counts once it has been read this long (image stamps,
     # none pausing the count; far reads of the panel flicker for 0.1-0.73 s); standing, at once [s]
     order_hold_s: float = 1.5
+    # driving, a change of order counts only while the robot is on the crosswalk or conde_tracking has
+    # seen the crosswalk ahead within this distance of its near edge (the panel stands over it; V1's
+    # red danger signs elsewhere are read as stop) [m]; 0: anywhere (the rule before)
+    order_crosswalk_range_m: float = 2.0
     min_lane_confidence: float = 0.3  # lane measurements below this confidence are not used
     lane_lost_timeout_s: float = 1.0  # stop after this long without a confident lane [s]
     max_step_s: float = 1.0  # longest time step dead-reckoned at once [s] (gaps in the input)
@@ -243,7 +247,7 @@ class DecisionConfig:
                      "corner_line_offset_m", "corner_lead_m", "min_line_end_m", "lane_aligned_rad",
                      "order_latch_lead_m", "lane_aligned_min_sweep", "lane_aligned_direction_rad",
                      "lane_aligned_spread_rad", "lane_aligned_spread_m", "lane_aligned_approach_per_m",
-                     "lane_aligned_max_approach_rad", "order_hold_s"):
+                     "lane_aligned_max_approach_rad", "order_hold_s", "order_crosswalk_range_m"):
             need(name, getattr(self, name) >= 0, "must be >= 0")
         for name in ("min_signal_confidence", "min_lane_confidence"):
             need(name, 0 <= getattr(self, name) <= 1, "must be in [0, 1]")
@@ -344,11 +348,15 @@ class DecisionLogic:
         if time_s is None:
             time_s = self.last_time_s if self.last_time_s is not None else 0.0
         watched = self.orders.candidate
-        if not self.orders.accept(signal, time_s, standing=self.machine.command.speed == "stop"):
+        panel_ahead = self.panel_ahead()
+        if not self.orders.accept(signal, time_s, standing=self.machine.command.speed == "stop",
+                                  panel_ahead=panel_ahead):
             if watched != signal:
-                self.notes.append("signal %s (confidence %.2f) while driving, order %s held: taken once read for %.1f s"
+                self.notes.append("signal %s (confidence %.2f) while driving, order %s held: "
+                                  "taken once read for %.1f s%s"
                                   % (SIGNAL_NAMES[signal], confidence, SIGNAL_NAMES.get(self.orders.held, "none"),
-                                     self.config.order_hold_s))
+                                     self.config.order_hold_s,
+                                     "" if panel_ahead else " with the crosswalk in sight"))
             return []
         self.last_signal = signal
         if signal in DIRECTIONS:
@@ -357,6 +365,13 @@ class DecisionLogic:
                 self.notes.append(note)
         self._fire("signal_" + SIGNAL_NAMES[signal])
         return self._transitions
+
+    def panel_ahead(self) -> bool:
+        """The panel can be what the top camera reads: the robot is on the crosswalk, or the crosswalk
+        ahead (seen by conde_tracking, then dead-reckoned) is within order_crosswalk_range_m."""
+        range_m = self.config.order_crosswalk_range_m
+        ahead_m = self.crosswalk.to_near_edge_m
+        return range_m == 0.0 or self.crosswalk.at_crosswalk or (ahead_m is not None and ahead_m <= range_m)
 
     def on_odometry(self, yaw_rad: float, travelled_m: Optional[float] = None) -> None:
         """The robot's heading [rad] (any branch of the angle; unwrapped here) and, if known, the

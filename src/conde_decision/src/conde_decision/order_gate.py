@@ -10,6 +10,13 @@ held counts only once it has been read for hold_s (image stamps, summed over its
 consecutive messages): a message that is no order (none, low confidence) pauses that count, a
 pause longer than hold_s or any other signal starts it anew.  Signals equal to the order held
 count at once (no event is delayed for the order in force).
+
+Driving, a change of order also needs the panel to be where the robot looks: the panel stands over
+the crosswalk, so the caller says whether the crosswalk ahead is in sight (panel_ahead).  In V1 the
+red triangles of the vertical danger signs beside the road are read as `stop` for 6-7.6 s (longer
+than any hold) 1.3-5 m past the crosswalk, where no crosswalk is ahead; the count of such a read
+goes on (a read that lasts from afar until the crosswalk comes into sight is taken then), but it
+is taken only while panel_ahead.
 """
 
 from typing import Optional
@@ -35,7 +42,9 @@ class OrderGate:
         """A message that is no order (none, low confidence): the candidate's count pauses."""
         self.running = False
 
-    def accept(self, signal, time_s: float, standing: bool) -> bool:
+    def accept(self, signal, time_s: float, standing: bool, panel_ahead: bool = True) -> bool:
+        """panel_ahead: the panel can be what the camera reads (the crosswalk ahead is in sight);
+        without it, driving, a change of order is watched but not taken."""
         if standing or signal == self.held:
             return self._take(signal)
         if (signal != self.candidate or self.last_read_s is None or time_s < self.last_read_s
@@ -44,7 +53,7 @@ class OrderGate:
         elif self.running:
             self.read_s += time_s - self.last_read_s
         self.last_read_s, self.running = time_s, True
-        if self.read_s >= self.hold_s - 1e-9:
+        if self.read_s >= self.hold_s - 1e-9 and panel_ahead:
             return self._take(signal)
         return False
 
