@@ -90,6 +90,7 @@ class DrivePluginsTest(unittest.TestCase):
         self.assertAlmostEqual(end.position.y - start.position.y, dy, delta=0.03)
         self.assertAlmostEqual(yaw_of(end.orientation) - yaw_of(start.orientation), 1.0, delta=0.03)
         self.assertLess(abs(end.position.z - start.position.z), 0.01, "stays on the ground")
+        odom.wait_until_stamped(t0 + 2.0, 0.05)  # the last of the counted messages may still be on its way
         stamps = [m.header.stamp.to_sec() for m in odom.messages if t0 < m.header.stamp.to_sec() <= t0 + 2.0]
         self.assertAlmostEqual(len(stamps), 40, delta=2, msg="odometryRate 20 Hz")
         last = odom.messages[-1]
@@ -101,12 +102,18 @@ class DrivePluginsTest(unittest.TestCase):
         pub = rospy.Publisher("/pushed/force", Wrench, queue_size=1)
         connected(pub, "/pushed/force")
         start = self.pose("pushed")
+        start_s = self.sim.time_s
         push = Wrench()
         push.force.x = 3.0                      # a_x = 1.5 m/s^2
         push.force.z = 2.0 * BOX_MASS_KG * g    # a_z = +g: lifts off the ground at once
         pub.publish(push)
-        time.sleep(0.3)
-        t = self.sim.step(500)
+        # One step at a time until f3d reports the push (the force plugin has it), then the rest of
+        # the 0.5 s: a push that arrives late would otherwise shorten the run it is measured over.
+        t = self.sim.step(1)
+        while abs(feedback.wait_until_stamped(t, 0.0).wrench.force.x - push.force.x) > 1e-6:
+            self.assertLess(t - start_s, 5.0, "the force plugin never applied the push")
+            t = self.sim.step(1)
+        t = self.sim.step(499)  # 500 steps pushed in all
         end = self.pose("pushed")
         moved_x, moved_z = end.position.x - start.position.x, end.position.z - start.position.z
         expected_x, expected_z = 0.5 * 1.5 * 0.5**2, 0.5 * g * 0.5**2  # x = a t^2 / 2

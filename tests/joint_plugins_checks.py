@@ -142,9 +142,7 @@ class JointPluginsTest(unittest.TestCase):
         t0 = self.sim.time_s
         # 0.5 s in chunks of five messages, each received before the next chunk: the plugin's
         # publisher queue holds 10 (as gazebo_ros's), so one burst of 50 could drop some.
-        for _ in range(10):
-            t1 = self.sim.step(50)
-            wrenches.wait_until_stamped(t1, 0.01)
+        t1 = self.sim.run_received(0.5, [(wrenches, 0.01)])
         recent = [m for m in wrenches.messages if t0 < m.header.stamp.to_sec() <= t1]
         self.assertAlmostEqual(len(recent), 50, delta=1, msg="updateRate 100 Hz over 0.5 s")
         self.assertEqual(recent[-1].header.frame_id, "pendulum_link")

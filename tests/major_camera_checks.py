@@ -37,10 +37,11 @@ class MajorCameraTest(unittest.TestCase):
     def test_images_at_30_hz_of_sim_time_with_size_encoding_and_frame(self):
         self.sim.step(100)  # past the start
         start_s = self.sim.time_s
-        # 10 ms chunks: at most one frame per camera per chunk, so the node's small publisher
-        # queues never overflow; one second and a bit of simulated time.
-        for _ in range(105):
-            self.sim.step(10)
+        # 10 ms chunks: at most one frame per camera per chunk, each chunk's frame received (all but
+        # perhaps the newest) before the next, so the node's publisher queues (2) never overflow; one
+        # second and a bit of simulated time. A frame is at most 34 steps after the one before.
+        topics = list(self.images.values()) + list(self.infos.values())
+        self.sim.run_received(1.05, [(latest, 0.034) for latest in topics], every_s=0.01)
         end_s = start_s + 1.0
         for name, (image_topic, info_topic, frame, width, height) in CAMERAS.items():
             images, infos = self.images[name], self.infos[name]

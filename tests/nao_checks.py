@@ -53,8 +53,10 @@ class NaoTest(SteppedNaoTest):
 
     def test_2_hip_yaw_pitch_drives_both_hips(self):
         pub = rospy.Publisher('/HipYawPitch_position_controller/command', Float64, queue_size=1)
-        send(pub, Float64(-0.2), '/HipYawPitch_position_controller/command')
-        self.sim.run(1.0)
+        command = Float64(-0.2)
+        send(pub, command, '/HipYawPitch_position_controller/command')
+        # Sent again before each 50 ms (as a driver node would): one late message would only delay it.
+        self.sim.run(1.0, before_chunk=lambda: pub.publish(command))
         position = self.positions()
         self.assertAlmostEqual(position['LHipYawPitch'], -0.2, delta=0.02)
         self.assertAlmostEqual(position['RHipYawPitch'], -0.2, delta=0.02)

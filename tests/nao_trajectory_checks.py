@@ -35,6 +35,10 @@ class NaoTrajectoryTest(SteppedNaoTest):
         msg.points = [JointTrajectoryPoint(positions=[0.0] * len(joints), time_from_start=rospy.Duration(0)),
                       JointTrajectoryPoint(positions=[target[j] for j in msg.joint_names],
                                            time_from_start=rospy.Duration(1.0))]
+        # Stamped with the simulated time it starts at (the simulation stands until it is sent): a
+        # message that arrives a few steps late is then sampled from that time, not started late.
+        # One step first: a zero stamp would mean "on receipt".
+        msg.header.stamp = rospy.Time.from_sec(self.sim.step(1))
         pub = rospy.Publisher('/nao_trajectory_controller/command', JointTrajectory, queue_size=1)
         send(pub, msg, '/nao_trajectory_controller/command')
         self.sim.run(0.5, every_s=0.5)

@@ -58,6 +58,18 @@ class SteppedSim:
             self.step(chunk)
         return self.time_s
 
+    def run_received(self, seconds, latest_periods, every_s=0.05, step_s=0.001):
+        """Steps `seconds` in chunks of `every_s` and, after each chunk, waits for the message of the
+        last update of each Latest in `latest_periods` ([(Latest, update period [s])]). For messages
+        that are counted: a node's publisher queue (often 10 messages) then holds at most one chunk's
+        messages, so none is dropped however slowly this test receives them."""
+        chunk = max(1, round(every_s / step_s))
+        for _ in range(max(1, round(seconds / every_s))):
+            self.step(chunk)
+            for latest, period_s in latest_periods:
+                latest.wait_until_stamped(self.time_s, period_s)
+        return self.time_s
+
 
 def connected(publisher_or_subscriber, what):
     """Waits until the node is connected to a test's publisher or subscriber."""

@@ -34,7 +34,7 @@ def paused_sim(master):
         time.sleep(0.1)
     yield master
     node.terminate()
-    node.wait(timeout=30)
+    node.wait(timeout=60)  # a process on a slow, busy machine
 
 
 def call(env, request):

@@ -11,6 +11,7 @@ import select
 import signal
 import subprocess
 import termios
+import threading
 import time
 
 import pytest
@@ -37,17 +38,36 @@ def read_until(fd, text, timeout_s=60.0):
 
 
 class Echo:
-    """`rostopic echo -p` of the teleop's topic: rows of (speed, steering)."""
+    """`rostopic echo -p` of the teleop's topic: rows of (speed, steering), read as they come."""
 
     def __init__(self, env):
         self.proc = subprocess.Popen(["rostopic", "echo", "-p", TOPIC], env=env, stdout=subprocess.PIPE,
                                      stderr=subprocess.DEVNULL, text=True)
+        self._lines = []
+        self._reader = threading.Thread(target=self._read, daemon=True)
+        self._reader.start()
+
+    def _read(self):
+        for line in self.proc.stdout:
+            self._lines.append(line)
 
     def rows(self):
-        self.proc.send_signal(signal.SIGINT)
-        out = self.proc.communicate(timeout=60)[0]
-        reader = csv.DictReader(io.StringIO(out))
+        """The rows echoed so far."""
+        reader = csv.DictReader(io.StringIO("".join(list(self._lines))))
         return [(float(r["field.drive.speed"]), float(r["field.drive.steering_angle"])) for r in reader]
+
+    def rows_once(self, predicate, what, timeout_s=60.0):
+        """The rows once predicate(rows) holds (another process's output: polled, not slept for)."""
+        end = time.monotonic() + timeout_s
+        while not predicate(self.rows()):
+            assert time.monotonic() < end, "timed out waiting for %s: %r" % (what, self.rows()[-5:])
+            time.sleep(0.1)
+        return self.rows()
+
+    def stop(self):
+        self.proc.send_signal(signal.SIGINT)
+        self.proc.wait(timeout=60)
+        self._reader.join(timeout=60)
 
 
 def start_teleop(core, *args):
@@ -91,8 +111,10 @@ def test_teleop_keys_drive_and_quitting_stops_and_restores_the_terminal(core, ho
     finally:
         if proc.poll() is None:
             proc.kill()
-    time.sleep(1.0)  # the last command reaches rostopic
-    rows = echo.rows()
+    try:
+        rows = echo.rows_once(lambda rows: rows and rows[-1][0] == 0.0, "the stop command in rostopic echo")
+    finally:
+        echo.stop()
     assert (0.5, pytest.approx(0.05)) in rows
     assert rows[-1][0] == 0.0, rows[-5:]
     assert termios.tcgetattr(slave_fd) == before
