@@ -47,3 +47,14 @@ def test_reaches_the_next_crosswalk_within_the_zone():
     assert not cw.reached()  # once
     cw.on_sighting(True, 2.0)  # at a crosswalk: sightings ignored
     assert cw.to_near_edge_m == pytest.approx(0.1)
+
+
+def test_reaches_within_a_zone_given_for_this_step():
+    cw = make()
+    cw.advance(0.6)
+    cw.left()
+    cw.advance(1.0)
+    cw.on_sighting(True, 0.5)
+    cw.advance(0.3)  # 0.2 m to go: beyond the tracker's zone, within 0.25
+    assert not cw.reached(0.1) and not cw.at_crosswalk
+    assert cw.reached(0.25) and cw.at_crosswalk
