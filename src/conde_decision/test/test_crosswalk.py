@@ -34,12 +34,18 @@ def test_sightings_are_ignored_until_rearmed():
     assert cw.to_near_edge_m == 0.9
 
 
-def test_reaches_the_next_crosswalk_within_the_zone():
+def past_the_first_and_sighting_the_next(distance_m):
+    """Off the start crosswalk, rearmed, and the next one sighted distance_m [m] ahead."""
     cw = make()
     cw.advance(0.6)
     cw.left()
     cw.advance(1.0)
-    cw.on_sighting(True, 0.5)
+    cw.on_sighting(True, distance_m)
+    return cw
+
+
+def test_reaches_the_next_crosswalk_within_the_zone():
+    cw = past_the_first_and_sighting_the_next(0.5)
     cw.advance(0.3)
     assert not cw.reached()
     cw.advance(0.1)
@@ -47,3 +53,10 @@ def test_reaches_the_next_crosswalk_within_the_zone():
     assert not cw.reached()  # once
     cw.on_sighting(True, 2.0)  # at a crosswalk: sightings ignored
     assert cw.to_near_edge_m == pytest.approx(0.1)
+
+
+def test_reaches_within_a_zone_given_for_this_step():
+    cw = past_the_first_and_sighting_the_next(0.5)
+    cw.advance(0.3)  # 0.2 m to go: beyond the tracker's zone, within 0.25
+    assert not cw.reached(0.1) and not cw.at_crosswalk
+    assert cw.reached(0.25) and cw.at_crosswalk

@@ -288,6 +288,32 @@ def test_two_laps_then_end_of_trial():
     assert lap1_s < road.logic.lap_counter.lap_times_s[1] < lap1_s + 2.0  # braking at the end costs a little
 
 
+def test_end_of_trial_stands_at_the_finish_margin_not_the_stop_margin():
+    """Major Alvega stops for the panel's stop 0.8 m before the crosswalk (its panel camera keeps
+    the panel in view); at the end of trial, with nothing left to read, at finish_margin_m, so that
+    the last lap reaches the referee's start line."""
+    config = dict(stop_margin_m=0.8, crosswalk_zone_m=0.85, finish_margin_m=0.25)
+    road = make(**config)
+    signal(road, FORWARD)
+    road.drive_m(4 * HALF_LAP_M - 2.0)
+    signal(road, END_OF_TRIAL)
+    out = road.until("crosswalk_reached")
+    assert out.events == ["crosswalk_reached", "lap_completed"] and out.state == "finished"
+    assert road.positions[-1] == pytest.approx(4 * HALF_LAP_M - 0.30, abs=STEP_M)  # 0.85 - 0.8 + 0.25
+    road.run(2.0)
+    stand_s = road.stand_still_at(1.0)
+    assert 4 * HALF_LAP_M - 0.30 <= stand_s < 4 * HALF_LAP_M - 0.15
+    # The panel's stop on the same robot: still stop_margin_m before the crosswalk.
+    road = make(**config)
+    signal(road, FORWARD)
+    road.drive_m(2 * HALF_LAP_M - 2.0)
+    signal(road, STOP)
+    road.until("crosswalk_reached")
+    road.run(3.0)
+    stand_s = road.stand_still_at(1.0)
+    assert road.logic.state == "stopped" and 2 * HALF_LAP_M - 0.85 <= stand_s < 2 * HALF_LAP_M - 0.7
+
+
 def test_crossings_and_laps_are_counted_on_arrival():
     road = make()
     signal(road, FORWARD)

@@ -31,6 +31,15 @@ def test_stop_at_crosswalk_brakes_to_stand_before_the_margin():
     assert profile.target_mps("stop_at_crosswalk", -0.05) == 0.0  # latched: overshoot still stops
 
 
+def test_stop_at_finish_brakes_to_stand_before_the_finish_margin():
+    profile = SpeedProfile(cruise_speed_mps=0.5, ramp_mps2=1.0, brake_decel_mps2=0.5, stop_margin_m=0.8,
+                           finish_margin_m=0.25)
+    assert profile.target_mps("stop_at_finish", 0.35) == pytest.approx(math.sqrt(2 * 0.5 * 0.1))
+    assert profile.target_mps("stop_at_crosswalk", 0.35) == 0.0  # the stop margin: already there
+    assert profile.target_mps("stop_at_finish", 0.25) == 0.0
+    assert make().target_mps("stop_at_finish", 0.2) == pytest.approx(math.sqrt(2 * 0.5 * 0.1))  # default: stop_margin_m
+
+
 def test_on_the_crosswalk_when_the_state_begins_drives_on_to_the_next():
     profile = make()
     assert profile.target_mps("stop_at_crosswalk", -0.05) == 0.5 and not profile.stop_latched

@@ -127,7 +127,7 @@ MODIFIED = [
      "states.stopped.command.lane: unknown lane 'left' (expected one of: own, other)"),
     ("unknown_speed", in_command("follow_lane", lambda c: c.update(speed="fast")),
      "states.follow_lane.command.speed: unknown speed 'fast' (expected one of: cruise, stop, stop_at_crosswalk, "
-     "creep, reverse)"),
+     "stop_at_finish, creep, reverse)"),
     ("missing_speed", in_command("follow_lane", lambda c: c.pop("speed")),
      "states.follow_lane.command: missing key 'speed'"),
     ("missing_command", lambda d: d["states"]["parked"].pop("command"), "states.parked: missing key 'command'"),

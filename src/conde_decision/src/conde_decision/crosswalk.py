@@ -33,9 +33,11 @@ class CrosswalkTracker:
         if not self.at_crosswalk and rearmed and seen and math.isfinite(distance_m):
             self.to_near_edge_m = distance_m
 
-    def reached(self) -> bool:
-        """True once, when the robot arrives at the crosswalk ahead."""
-        if self.to_near_edge_m is not None and not self.at_crosswalk and self.to_near_edge_m <= self.zone_m:
+    def reached(self, zone_m: Optional[float] = None) -> bool:
+        """True once, when the robot arrives at the crosswalk ahead (within zone_m [m] of its near
+        edge; None: the tracker's zone_m)."""
+        zone_m = self.zone_m if zone_m is None else zone_m
+        if self.to_near_edge_m is not None and not self.at_crosswalk and self.to_near_edge_m <= zone_m:
             self.at_crosswalk = True
             return True
         return False

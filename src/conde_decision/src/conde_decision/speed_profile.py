@@ -3,6 +3,7 @@ Pure Python, no ROS.
 
 ``cruise``: cruise_speed_mps; ``stop``: 0; ``stop_at_crosswalk``: cruise, braking at
 brake_decel_mps2 so as to stand stop_margin_m before the near edge of the crosswalk ahead;
+``stop_at_finish``: the same, finish_margin_m before it (the end of trial: no panel left to read);
 ``creep`` / ``reverse`` (parking manoeuvres): +park_speed_mps / -park_speed_mps.  The
 speed approaches its target at ramp_mps2, conde_control's acceleration limit, so that the speed
 commanded is the speed the robot drives (the decision dead-reckons with it)."""
@@ -16,11 +17,12 @@ from conde_decision.parking import manoeuvre_speed_mps
 
 class SpeedProfile:
     def __init__(self, cruise_speed_mps: float, ramp_mps2: float, brake_decel_mps2: float, stop_margin_m: float,
-                 park_speed_mps: float = 0.2):
+                 park_speed_mps: float = 0.2, finish_margin_m: Optional[float] = None):
         self.cruise_speed_mps = cruise_speed_mps
         self.park_speed_mps = park_speed_mps
         self.brake_decel_mps2 = brake_decel_mps2
         self.stop_margin_m = stop_margin_m
+        self.finish_margin_m = stop_margin_m if finish_margin_m is None else finish_margin_m
         self._ramp = RateLimiter(ramp_mps2)
         self.stop_latched = False  # stop_at_crosswalk has committed to stopping at this crosswalk
 
@@ -47,11 +49,13 @@ class SpeedProfile:
         manoeuvre_mps = manoeuvre_speed_mps(speed, self.park_speed_mps)
         if manoeuvre_mps is not None:
             return manoeuvre_mps
-        # stop_at_crosswalk: a constant-deceleration profile ending stop_margin_m before the near
-        # edge.  Once committed it holds even if dead reckoning overshoots the edge; a state that
-        # begins with the robot already on the crosswalk drives on to the next one.
+        # stop_at_crosswalk / stop_at_finish: a constant-deceleration profile ending stop_margin_m /
+        # finish_margin_m before the near edge.  Once committed it holds even if dead reckoning
+        # overshoots the edge; a state that begins with the robot already on the crosswalk drives on
+        # to the next one.
         if to_near_edge_m is None or (to_near_edge_m < 0.0 and not self.stop_latched):
             return self.cruise_speed_mps
         self.stop_latched = True
-        room_m = max(0.0, to_near_edge_m - self.stop_margin_m)
+        margin_m = self.finish_margin_m if speed == "stop_at_finish" else self.stop_margin_m
+        room_m = max(0.0, to_near_edge_m - margin_m)
         return min(self.cruise_speed_mps, math.sqrt(2.0 * self.brake_decel_mps2 * room_m))

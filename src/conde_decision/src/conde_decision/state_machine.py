@@ -7,7 +7,7 @@ File format (see config/conde_states.yaml):
       follow_lane:
         description: free text         # optional
         command:                       # what the robot does in this state
-          speed: cruise                # cruise | stop | stop_at_crosswalk | creep | reverse
+          speed: cruise                # cruise | stop | stop_at_crosswalk | stop_at_finish | creep | reverse
                                        # (creep / reverse: slowly forward / backward, blind:
                                        # an arc with branch and radius_m, else straight on)
           branch: none                 # none | left | right (optional, default none)
@@ -79,7 +79,7 @@ EVENTS = OrderedDict([
     ("lane_returned", "in a state with command.lane own after a lane change, the robot is back on its lane's centre"),
 ])
 
-SPEEDS = ("cruise", "stop", "stop_at_crosswalk", "creep", "reverse")
+SPEEDS = ("cruise", "stop", "stop_at_crosswalk", "stop_at_finish", "creep", "reverse")
 BRANCHES = ("none", "left", "right")
 LANES = ("own", "other")  # command.lane: drive in the robot's own lane or in the other (left) lane
 TOP_KEYS = ("initial", "states")
