@@ -17,7 +17,8 @@ def load(name):
     """The rows of fixtures/<name>: dicts of floats (ints for INT_FIELDS, strings for STRING_FIELDS), empty
     cells left out."""
     with open(os.path.join(FIXTURES_DIR, name)) as f:
-        return [{k: (int(v) if k in INT_FIELDS else v if k in STRING_FIELDS else float(v)) for k, v in row.items() if v != ""}
+        return [{k: (int(v) if k in INT_FIELDS else v if k in STRING_FIELDS else float(v))
+                 for k, v in row.items() if v != ""}
                 for row in csv.DictReader(f)]
 
 
