@@ -10,12 +10,15 @@ from types import SimpleNamespace
 
 FIXTURES_DIR = os.path.join(os.path.dirname(os.path.abspath(__file__)), "fixtures")
 INT_FIELDS = ("signal", "lane_index", "crosswalk_seen")
+STRING_FIELDS = ("kind", "command_lane")
 
 
 def load(name):
-    """The rows of fixtures/<name>: dicts of floats (ints for INT_FIELDS), empty cells left out."""
+    """The rows of fixtures/<name>: dicts of floats (ints for INT_FIELDS, strings for STRING_FIELDS), empty
+    cells left out."""
     with open(os.path.join(FIXTURES_DIR, name)) as f:
-        return [{k: (int(v) if k in INT_FIELDS else v if k == "kind" else float(v)) for k, v in row.items() if v != ""}
+        return [{k: (int(v) if k in INT_FIELDS else v if k in STRING_FIELDS else float(v))
+                 for k, v in row.items() if v != ""}
                 for row in csv.DictReader(f)]
 
 

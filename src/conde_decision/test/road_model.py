@@ -217,7 +217,9 @@ class Road:
             moved_m = ((wanted_m - self.own_offset_m) * min(1.0, DT_S / OFFSET_TIME_CONSTANT_S)
                        + ds * math.tan(out.heading_ref_rad))
             self.own_offset_m += moved_m
-            self.heading_error_rad = math.atan2(moved_m, ds) if ds > 0 else 0.0
+            heading_error_rad = math.atan2(moved_m, ds) if ds > 0 else 0.0
+            self.yaw_rad += heading_error_rad - self.heading_error_rad  # the odometry turns with the robot
+            self.heading_error_rad = heading_error_rad
         self.turned_rad = self.turned_rad + out.path_curvature_per_m * ds if out.path_curvature_per_m != 0.0 else 0.0
         if out.path_curvature_per_m != 0.0:
             self.yaw_rad += out.path_curvature_per_m * ds

@@ -36,6 +36,13 @@ edge at the floor, lateral extent at their base from the tracked lane's centre l
   dead-reckoned one re-anchors it.  Without a usable lane the heading error is the last usable one
   plus the turn since then by odometry (not integrated at all without odometry).  Offset and
   reference go to conde_control in the own lane's frame.
+* While active, a usable measurement whose heading error is more than heading_gate_rad (plus
+  heading_gate_per_m per m driven since the last one taken: the lane turns under the robot) from
+  the one dead-reckoned by odometry is not taken (lane_rejected): the offset is dead-reckoned and the
+  heading given to the control is the dead-reckoned one (heading_error_rad).  At 60-70 deg off the
+  lane the tracker fits lines that are not the lane's (D3, Bullet, track seed 2: -0.45 rad read
+  at -1.1 by ground truth, then +0.43 at -1.23, with lane_index 0 on the lane's centre line, 0.31 m
+  off): taken, they turned the robot round on the road.
 * Events: obstacle_ahead (a blocker's near edge ahead, within edge_seen_from_m..avoid_trigger_m),
   lane_changed (lane other, the reference is on the other lane and the robot within
   settle_tolerance_m of it), obstacle_passed (lane other, every blocker seen is avoid_clearance_m
@@ -91,6 +98,12 @@ class AvoidanceConfig:
     # earlier than on the way it passed) the follower took the full offset and the robot overshot onto the edge line
     return_heading_rad: float = 0.15
     max_delay_m: float = 2.0  # a delayed fork / merge event is dropped after this distance driven [m]
+    # While active, a measurement whose heading error is this far [rad] from the one dead-reckoned by
+    # odometry since the last measurement taken is not taken ...
+    heading_gate_rad: float = 0.4
+    # ... plus this per m driven since then [rad/m] (the lane's turn under the robot: 1 / 0.97 m, the
+    # tightest curve, a fork's arc)
+    heading_gate_per_m: float = 1.0
 
     def check(self) -> "AvoidanceConfig":
         for f in fields(self):
@@ -116,6 +129,9 @@ class AvoidanceStep:
     heading_ref_rad: float = 0.0  # heading reference: the ramp's direction while it moves (+ = left) [rad]
     own_lane_offset_m: float = float("nan")  # the robot from the own lane's centre (+ = left) [m]
     active: bool = False  # a lane change or the way back: control on own_lane_offset_m and offset_ref_m
+    # the heading error dead-reckoned with [rad] (nan: not known); the control's when lane_rejected
+    heading_error_rad: float = float("nan")
+    lane_rejected: bool = False  # a usable measurement not taken: its heading is not the odometry's
 
 
 class Avoidance:
@@ -133,6 +149,7 @@ class Avoidance:
         self.own_offset_m: Optional[float] = None  # dead-reckoned and re-anchored, while active [m]
         self.spacing_m = config.lane_spacing_m  # the lanes' centres apart: the last measured [m]
         self.lane_yaw_rad: Optional[float] = None  # the lane's direction by odometry at the last usable frame [rad]
+        self._taken_m = 0.0  # travelled_m at the last usable frame taken [m]
         self._last_travelled_m: Optional[float] = None
 
     @property
@@ -169,10 +186,15 @@ class Avoidance:
         if lane_ok and math.isfinite(lane_spacing_m) and lane_spacing_m > 0:
             self.spacing_m = lane_spacing_m
         spacing_m = self.spacing_m
-        heading_rad = self._heading(lane_ok, heading_error_rad, yaw_rad)
         other = lane_command == "other"
         if other:
             self.changed = True
+        if self.active and lane_ok and not self._plausible(heading_error_rad, yaw_rad, travelled_m):
+            lane_ok, out.lane_rejected = False, True
+        if lane_ok:
+            self._taken_m = travelled_m
+        heading_rad = self._heading(lane_ok, heading_error_rad, yaw_rad)
+        out.heading_error_rad = float("nan") if heading_rad is None else heading_rad
         if self.active:
             if self.own_offset_m is None:
                 self.own_offset_m = lane_offset_m + tracked_shift_m if lane_ok else 0.0
@@ -236,6 +258,15 @@ class Avoidance:
             out.control_ref_m = own_offset_m + min(max(self.ref_m - own_offset_m, -limit_m), limit_m)
         out.active = self.active
         return out
+
+    def _plausible(self, heading_error_rad: float, yaw_rad: Optional[float], travelled_m: float) -> bool:
+        """Whether a usable measurement's heading error is near the one dead-reckoned by odometry since
+        the last measurement taken (true when that is not known)."""
+        if yaw_rad is None or self.lane_yaw_rad is None:
+            return True
+        c = self.config
+        allowed_rad = c.heading_gate_rad + c.heading_gate_per_m * max(0.0, travelled_m - self._taken_m)
+        return abs(heading_error_rad - (yaw_rad - self.lane_yaw_rad)) <= allowed_rad
 
     def _heading(self, lane_ok: bool, heading_error_rad: float, yaw_rad: Optional[float]) -> Optional[float]:
         """The heading error to dead-reckon with [rad]: the measured one when the lane is usable (the

@@ -464,6 +464,8 @@ class DecisionLogic:
         if avoid.active and math.isfinite(avoid.own_lane_offset_m):  # a lane change: the own lane's frame
             offset_m = avoid.own_lane_offset_m
         heading_rad = lane.heading_error_rad if lane_ok and not blind_arc else heading_ref_rad
+        if avoid.lane_rejected and math.isfinite(avoid.heading_error_rad):  # not the odometry's heading
+            heading_rad = avoid.heading_error_rad
         return DecisionOutput(self.state, self.last_event, offset_m, offset_ref_m, heading_rad, heading_ref_rad,
                               v_mps, curvature_per_m, list(self._transitions), list(self._events), lane_lost)
 
