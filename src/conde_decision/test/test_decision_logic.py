@@ -516,7 +516,7 @@ def test_bay_entry_lead_is_the_straight_and_the_turns_radius_of_the_states_it_le
 # --- lane lost ------------------------------------------------------------------------------------
 
 def test_lost_lane_holds_course_then_stops_then_resumes():
-    road = make()
+    road = make(recovery_max_tries=0)  # without the recovery (test_lane_recovery.py)
     signal(road, FORWARD)
     road.drive_m(3.0)
     road.lane_confidence = 0.0

@@ -90,6 +90,10 @@ bay begins, anchored on its lines.
 Safety: when the lane confidence is below min_lane_confidence the measured offset and heading
 are replaced by their references (the robot holds its course, e.g. over the crosswalk stripes);
 after lane_lost_timeout_s without a confident lane the speed goes to 0 until the lane is back.
+In a state that drives along the lane the robot then tries to find it again (lane_recovery.py):
+it reverses straight the way it came since the last confident lane (at most recovery_distance_m, at
+recovery_speed_mps), then creeps up to recovery_distance_m ahead, steering onto the lane as it was
+last seen, dead-reckoned by odometry; up to recovery_max_tries times before it stands.
 """
 
 import math
@@ -104,6 +108,7 @@ from conde_decision.crosswalk import CrosswalkTracker
 from conde_decision.fork_navigator import ForkNavigator
 from conde_decision.junction_corners import JunctionCorners, visible_sides
 from conde_decision.lane_frame import UNKNOWN_LANE, LaneFrame, lane_frame
+from conde_decision.lane_recovery import AHEAD, BACK, REJOIN, LaneRecovery, RecoveryConfig
 from conde_decision.lap_counter import LapCounter
 from conde_decision.order_gate import OrderGate
 from conde_decision.parking import (BLIND_SPEEDS, PARKING_PLACES, PARKING_SEARCH_EVENTS, BayFinder,
@@ -193,6 +198,12 @@ class DecisionConfig:
     order_crosswalk_range_m: float = 2.0
     min_lane_confidence: float = 0.3  # lane measurements below this confidence are not used
     lane_lost_timeout_s: float = 1.0  # stop after this long without a confident lane [s]
+    # then, in a state driving along the lane, recover (lane_recovery.py): |speed| [m/s], ...
+    recovery_speed_mps: float = RecoveryConfig.speed_mps
+    recovery_distance_m: float = RecoveryConfig.distance_m  # ... way back and ahead in each try [m]
+    recovery_max_tries: int = RecoveryConfig.max_tries  # ... tries before standing for good (0: no recovery)
+    recovery_reset_m: float = RecoveryConfig.reset_m  # ... counted from 0 again after this far on a lane [m]
+    recovery_rejoin_m: float = RecoveryConfig.rejoin_m  # ... the lane found: at most recovery_speed_mps this far [m]
     max_step_s: float = 1.0  # longest time step dead-reckoned at once [s] (gaps in the input)
     park_speed_mps: float = 0.2  # |speed| of the parking manoeuvres (speeds creep and reverse) [m/s]
     # where to park on the parking order: auto (the place seen, parking.py) | parallel | bay_north | bay_south
@@ -280,7 +291,8 @@ class DecisionOutput:
     path_curvature_per_m: float = 0.0  # of the arc being driven blind (+ = left), 0 = follow the lane
     transitions: List[Tuple[str, str, str]] = field(default_factory=list)  # (from, event, to) that fired
     events: List[str] = field(default_factory=list)  # every event produced, fired or ignored
-    lane_lost: bool = False  # the speed is held at 0 because no confident lane was seen for too long
+    lane_lost: bool = False  # no confident lane for lane_lost_timeout_s: the speed is held at 0 (or recovering)
+    recovery: str = ""  # the lane recovery's phase (lane_recovery.py): "", back, ahead, gave_up
 
 
 class DecisionLogic:
@@ -319,6 +331,9 @@ class DecisionLogic:
         self.last_signal = NONE
         self.orders = OrderGate(config.order_hold_s)  # which signals count as orders (order_gate.py)
         self.lane_bad_since_s: Optional[float] = None
+        self.recovery = LaneRecovery(RecoveryConfig(config.recovery_speed_mps, config.recovery_distance_m,
+                                                    config.recovery_max_tries, config.recovery_reset_m,
+                                                    config.recovery_rejoin_m))
         self.notes: List[str] = []
         self._transitions: List[Tuple[str, str, str]] = []
         self._events: List[str] = []
@@ -393,7 +408,9 @@ class DecisionLogic:
         self._transitions, self._events, self.notes = [], [], []
         dt_s = 0.0 if self.last_time_s is None else min(max(time_s - self.last_time_s, 0.0), c.max_step_s)
         self.last_time_s = time_s
-        self.crosswalk.advance(self.road.advance(abs(self.speed.v_mps) * dt_s))
+        step_m = self.road.advance(abs(self.speed.v_mps) * dt_s)
+        recovering_back = self.speed.v_mps < 0.0 and self.recovery.phase in (BACK, AHEAD)
+        self.crosswalk.advance(-step_m if recovering_back else step_m)  # the recovery's way back
         self.crosswalk.on_sighting(lane.crosswalk_seen, lane.crosswalk_distance_m)
         self._road_direction(lane)
         tracked_lanes_left = self._tracked_lanes_left(lane)
@@ -426,6 +443,9 @@ class DecisionLogic:
             self.forks.on_lane_measured(lane.lateral_offset_m, lane.confidence >= 1.0, c.own_lane_offset_m, lane_index)
         frame = self._lane_frame(lane, lane_ok)
         measured_offset_m = frame.own_offset_m
+        if lane_ok and not blind_arc:
+            self.recovery.on_confident_lane(self.road.yaw_rad, lane.heading_error_rad, measured_offset_m,
+                                            self.road.travelled_m)
         if lane_ok or blind_arc:
             self.lane_bad_since_s = None
         elif self.lane_bad_since_s is None:
@@ -447,7 +467,16 @@ class DecisionLogic:
             self._fire(delayed)
         command = self.machine.command
 
-        v_mps = self.speed.step(command.speed, self.crosswalk.to_near_edge_m, dt_s, hold=lane_lost)
+        may_move = (lane_lost and not blind_arc and command.speed != "stop"
+                    and self.speed.target_mps(command.speed, self.crosswalk.to_near_edge_m) > 0.0)
+        recovery = self.recovery.step(lane_lost, may_move, self.road.yaw_rad, self.road.travelled_m, recovering_back)
+        if self.recovery.note:
+            self.notes.append(self.recovery.note)
+        target_mps = recovery.speed_mps if recovery.active else None
+        if recovery.phase == REJOIN:  # the lane found again: slowly until the follower has it
+            target_mps = min(recovery.speed_mps, self.speed.target_mps(command.speed, self.crosswalk.to_near_edge_m))
+        v_mps = self.speed.step(command.speed, self.crosswalk.to_near_edge_m, dt_s, hold=lane_lost,
+                                target_mps=target_mps)
         if v_mps > 0.0:
             self.lap_counter.on_motion(time_s)
 
@@ -466,8 +495,12 @@ class DecisionLogic:
         heading_rad = lane.heading_error_rad if lane_ok and not blind_arc else heading_ref_rad
         if avoid.lane_rejected and math.isfinite(avoid.heading_error_rad):  # not the odometry's heading
             heading_rad = avoid.heading_error_rad
+        if recovery.active:  # back straight, or onto the lane by odometry (lane_recovery.py)
+            offset_m = recovery.lateral_offset_m if recovery.phase == AHEAD else offset_ref_m
+            heading_rad, heading_ref_rad, curvature_per_m = recovery.heading_error_rad, 0.0, 0.0
         return DecisionOutput(self.state, self.last_event, offset_m, offset_ref_m, heading_rad, heading_ref_rad,
-                              v_mps, curvature_per_m, list(self._transitions), list(self._events), lane_lost)
+                              v_mps, curvature_per_m, list(self._transitions), list(self._events), lane_lost,
+                              recovery.phase)
 
     # --- internals ------------------------------------------------------------------------------
 

@@ -35,10 +35,13 @@ class SpeedProfile:
         """Forget the crosswalk committed to (a new state, or the robot left the crosswalk)."""
         self.stop_latched = False
 
-    def step(self, speed: str, to_near_edge_m: Optional[float], dt_s: float, hold: bool = False) -> float:
+    def step(self, speed: str, to_near_edge_m: Optional[float], dt_s: float, hold: bool = False,
+             target_mps: Optional[float] = None) -> float:
         """The speed [m/s] after dt_s [s] for the command `speed`, with the near edge of the
-        crosswalk ahead to_near_edge_m [m] away (None: unknown); hold: ramp to 0 instead."""
-        target_mps = 0.0 if hold else self.target_mps(speed, to_near_edge_m)
+        crosswalk ahead to_near_edge_m [m] away (None: unknown); hold: ramp to 0 instead;
+        target_mps: ramp to that instead of either (the lane recovery)."""
+        if target_mps is None:
+            target_mps = 0.0 if hold else self.target_mps(speed, to_near_edge_m)
         return self._ramp.step(target_mps, dt_s)
 
     def target_mps(self, speed: str, to_near_edge_m: Optional[float]) -> float:

@@ -1,0 +1,153 @@
+"""Recovering a lost lane.  Pure Python, no ROS.
+
+After the lane-lost hold (no confident lane for lane_lost_timeout_s) a robot that stands still
+sees the same view for ever: standing over a line, no lane comes back.  LaneRecovery moves it so
+that the cameras see something else, slowly and a bounded distance at a time:
+
+1. ``back``: reverse straight at speed_mps the way it came since the last confident lane (a robot
+   without a confident lane holds its course), at most distance_m [m];
+2. ``ahead``: forward at speed_mps for up to distance_m, steering back onto the lane as it was last
+   seen, dead-reckoned by odometry: the road's direction there (heading less the measured heading
+   error) and the lateral offset from it (the offset measured there plus the path's sideways part).
+
+A confident lane seen in either phase ends the try: the lane follower takes over, at no more than
+speed_mps until it has driven rejoin_m on a confident lane (``rejoin``): faster, conde_control's
+turn-rate limits make it swing across the lane and lose it again.  After max_tries
+tries without a lane the robot stands for good (gave_up, with a note saying why).  The count of
+tries goes back to 0 once the robot has driven reset_m [m] with a confident lane.
+
+Without odometry (no heading) there is no road direction: no recovery, the hold stays.
+The caller decides when the robot may be moved (a state that drives along the lane, not a blind
+manoeuvre or a state that stands)."""
+
+import math
+from dataclasses import dataclass
+from typing import Optional
+
+IDLE, BACK, AHEAD, REJOIN, GAVE_UP = "", "back", "ahead", "rejoin", "gave_up"
+
+
+@dataclass(frozen=True)
+class RecoveryConfig:
+    speed_mps: float = 0.15  # |speed| while recovering [m/s]
+    distance_m: float = 0.8  # longest way driven in each phase of a try [m]
+    max_tries: int = 2  # tries (back + ahead) before the robot stands for good
+    reset_m: float = 1.0  # the tries count from 0 again after this far driven on a confident lane [m]
+    rejoin_m: float = 0.4  # after a try found the lane: at most speed_mps for this far on a confident lane [m]
+
+    def check(self) -> "RecoveryConfig":
+        for name in ("speed_mps", "distance_m", "reset_m", "rejoin_m"):
+            value = getattr(self, name)
+            if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
+                raise ValueError("recovery_%s: must be a finite number > 0, got %r" % (name, value))
+        if not (isinstance(self.max_tries, int) and not isinstance(self.max_tries, bool) and self.max_tries >= 0):
+            raise ValueError("recovery_max_tries: expected an integer >= 0, got %r" % (self.max_tries,))
+        return self
+
+
+@dataclass(frozen=True)
+class RecoveryCommand:
+    """What the recovery asks for in this step (phase IDLE / GAVE_UP: nothing, the hold stays;
+    REJOIN: the lane follower at no more than speed_mps)."""
+
+    phase: str
+    speed_mps: float = 0.0  # signed [m/s]
+    heading_error_rad: float = 0.0  # robot heading less the road direction [rad] (+ = robot left of it)
+    lateral_offset_m: float = 0.0  # from the lane's centre by dead reckoning [m] (+ = left)
+
+    @property
+    def active(self) -> bool:
+        return self.phase in (BACK, AHEAD)
+
+
+class LaneRecovery:
+    def __init__(self, config: RecoveryConfig = RecoveryConfig()):
+        self.config = config.check()
+        self.phase = IDLE
+        self.tries = 0
+        self.road_direction_rad: Optional[float] = None  # at the last confident lane (odometry frame) [rad]
+        self.note = ""  # set in the step where something worth logging happened
+        self._phase_start_m = 0.0
+        self._ok_since_m: Optional[float] = None
+        self.offset_m = 0.0  # from the lane's centre, dead-reckoned from the last confident lane [m] (+ = left)
+        self._last_ok_m = 0.0  # travelled_m at the last confident lane [m]
+        self._back_m = 0.0  # the way back of this try [m]
+        self._travelled_m: Optional[float] = None  # at the last step [m]
+
+    def on_confident_lane(self, yaw_rad: Optional[float], heading_error_rad: float, lateral_offset_m: float,
+                          travelled_m: float) -> None:
+        """A confident lane measurement (outside blind manoeuvres): the road's direction and the
+        offset from the lane's centre [m], and the end of any try."""
+        if yaw_rad is not None and math.isfinite(heading_error_rad):
+            self.road_direction_rad = yaw_rad - heading_error_rad
+        self.offset_m = lateral_offset_m if math.isfinite(lateral_offset_m) else 0.0
+        self._last_ok_m = travelled_m
+        if self.phase in (BACK, AHEAD):
+            self.note = "lane recovery: lane seen again (%s, try %d of %d)" % (
+                self.phase, self.tries, self.config.max_tries)
+            self.phase = REJOIN
+            self._ok_since_m = None
+        if self._ok_since_m is None:
+            self._ok_since_m = travelled_m
+        if self.phase == REJOIN and travelled_m - self._ok_since_m >= self.config.rejoin_m:
+            self.phase = IDLE
+        if self.tries and travelled_m - self._ok_since_m >= self.config.reset_m:
+            self.tries = 0
+
+    def step(self, lost: bool, may_move: bool, yaw_rad: Optional[float], travelled_m: float,
+             backwards: bool = False) -> RecoveryCommand:
+        """One step.  lost: the lane-lost hold is on; may_move: the state drives along the lane;
+        yaw_rad: the odometry's unwrapped heading (None: unknown); travelled_m: path length [m]
+        (grows driving either way); backwards: the path since the last step was driven backwards."""
+        self.note = ""
+        if self._travelled_m is not None and yaw_rad is not None and self.road_direction_rad is not None:
+            step_m = max(0.0, travelled_m - self._travelled_m) * (-1.0 if backwards else 1.0)
+            self.offset_m += step_m * math.sin(yaw_rad - self.road_direction_rad)
+        self._travelled_m = travelled_m
+        return self._step(lost, may_move, yaw_rad, travelled_m)
+
+    def _step(self, lost: bool, may_move: bool, yaw_rad: Optional[float], travelled_m: float) -> RecoveryCommand:
+        if not lost:
+            if self.phase in (BACK, AHEAD, GAVE_UP):  # the hold ended without a confident lane (a blind state)
+                self.phase = IDLE
+            return RecoveryCommand(self.phase, self.config.speed_mps if self.phase == REJOIN else 0.0)
+        self._ok_since_m = None
+        if self.phase == REJOIN:
+            self.phase = IDLE
+        if not may_move or yaw_rad is None or self.road_direction_rad is None:
+            if self.phase in (BACK, AHEAD):
+                self.phase = IDLE
+            return RecoveryCommand(self.phase)
+        c = self.config
+        if self.phase == IDLE:
+            if self.tries >= c.max_tries:
+                self.phase = GAVE_UP
+                self.note = ("lane recovery: no lane after %d tries (back and ahead %.2f m each): "
+                             "standing" % (self.tries, c.distance_m))
+                return RecoveryCommand(self.phase)
+            self.tries += 1
+            self._back_m = min(c.distance_m, travelled_m - self._last_ok_m)
+            self._start(BACK, travelled_m)
+        if self.phase == BACK and travelled_m - self._phase_start_m >= self._back_m:
+            self._start(AHEAD, travelled_m)
+        elif self.phase == AHEAD and travelled_m - self._phase_start_m >= c.distance_m:
+            self.phase = IDLE
+            self.note = "lane recovery: try %d of %d found no lane" % (self.tries, c.max_tries)
+            return RecoveryCommand(self.phase)
+        if self.phase == GAVE_UP:
+            return RecoveryCommand(self.phase)
+        if self.phase == BACK:  # straight back
+            return RecoveryCommand(self.phase, -c.speed_mps)
+        heading_error_rad = math.remainder(yaw_rad - self.road_direction_rad, 2.0 * math.pi)
+        return RecoveryCommand(self.phase, c.speed_mps, heading_error_rad, self.offset_m)
+
+    def _start(self, phase: str, travelled_m: float) -> None:
+        self.phase = phase
+        self._phase_start_m = travelled_m
+        if phase == BACK:
+            what = "reversing %.2f m (the way it came)" % self._back_m
+        else:
+            what = "creeping ahead up to %.2f m back onto the lane by odometry (%.2f m off its centre)" % (
+                self.config.distance_m, self.offset_m)
+        self.note = "lane recovery: try %d of %d, %s at %.2f m/s" % (
+            self.tries, self.config.max_tries, what, self.config.speed_mps)

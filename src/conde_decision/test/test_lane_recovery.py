@@ -1,0 +1,223 @@
+"""The lane recovery (lane_recovery.py) alone, and in DecisionLogic driving a robot model steered by
+conde_control's control law: a robot standing over the lane's outer line at an angle finds its lane
+again; blind manoeuvres and standing states are not disturbed."""
+
+import math
+import os
+from dataclasses import replace
+
+import pytest
+from road_model import DT_S, Lane
+from test_decision_logic import CONFIG, CRUISE, FORWARD, PARKING, drive_to_parked, make, signal, states_passed
+
+from conde_decision.lane_recovery import (AHEAD, BACK, GAVE_UP, IDLE, REJOIN, LaneRecovery, RecoveryCommand,
+                                          RecoveryConfig)
+
+RECOVERY = RecoveryConfig()
+
+
+# --- the module alone ----------------------------------------------------------------------------
+
+def drive(recovery, lost, yaw_rad, travelled_m, steps, step_m=0.005):
+    """Steps with the lane lost; the path grows step_m per step.  Returns the commands and the path."""
+    commands = []
+    for _ in range(steps):
+        commands.append(recovery.step(lost, True, yaw_rad, travelled_m))
+        travelled_m += step_m
+    return commands, travelled_m
+
+
+@pytest.mark.parametrize("since_lane_m", [0.3, 2.0])
+def test_backs_the_way_it_came_then_creeps_ahead_toward_the_road_direction_bounded(since_lane_m):
+    recovery = LaneRecovery()
+    recovery.on_confident_lane(1.0, 0.2, 0.0, 5.0 - since_lane_m)  # the road runs at 0.8 rad
+    commands, _ = drive(recovery, True, 1.3, 5.0, 1000)
+    phases = [c.phase for c in commands]
+    back = phases.index(AHEAD)
+    assert phases[:back] == [BACK] * back
+    # back: the way driven since the last confident lane, at most distance_m; ahead: distance_m
+    assert back * 0.005 == pytest.approx(min(since_lane_m, RECOVERY.distance_m), abs=0.006)
+    ahead = phases.index(IDLE, back) - back
+    assert ahead * 0.005 == pytest.approx(RECOVERY.distance_m, abs=0.006)
+    assert all(c.speed_mps == -RECOVERY.speed_mps and c.heading_error_rad == 0.0 for c in commands
+               if c.phase == BACK)  # straight back
+    assert all(c.speed_mps == RECOVERY.speed_mps and c.heading_error_rad == pytest.approx(0.5) for c in commands
+               if c.phase == AHEAD)
+    # bounded: max_tries tries, then it stands for good
+    assert phases[-1] == GAVE_UP and recovery.tries == RECOVERY.max_tries
+    assert 2 * RECOVERY.distance_m <= (len(phases) - phases.count(GAVE_UP)) * 0.005 <= 4 * RECOVERY.distance_m + 0.03
+
+
+def test_the_offset_is_dead_reckoned_from_the_last_lane_seen():
+    recovery = LaneRecovery()
+    recovery.on_confident_lane(0.5, 0.5, -0.1, 0.0)  # road direction 0, 0.1 m right of the centre
+    recovery.step(True, True, 0.5, 0.0)
+    recovery.step(True, True, 0.5, 0.2)  # 0.2 m ahead, 0.5 rad to the left
+    assert recovery.offset_m == pytest.approx(-0.1 + 0.2 * math.sin(0.5))
+    recovery.step(True, True, 0.5, 0.3, backwards=True)  # 0.1 m back
+    assert recovery.offset_m == pytest.approx(-0.1 + 0.1 * math.sin(0.5))
+
+
+def test_gives_up_with_a_note_and_starts_afresh_after_driving_on_a_lane():
+    recovery = LaneRecovery(RecoveryConfig(max_tries=1))
+    recovery.on_confident_lane(0.0, 0.0, 0.0, 0.0)
+    notes = []
+    travelled_m = 1.0
+    for _ in range(400):
+        command = recovery.step(True, True, 0.0, travelled_m)
+        notes.append(recovery.note)
+        travelled_m += 0.005
+    assert command.phase == GAVE_UP and not command.active and command.speed_mps == 0.0
+    assert [n for n in notes if "standing" in n] == [
+        "lane recovery: no lane after 1 tries (back and ahead %.2f m each): standing" % RECOVERY.distance_m]
+    # the lane is back: the hold ends; after reset_m on the lane the tries count from 0 again
+    assert recovery.step(False, True, 0.0, travelled_m).phase == IDLE
+    recovery.on_confident_lane(0.0, 0.0, 0.0, travelled_m)
+    recovery.on_confident_lane(0.0, 0.0, 0.0, travelled_m + RECOVERY.reset_m)
+    assert recovery.tries == 0
+    assert recovery.step(True, True, 0.0, travelled_m + RECOVERY.reset_m + 0.1).phase == BACK
+
+
+def test_a_confident_lane_ends_the_try():
+    recovery = LaneRecovery()
+    recovery.on_confident_lane(0.0, 0.0, 0.0, 0.0)
+    assert recovery.step(True, True, 0.3, 2.0).phase == BACK
+    recovery.on_confident_lane(0.3, 0.25, 0.0, 2.01)
+    assert recovery.phase == REJOIN and recovery.note.startswith("lane recovery: lane seen again (back, try 1")
+    assert recovery.road_direction_rad == pytest.approx(0.05)
+    # slowly (speed_mps) on the lane found until rejoin_m on it
+    assert recovery.step(False, True, 0.3, 2.02) == RecoveryCommand(REJOIN, RECOVERY.speed_mps)
+    recovery.on_confident_lane(0.3, 0.25, 0.0, 2.02 + RECOVERY.rejoin_m)
+    assert recovery.step(False, True, 0.3, 2.5).phase == IDLE
+
+
+@pytest.mark.parametrize("may_move, yaw_rad, direction_known",
+                         [(False, 0.0, True), (True, None, True), (True, 0.0, False)])
+def test_no_recovery_where_the_robot_may_not_move_or_the_road_direction_is_unknown(
+        may_move, yaw_rad, direction_known):
+    recovery = LaneRecovery()
+    if direction_known:
+        recovery.on_confident_lane(0.0, 0.0, 0.0, 0.0)
+    command = recovery.step(True, may_move, yaw_rad, 1.0)
+    assert command.phase == IDLE and not command.active and command.speed_mps == 0.0
+
+
+@pytest.mark.parametrize("name, value", [("speed_mps", 0.0), ("distance_m", -1.0), ("reset_m", float("nan")),
+                                         ("max_tries", -1), ("max_tries", 1.5)])
+def test_bad_settings_are_named(name, value):
+    with pytest.raises(ValueError, match="recovery_" + name):
+        replace(RECOVERY, **{name: value}).check()
+
+
+def test_decision_config_names_the_bad_recovery_setting():
+    from conde_decision.decision_logic import DecisionLogic
+    from test_decision_logic import SPEC
+    with pytest.raises(ValueError, match="recovery_max_tries"):
+        DecisionLogic(SPEC, replace(CONFIG, recovery_max_tries=-2))
+
+
+# --- closed loop: DecisionLogic, conde_control's law, a robot beside a straight lane ----------------
+
+def controller():
+    from conde_control.control_law import LaneFollowingController, load_config
+    here = os.path.dirname(os.path.abspath(__file__))
+    return LaneFollowingController(load_config(os.path.join(here, "..", "..", "conde_control", "config",
+                                                            "control.yaml")))
+
+
+class BesideTheLane:
+    """A robot at lateral offset y_m [m] from its lane's centre (+ = left) heading heading_rad [rad]
+    off the lane's direction (north), driven by conde_control's law.  The cameras see the lane
+    (confidence 1) only while the robot heads within SEEN_HEADING_RAD of it and is within
+    SEEN_OFFSET_M of its centre (standing over the outer line, pointing off the road, they see
+    no lane), and in the first step: the robot's pose is where it saw its lane the last time."""
+
+    SEEN_HEADING_RAD = 0.35
+    SEEN_OFFSET_M = 0.45
+
+    def __init__(self, road, y_m, heading_rad):
+        self.logic, self.t = road.logic, road.t
+        self.path_m, self.y_m, self.heading_rad = road.path_m, y_m, heading_rad
+        self.control = controller()
+        self.outputs = []
+        self.offsets_m = []
+
+    def seen(self):
+        return not self.outputs or abs(self.heading_rad) < self.SEEN_HEADING_RAD and abs(self.y_m) < self.SEEN_OFFSET_M
+
+    def step(self):
+        self.logic.on_odometry(0.5 * math.pi + self.heading_rad, self.path_m)
+        lane = Lane(self.y_m, self.heading_rad, confidence=1.0 if self.seen() else 0.0)
+        out = self.logic.on_lane(lane, self.t)
+        self.outputs.append(out)
+        v_mps, omega_radps = self.control.update(out, DT_S)
+        self.y_m += v_mps * math.sin(self.heading_rad) * DT_S
+        self.offsets_m.append(self.y_m)
+        self.heading_rad += omega_radps * DT_S
+        self.path_m += abs(v_mps) * DT_S
+        self.t += DT_S
+        return out
+
+
+def test_a_robot_over_the_outer_line_at_an_angle_finds_its_lane_again():
+    road = make()
+    signal(road, FORWARD)
+    road.drive_m(3.0)
+    # the lane seen for the last time 0.3 m right of its centre pointing 34 deg off the road: holding
+    # its course for lane_lost_timeout_s the robot crosses the outer (right) line
+    robot = BesideTheLane(road, -0.3, -0.6)
+    for _ in range(int(20.0 / DT_S)):
+        robot.step()
+    outs = robot.outputs
+    assert min(y for y in robot.offsets_m) < -0.45  # over the outer line
+    phases = [o.recovery for o in outs]
+    assert BACK in phases and GAVE_UP not in phases
+    first_back = phases.index(BACK)
+    assert outs[first_back].lane_lost  # only after the hold
+    assert REJOIN in phases and all(o.linear_velocity_mps <= RECOVERY.speed_mps + 1e-9 for o in outs
+                                    if o.recovery == REJOIN)
+    assert min(o.linear_velocity_mps for o in outs) == pytest.approx(-RECOVERY.speed_mps)
+    # back on its lane, following it at cruise speed
+    assert abs(robot.y_m) < 0.05 and abs(robot.heading_rad) < 0.05 and robot.seen()
+    assert outs[-1].state == "follow_lane" and outs[-1].linear_velocity_mps == pytest.approx(CRUISE)
+    assert not outs[-1].lane_lost and outs[-1].recovery == IDLE
+
+
+def test_a_robot_that_never_sees_a_lane_stands_after_its_tries():
+    road = make()
+    signal(road, FORWARD)
+    road.drive_m(3.0)
+    robot = BesideTheLane(road, -0.3, -0.6)
+    robot.SEEN_OFFSET_M = 0.0  # nothing to see anywhere (but in the first step)
+    for _ in range(int(40.0 / DT_S)):
+        robot.step()
+    outs = robot.outputs
+    assert outs[-1].recovery == GAVE_UP and outs[-1].lane_lost and outs[-1].linear_velocity_mps == 0.0
+    driven_m = sum(abs(o.linear_velocity_mps) * DT_S for o in outs[int(2.0 / DT_S):])
+    assert driven_m <= 2 * RECOVERY.distance_m * RECOVERY.max_tries + 0.05
+
+
+def test_parking_without_a_lane_in_view_is_not_disturbed():
+    """The parking manoeuvres are blind (creep / reverse): no lane there is no lane lost."""
+    runs = []
+    for lane_seen in (True, False):
+        road = make(parking_place="parallel")
+        road.run(100 * DT_S)
+        signal(road, PARKING)
+        while road.logic.machine.command.speed not in ("creep", "reverse"):
+            road.step()
+        road.lane_confidence = 1.0 if lane_seen else 0.0
+        drive_to_parked(road)
+        road.run(2.0)
+        runs.append(road)
+    seen, unseen = runs
+    assert states_passed(unseen) == states_passed(seen)
+    assert unseen.positions == pytest.approx(seen.positions)
+    assert all(o.recovery == IDLE for o in unseen.outputs)
+
+
+def test_a_standing_state_without_a_lane_stays_standing():
+    road = make()
+    road.lane_confidence = 0.0
+    outs = road.run(5.0)  # waiting for the go at the start
+    assert all(o.recovery == IDLE and o.linear_velocity_mps == 0.0 for o in outs)
