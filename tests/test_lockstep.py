@@ -40,8 +40,10 @@ def start_answerer(env, answer, delay_s, wait_for_listener=True):
 
 
 def unpause(env):
-    subprocess.run(["rosservice", "call", "/conde_sim/unpause_physics"], env=env, check=True, capture_output=True,
-                   timeout=120)
+    # --wait: the silent-node test starts its answerer without waiting for the simulator's listener,
+    # so the service may not be advertised yet (CI: "rosservice call" exit status 2).
+    subprocess.run(["rosservice", "call", "--wait", "/conde_sim/unpause_physics"], env=env, check=True,
+                   capture_output=True, timeout=120)
 
 
 def lockstep_summary(out):
