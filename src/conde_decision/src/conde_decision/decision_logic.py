@@ -114,7 +114,7 @@ from conde_decision.order_gate import OrderGate
 from conde_decision.parking import (BLIND_SPEEDS, PARKING_PLACES, PARKING_SEARCH_EVENTS, BayFinder,
                                     ParallelGapFinder, bay_entry_lead_m, check_parking_place, manoeuvre_advance_m,
                                     parking_event)
-from conde_decision.road_distance import RoadDistance
+from conde_decision.road_distance import RoadDistance, road_direction_rad
 from conde_decision.speed_profile import SpeedProfile
 from conde_decision.state_machine import StateMachine, StateMachineSpec
 
@@ -534,10 +534,10 @@ class DecisionLogic:
         """The road's direction by odometry (the heading less the heading error seen with both lines,
         outside the blind manoeuvres) to the fork navigator: the loops' sweeps count from it."""
         command = self.machine.command
-        yaw_rad, heading_rad = self.road.yaw_rad, lane.heading_error_rad
-        if (yaw_rad is not None and math.isfinite(heading_rad) and lane.confidence >= 1.0
+        direction_rad = road_direction_rad(self.road.yaw_rad, lane.heading_error_rad)
+        if (direction_rad is not None and lane.confidence >= 1.0
                 and command.radius_m is None and command.speed not in BLIND_SPEEDS):
-            self.forks.on_road_direction(self.crosswalk.since_left_m, yaw_rad - heading_rad)
+            self.forks.on_road_direction(self.crosswalk.since_left_m, direction_rad)
 
     def _lane_frame(self, lane, lane_ok: bool) -> LaneFrame:
         """The measurement in the own lane's frame (lane_frame.py): after a right fork crossed

@@ -24,6 +24,8 @@ import math
 from dataclasses import dataclass
 from typing import Optional
 
+from conde_decision.road_distance import road_direction_rad
+
 IDLE, BACK, AHEAD, REJOIN, GAVE_UP = "", "back", "ahead", "rejoin", "gave_up"
 
 
@@ -78,8 +80,9 @@ class LaneRecovery:
                           travelled_m: float) -> None:
         """A confident lane measurement (outside blind manoeuvres): the road's direction and the
         offset from the lane's centre [m], and the end of any try."""
-        if yaw_rad is not None and math.isfinite(heading_error_rad):
-            self.road_direction_rad = yaw_rad - heading_error_rad
+        direction_rad = road_direction_rad(yaw_rad, heading_error_rad)
+        if direction_rad is not None:
+            self.road_direction_rad = direction_rad
         self.offset_m = lateral_offset_m if math.isfinite(lateral_offset_m) else 0.0
         self._last_ok_m = travelled_m
         if self.phase in (BACK, AHEAD):
