@@ -473,10 +473,10 @@ class DecisionLogic:
         if self.recovery.note:
             self.notes.append(self.recovery.note)
         target_mps = recovery.speed_mps if recovery.active else None
-        if recovery.phase == REJOIN:  # the lane found again: slowly until the follower has it
-            target_mps = min(recovery.speed_mps, self.speed.target_mps(command.speed, self.crosswalk.to_near_edge_m))
+        # the lane found again (REJOIN): slowly until the follower has it
+        max_mps = recovery.speed_mps if recovery.phase == REJOIN else None
         v_mps = self.speed.step(command.speed, self.crosswalk.to_near_edge_m, dt_s, hold=lane_lost,
-                                target_mps=target_mps)
+                                target_mps=target_mps, max_mps=max_mps)
         if v_mps > 0.0:
             self.lap_counter.on_motion(time_s)
 
