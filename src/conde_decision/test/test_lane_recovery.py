@@ -11,7 +11,7 @@ from road_model import DT_S, Lane
 from test_decision_logic import CONFIG, CRUISE, FORWARD, PARKING, drive_to_parked, make, signal, states_passed
 
 from conde_decision.lane_recovery import (AHEAD, BACK, GAVE_UP, IDLE, REJOIN, LaneRecovery, RecoveryCommand,
-                                          RecoveryConfig)
+                                          RecoveryConfig, lost_lane_status)
 
 RECOVERY = RecoveryConfig()
 
@@ -181,6 +181,45 @@ def test_a_robot_over_the_outer_line_at_an_angle_finds_its_lane_again():
     assert abs(robot.y_m) < 0.05 and abs(robot.heading_rad) < 0.05 and robot.seen()
     assert outs[-1].state == "follow_lane" and outs[-1].linear_velocity_mps == pytest.approx(CRUISE)
     assert not outs[-1].lane_lost and outs[-1].recovery == IDLE
+
+
+def test_the_lost_lane_status_says_what_the_robot_does():
+    assert lost_lane_status(IDLE, 0, 2) == "holding the robot"
+    assert lost_lane_status(BACK, 1, 2) == "recovering: reversing the way it came (try 1 of 2)"
+    assert lost_lane_status(AHEAD, 2, 2) == "recovering: creeping ahead onto the lane by odometry (try 2 of 2)"
+    assert lost_lane_status(GAVE_UP, 2, 2) == "the recovery gave up after 2 tries: holding the robot"
+
+
+def test_the_node_log_line_holds_only_while_the_robot_stands():
+    """The node logs lost_lane_status(out.recovery, ...) while out.lane_lost: "holding" only where the
+    speed commanded goes to 0, "reversing" / "creeping ahead" while it is driven that way (the line
+    said "holding the robot" all along before)."""
+    road = make()
+    signal(road, FORWARD)
+    road.drive_m(3.0)
+    robot = BesideTheLane(road, -0.3, -0.6)
+    robot.SEEN_OFFSET_M = 0.0  # nothing to see anywhere (but in the first step): every status in turn
+    recovery = road.logic.recovery
+    lost, v_before = [], 0.0
+    for _ in range(int(40.0 / DT_S)):
+        out = robot.step()
+        if out.lane_lost:
+            lost.append((lost_lane_status(out.recovery, recovery.tries, recovery.config.max_tries),
+                         v_before, out.linear_velocity_mps))
+        v_before = out.linear_velocity_mps
+    kinds = [status.split(" (")[0] for status, _, _ in lost]
+    assert set(kinds) == {"holding the robot", "recovering: reversing the way it came",
+                          "recovering: creeping ahead onto the lane by odometry",
+                          "the recovery gave up after 2 tries: holding the robot"}
+    assert "try 1 of 2" in lost[kinds.index("recovering: reversing the way it came")][0]
+    for status, v_before_mps, v_mps in lost:
+        if "reversing" in status:
+            assert v_mps < v_before_mps or v_mps == pytest.approx(-RECOVERY.speed_mps)
+        elif "creeping ahead" in status:
+            assert v_mps > v_before_mps or v_mps == pytest.approx(RECOVERY.speed_mps)
+        else:  # holding: the speed goes to 0
+            assert abs(v_mps) < abs(v_before_mps) or v_mps == 0.0
+    assert lost[-1][0].startswith("the recovery gave up") and lost[-1][2] == 0.0
 
 
 def test_a_robot_that_never_sees_a_lane_stands_after_its_tries():

@@ -47,6 +47,19 @@ class RecoveryConfig:
         return self
 
 
+def lost_lane_status(phase: str, tries: int, max_tries: int) -> str:
+    """What the robot does while its lane is lost, for the node's throttled log line: holding (the
+    state may not move, no odometry, recovery off), recovering (reversing / creeping ahead, which
+    try) or given up."""
+    if phase == BACK:
+        return "recovering: reversing the way it came (try %d of %d)" % (tries, max_tries)
+    if phase == AHEAD:
+        return "recovering: creeping ahead onto the lane by odometry (try %d of %d)" % (tries, max_tries)
+    if phase == GAVE_UP:
+        return "the recovery gave up after %d tries: holding the robot" % tries
+    return "holding the robot"
+
+
 @dataclass(frozen=True)
 class RecoveryCommand:
     """What the recovery asks for in this step (phase IDLE / GAVE_UP: nothing, the hold stays;
