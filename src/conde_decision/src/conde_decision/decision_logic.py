@@ -204,6 +204,8 @@ class DecisionConfig:
     recovery_max_tries: int = RecoveryConfig.max_tries  # ... tries before standing for good (0: no recovery)
     recovery_reset_m: float = RecoveryConfig.reset_m  # ... counted from 0 again after this far on a lane [m]
     recovery_rejoin_m: float = RecoveryConfig.rejoin_m  # ... the lane found: at most recovery_speed_mps this far [m]
+    # ... the creep ahead only within this of the lane's centre as last seen, by odometry [m]
+    recovery_max_offset_m: float = RecoveryConfig.max_offset_m
     max_step_s: float = 1.0  # longest time step dead-reckoned at once [s] (gaps in the input)
     park_speed_mps: float = 0.2  # |speed| of the parking manoeuvres (speeds creep and reverse) [m/s]
     # where to park on the parking order: auto (the place seen, parking.py) | parallel | bay_north | bay_south
@@ -333,7 +335,7 @@ class DecisionLogic:
         self.lane_bad_since_s: Optional[float] = None
         self.recovery = LaneRecovery(RecoveryConfig(config.recovery_speed_mps, config.recovery_distance_m,
                                                     config.recovery_max_tries, config.recovery_reset_m,
-                                                    config.recovery_rejoin_m))
+                                                    config.recovery_rejoin_m, config.recovery_max_offset_m))
         self.notes: List[str] = []
         self._transitions: List[Tuple[str, str, str]] = []
         self._events: List[str] = []
@@ -409,7 +411,7 @@ class DecisionLogic:
         dt_s = 0.0 if self.last_time_s is None else min(max(time_s - self.last_time_s, 0.0), c.max_step_s)
         self.last_time_s = time_s
         step_m = self.road.advance(abs(self.speed.v_mps) * dt_s)
-        recovering_back = self.speed.v_mps < 0.0 and self.recovery.phase in (BACK, AHEAD)
+        recovering_back = self.speed.v_mps < 0.0 and self.recovery.phase in (BACK, AHEAD, REJOIN)
         self.crosswalk.advance(-step_m if recovering_back else step_m)  # the recovery's way back
         self.crosswalk.on_sighting(lane.crosswalk_seen, lane.crosswalk_distance_m)
         self._road_direction(lane)
