@@ -142,6 +142,7 @@ def test_condes_lap_drives_both_loops_counter_clockwise():
         assert (cross > 0).mean() > 0.95  # counter-clockwise around the loop
 
 
+TOP_CAMERA = ViewLimits(camera_x_m=-0.32, camera_z_m=0.78, camera_pitch_deg=16.0)  # conde.urdf.xacro
 REAR_CAMERA = ViewLimits(camera_x_m=-0.66, camera_z_m=0.9, camera_yaw_deg=130.0)  # conde_traffic_sign README
 
 
@@ -152,7 +153,7 @@ def test_v1_the_rear_left_camera_sees_the_four_inner_signs_face_on_from_condes_l
 
     xy, heading = condes_route(build_track().lane_centres(0.02))
     for n, (x, y, yaw) in enumerate(sign_poses(), start=1):
-        front = sign_view(xy, heading, (x, y), yaw, ViewLimits(camera_x_m=-0.32, camera_z_m=0.78, camera_pitch_deg=16.0))
+        front = sign_view(xy, heading, (x, y), yaw, TOP_CAMERA)
         rear = sign_view(xy, heading, (x, y), yaw, REAR_CAMERA)
         assert (front.in_view_m > 0.0) == (n not in (8, 9, 11, 12)), n
         if n in (8, 9, 11, 12):

@@ -49,7 +49,7 @@ class SignView:
     nearest_m: float  # the route's least distance to the sign [m]
     distances_in_view_m: Optional[Tuple[float, float]] = None  # camera-to-face range while in view [m]
     off_normal_in_view_deg: Optional[Tuple[float, float]] = None  # angle off the face's normal while in view [deg]
-    face_px_in_view: Optional[Tuple[float, float]] = None  # face height in the image while in view (camera_z_m set) [px]
+    face_px_in_view: Optional[Tuple[float, float]] = None  # face height in the image while in view [px] (camera_z_m)
 
 
 def face_normal(yaw_rad: float) -> np.ndarray:
