@@ -22,7 +22,7 @@ from visualization_msgs.msg import MarkerArray
 from conde_traffic_sign.sign_visibility import condes_route
 from conde_worlds.track_geometry import build_track
 from conde_worlds.traffic_signs import SIGNS
-from stepped_sim import Latest, SteppedSim, wait_for
+from stepped_sim import Latest, SteppedSim, connected, wait_for
 
 REAR_IMAGES = "/conde_camera_signs_rear/image_raw"
 SPACING_M = 0.02  # of the lap's points
@@ -45,17 +45,17 @@ class V1SignCameraTest(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
         rospy.init_node("v1_sign_camera_test")
-        cls.sim = SteppedSim()
-        cls.events = Latest("/conde_referee/events", String)
-        cls.detections = Latest("/conde_traffic_sign/detections", String)
-        cls.truth = Latest("/ground_truth/odom", Odometry)
-        rospy.wait_for_service("/conde_sim/set_start_pose", timeout=60)
-        cls.set_pose = rospy.ServiceProxy("/conde_sim/set_start_pose", SetStartPose)
-        rospy.wait_for_service("/conde_traffic_sign/forget_tracks", timeout=60)
-        cls.forget_tracks = rospy.ServiceProxy("/conde_traffic_sign/forget_tracks", Empty)
-        cls.cmd_vel = rospy.Publisher("/cmd_vel", Twist, queue_size=10)
-        wait_for(lambda: cls.cmd_vel.get_num_connections() > 0, "the simulator's /cmd_vel subscription")
         cls.xy, cls.heading = condes_route(build_track().lane_centres(SPACING_M))
+        cls.sim = SteppedSim()
+        for name, service, kind in (("set_pose", "/conde_sim/set_start_pose", SetStartPose),
+                                    ("forget_tracks", "/conde_traffic_sign/forget_tracks", Empty)):
+            rospy.wait_for_service(service, timeout=60)
+            setattr(cls, name, rospy.ServiceProxy(service, kind))
+        cls.events, cls.detections, cls.truth = (Latest(topic, kind) for topic, kind in (
+            ("/conde_referee/events", String), ("/conde_traffic_sign/detections", String),
+            ("/ground_truth/odom", Odometry)))
+        cls.cmd_vel = rospy.Publisher("/cmd_vel", Twist, queue_size=10)
+        connected(cls.cmd_vel, "/cmd_vel")
         cls.curvature = np.gradient(np.unwrap(cls.heading)) / SPACING_M
 
     def follow(self, last):
