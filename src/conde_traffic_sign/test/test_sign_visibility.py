@@ -146,16 +146,19 @@ TOP_CAMERA = ViewLimits(camera_x_m=-0.32, camera_z_m=0.78, camera_pitch_deg=16.0
 REAR_CAMERA = ViewLimits(camera_x_m=-0.66, camera_z_m=0.9, camera_yaw_deg=130.0)  # conde_traffic_sign README
 
 
-def test_v1_the_rear_left_camera_sees_the_four_inner_signs_face_on_from_condes_lap():
+@pytest.mark.parametrize("track_seed", [0, 3])
+def test_v1_the_rear_left_camera_sees_the_four_inner_signs_face_on_from_condes_lap(track_seed):
     from conde_traffic_sign.sign_visibility import condes_route
     from conde_worlds.challenge_objects import sign_poses
     from conde_worlds.track_geometry import build_track
+    from conde_worlds.track_variation import track_dimensions
 
-    xy, heading = condes_route(build_track().lane_centres(0.02))
-    for n, (x, y, yaw) in enumerate(sign_poses(), start=1):
+    dims = track_dimensions(track_seed)  # 3: a track varied within the rules' tolerance
+    xy, heading = condes_route(build_track(dims).lane_centres(0.02))
+    for n, (x, y, yaw) in enumerate(sign_poses(dims), start=1):
         front = sign_view(xy, heading, (x, y), yaw, TOP_CAMERA)
         rear = sign_view(xy, heading, (x, y), yaw, REAR_CAMERA)
         assert (front.in_view_m > 0.0) == (n not in (8, 9, 11, 12)), n
         if n in (8, 9, 11, 12):
             assert rear.in_view_m > 3.0 and rear.best_off_normal_deg < 1.0, n
-            assert rear.distances_in_view_m[1] < 3.7 and rear.face_px_in_view[0] > 14.0, n
+            assert rear.distances_in_view_m[1] < 3.9 and rear.face_px_in_view[0] > 14.0, n
