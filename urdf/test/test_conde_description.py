@@ -28,6 +28,7 @@ ARG_SETS = [
     {'publish_odom_tf': 'false'},
     {'imu': 'false'},
     {'odometry_source': 'world', 'publish_odom_tf': 'false', 'imu': 'false'},
+    {'sign_camera': 'true'},
 ]
 
 
@@ -139,6 +140,7 @@ def test_check_urdf_accepts_every_argument_combination(args, tmp_path):
 @pytest.mark.parametrize('args, name', [
     ({'odometry_source': 'gps'}, 'odometry_source'),
     ({'publish_odom_tf': 'yes'}, 'publish_odom_tf'),
+    ({'sign_camera': 'yes'}, 'sign_camera'),
 ])
 def test_invalid_arguments_are_rejected(args, name):
     with pytest.raises(Exception, match=name):
@@ -439,6 +441,33 @@ def test_imu_follows_its_argument(imu):
     t = link_tf(root, 'imu_link')
     np.testing.assert_allclose(t[:3, 3], [-0.169, 0, 0.141], atol=0.002)
     np.testing.assert_allclose(t[:3, :3], np.eye(3), atol=1e-12)
+
+
+@pytest.mark.parametrize('sign_camera', ['true', 'false'])
+def test_the_v1_sign_camera_follows_its_argument(sign_camera):
+    root = robot(sign_camera=sign_camera)
+    sensors = {s.get('name') for s in root.findall("gazebo/sensor[@type='camera']")}
+    top = {'conde_camera_tracking_left', 'conde_camera_tracking_right', 'conde_camera_signalling_panel'}
+    if sign_camera == 'false':  # the default: the robot of every other challenge is unchanged
+        assert sensors == top and 'camera_signs_rear_link' not in links(root)
+        assert process() == process(sign_camera='false')
+        return
+    assert sensors == top | {'conde_camera_signs_rear'}
+    # on the mast's back (base_footprint -0.66, 0, 0.90), level, 130 deg left: conde_traffic_sign's
+    # sign_visibility finds the four signs inside the loops face-on from there
+    cam, optical = link_tf(root, 'camera_signs_rear_link'), link_tf(root, 'camera_signs_rear_optical')
+    np.testing.assert_allclose(cam[:3, 3], [-0.66, 0.0, 0.90], atol=1e-6)
+    axis = optical[:3, 2]
+    assert math.degrees(math.atan2(axis[1], axis[0])) == pytest.approx(130.0, abs=1e-6)
+    assert axis[2] == pytest.approx(0.0, abs=1e-9)
+    assert link_tf(root, 'base_link')[0, 3] + (-0.41) > cam[0, 3]  # behind the mast's back face
+    sensor = root.find("gazebo/sensor[@name='conde_camera_signs_rear']")
+    top_sensor = root.find("gazebo/sensor[@name='conde_camera_signalling_panel']")
+    assert [e.text for e in sensor.find('camera').iter()] == [e.text for e in top_sensor.find('camera').iter()]
+    p = sensor.find('plugin')
+    assert (p.find('cameraName').text, p.find('imageTopicName').text, p.find('cameraInfoTopicName').text,
+            p.find('frameName').text) == ('conde_camera_signs_rear', 'image_raw', 'camera_info',
+                                          'camera_signs_rear_optical')
 
 
 def test_generated_urdf_has_no_leftover_xacro():

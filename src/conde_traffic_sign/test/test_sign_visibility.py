@@ -98,3 +98,67 @@ def test_v1_inner_signs_are_out_of_the_front_cameras_view_on_condes_route():
         low, high = other.bearings_in_reach_deg
         assert -135.0 < low < high <= -40.0
     assert views[9][1].in_view_m == 0.0 and views[12][1].in_view_m == 0.0  # not the front camera either way
+
+
+def test_a_camera_behind_the_route_point_measures_from_where_it_is():
+    xy, heading = straight_north()
+    here = sign_view(xy, heading, (0.6, 6.0), 0.0, closed=False)
+    behind = sign_view(xy, heading, (0.6, 6.0), 0.0, ViewLimits(camera_x_m=-0.5), closed=False)
+    assert behind.in_view_m == pytest.approx(here.in_view_m, abs=0.03)  # the same stretch, 0.5 m later
+    assert behind.nearest_m == pytest.approx(0.6, abs=1e-6)
+    first = sign_view(xy[:300], heading[:300], (0.6, 6.0), 0.0, closed=False)  # route y < 3: in reach from y 2.05
+    first_behind = sign_view(xy[:300], heading[:300], (0.6, 6.0), 0.0, ViewLimits(camera_x_m=-0.5), closed=False)
+    assert first.in_view_m - first_behind.in_view_m == pytest.approx(0.5, abs=0.03)
+
+
+def test_the_face_must_fit_the_image_height_and_its_size_in_pixels_follows_the_pinhole():
+    xy, heading = straight_north()
+    level = ViewLimits(camera_z_m=1.0, max_distance_m=10.0, min_distance_m=0.0, max_off_normal_deg=90.0)
+    view = sign_view(xy, heading, (0.0, 6.0), 0.0, level, closed=False)  # straight ahead, face-on
+    low, high = view.face_px_in_view
+    assert high == pytest.approx(160.0 * 0.305 / view.distances_in_view_m[0], rel=1e-3)
+    assert low == pytest.approx(160.0 * 0.305 / view.distances_in_view_m[1], rel=1e-3)
+    # the face's half height 0.1525 m leaves a 36.87 deg half height closer than 0.1525 / tan(36.87) = 0.203 m
+    assert view.distances_in_view_m[0] == pytest.approx(0.1525 / 0.75, abs=0.011)
+    low_camera = sign_view(xy, heading, (0.0, 6.0), 0.0, ViewLimits(camera_z_m=0.2, max_distance_m=10.0,
+                                                                    min_distance_m=0.0), closed=False)
+    assert low_camera.distances_in_view_m[0] == pytest.approx((1.1525 - 0.2) / 0.75, abs=0.011)
+    pitched = sign_view(xy, heading, (0.0, 6.0), 0.0, ViewLimits(camera_z_m=0.2, camera_pitch_deg=36.87,
+                                                                 max_distance_m=10.0, min_distance_m=0.0), closed=False)
+    assert pitched.distances_in_view_m[0] < 0.5 * low_camera.distances_in_view_m[0]
+
+
+def test_condes_lap_drives_both_loops_counter_clockwise():
+    from conde_traffic_sign.sign_visibility import condes_route
+    from conde_worlds.track_geometry import build_track
+
+    xy, heading = condes_route(build_track().lane_centres(0.02))
+    steps = np.hypot(*np.diff(np.vstack([xy, xy[:1]]), axis=0).T)
+    assert steps.max() < 0.05  # one closed chain, no jump at either join
+    for north in (True, False):
+        part = xy[(xy[:, 1] > 3.0) if north else (xy[:, 1] < -3.0)]
+        cx, cy = part.mean(axis=0)
+        cross = np.cross(part[:-1] - (cx, cy), np.diff(part, axis=0))
+        assert (cross > 0).mean() > 0.95  # counter-clockwise around the loop
+
+
+TOP_CAMERA = ViewLimits(camera_x_m=-0.32, camera_z_m=0.78, camera_pitch_deg=16.0)  # conde.urdf.xacro
+REAR_CAMERA = ViewLimits(camera_x_m=-0.66, camera_z_m=0.9, camera_yaw_deg=130.0)  # conde_traffic_sign README
+
+
+@pytest.mark.parametrize("track_seed", [0, 3])
+def test_v1_the_rear_left_camera_sees_the_four_inner_signs_face_on_from_condes_lap(track_seed):
+    from conde_traffic_sign.sign_visibility import condes_route
+    from conde_worlds.challenge_objects import sign_poses
+    from conde_worlds.track_geometry import build_track
+    from conde_worlds.track_variation import track_dimensions
+
+    dims = track_dimensions(track_seed)  # 3: a track varied within the rules' tolerance
+    xy, heading = condes_route(build_track(dims).lane_centres(0.02))
+    for n, (x, y, yaw) in enumerate(sign_poses(dims), start=1):
+        front = sign_view(xy, heading, (x, y), yaw, TOP_CAMERA)
+        rear = sign_view(xy, heading, (x, y), yaw, REAR_CAMERA)
+        assert (front.in_view_m > 0.0) == (n not in (8, 9, 11, 12)), n
+        if n in (8, 9, 11, 12):
+            assert rear.in_view_m > 3.0 and rear.best_off_normal_deg < 1.0, n
+            assert rear.distances_in_view_m[1] < 3.9 and rear.face_px_in_view[0] > 14.0, n
