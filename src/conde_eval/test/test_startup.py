@@ -85,3 +85,16 @@ def test_a_rule_owing_nothing_before_its_first_answer_holds_no_start_without_its
     owed = dict(signs, wait_for_first_answer=True)
     assert startup.lockstep_links_missing({"rules": [owed]}, SIM, graph(), bus) == [
         "/signs/detections: no publisher yet"]
+
+
+def test_an_input_nobody_publishes_or_listens_to_holds_no_start():
+    # V1's detections rule lists the sign camera too; a robot built without it has no such topic
+    signs = {"answer": "signs/detections", "inputs": ["camera/image_raw", "rear_camera/image_raw"]}
+    config = {"rules": LOCKSTEP_CONFIG["rules"] + [signs]}
+    publishers, subscribers, services = graph()
+    with_node = (publishers + [["/signs/detections", ["/signs"]]], subscribers, services)
+    bus = links(("o", "/camera/image_raw"), ("i", "/conde_lane"), ("i", "/cmd_vel"), ("i", "/signs/detections"))
+    assert startup.lockstep_links_missing(config, SIM, with_node, bus) == []
+    # a node that subscribes to it while nobody publishes it yet still holds the start
+    listened = (with_node[0], subscribers + [["/rear_camera/image_raw", ["/signs"]]], services)
+    assert startup.lockstep_links_missing(config, SIM, listened, bus) == ["/rear_camera/image_raw: no publisher yet"]

@@ -55,7 +55,8 @@ def lockstep_links_missing(config, sim_name, system_state, bus_info):
     from its publishers, as an answer. A node that subscribes to its camera only after
     its start-up (conde_tracking waits for CameraInfo and TF) thus holds the start. A rule with
     wait_for_first_answer false whose answer has no publisher at all is left out (its node is not
-    part of this run, and the simulator owes it nothing until it answers)."""
+    part of this run, and the simulator owes it nothing until it answers), and so is an input that
+    no node publishes or subscribes to (V1's sign camera on a robot built without it)."""
     namespace = sim_name.rsplit("/", 1)[0] + "/"
     publishers, subscribers, _services = system_state
     own = {topic for topic, nodes in publishers if sim_name in nodes}
@@ -82,6 +83,8 @@ def lockstep_links_missing(config, sim_name, system_state, bus_info):
             if topic == "/clock":
                 continue
             if topic not in own:
+                if not pubs.get(topic) and not subs.get(topic):
+                    continue  # nobody publishes or listens (a camera this robot does not have): owes nothing
                 check_publishers(topic)
             elif not subs.get(topic):
                 missing.add(f"{topic}: no subscriber yet")
