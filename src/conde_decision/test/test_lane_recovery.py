@@ -192,7 +192,8 @@ def test_no_recovery_where_the_robot_may_not_move_or_the_road_direction_is_unkno
 
 
 @pytest.mark.parametrize("name, value", [("speed_mps", 0.0), ("distance_m", -1.0), ("reset_m", float("nan")),
-                                         ("max_tries", -1), ("max_tries", 1.5), ("max_offset_m", 0.0)])
+                                         ("max_tries", -1), ("max_tries", 1.5), ("max_offset_m", 0.0),
+                                         ("rejoin_heading_rad", 0.0), ("rejoin_approach_m", float("inf"))])
 def test_bad_settings_are_named(name, value):
     with pytest.raises(ValueError, match="recovery_" + name):
         replace(RECOVERY, **{name: value}).check()
