@@ -11,7 +11,7 @@ from road_model import DT_S, Lane
 from test_decision_logic import CONFIG, CRUISE, FORWARD, PARKING, drive_to_parked, make, signal, states_passed
 
 from conde_decision.lane_recovery import (AHEAD, BACK, GAVE_UP, IDLE, REJOIN, LaneRecovery, RecoveryCommand,
-                                          RecoveryConfig, lost_lane_status)
+                                          RecoveryConfig, lost_lane_status, rejoin_heading_ref_rad)
 
 RECOVERY = RecoveryConfig()
 
@@ -153,6 +153,33 @@ def test_a_confident_lane_ends_the_try():
     assert recovery.step(False, True, 0.3, 2.5).phase == IDLE
 
 
+def test_the_rejoin_heads_toward_the_centre_within_its_bound():
+    """The law's own heading toward the centre near it (-offset / rejoin_approach_m), bounded."""
+    assert rejoin_heading_ref_rad(0.0, RECOVERY) == 0.0
+    assert rejoin_heading_ref_rad(-0.02, RECOVERY) == pytest.approx(0.02 / RECOVERY.rejoin_approach_m)
+    assert rejoin_heading_ref_rad(-0.3, RECOVERY) == RECOVERY.rejoin_heading_rad
+    assert rejoin_heading_ref_rad(0.3, RECOVERY) == -RECOVERY.rejoin_heading_rad
+
+
+@pytest.mark.parametrize("offset_m, near_at_m, rejoin_ends_m",
+                         [(-0.03, 0.0, RECOVERY.rejoin_m), (-0.2, 0.7, 0.7), (-0.3, None, RECOVERY.reset_m)])
+def test_the_rejoin_lasts_until_the_robot_is_near_the_centre_at_most_reset_m(offset_m, near_at_m, rejoin_ends_m):
+    """After rejoin_m on the lane found, the rejoin (and its heading bound) goes on while the robot is
+    farther from the centre than where the bound stops biting, at most reset_m."""
+    recovery = LaneRecovery()
+    recovery.on_confident_lane(0.0, 0.0, 0.0, 0.0)
+    assert recovery.step(True, True, 0.0, 1.0).phase == BACK
+    ends_m = None
+    for i in range(1, 300):
+        on_lane_m = 0.005 * i
+        near = near_at_m is not None and on_lane_m >= near_at_m
+        recovery.on_confident_lane(0.0, 0.0, -0.05 if near else offset_m, 1.0 + on_lane_m)
+        if recovery.phase != REJOIN:
+            ends_m = on_lane_m
+            break
+    assert ends_m == pytest.approx(rejoin_ends_m, abs=0.006)
+
+
 @pytest.mark.parametrize("may_move, yaw_rad, direction_known",
                          [(False, 0.0, True), (True, None, True), (True, 0.0, False)])
 def test_no_recovery_where_the_robot_may_not_move_or_the_road_direction_is_unknown(
@@ -165,7 +192,8 @@ def test_no_recovery_where_the_robot_may_not_move_or_the_road_direction_is_unkno
 
 
 @pytest.mark.parametrize("name, value", [("speed_mps", 0.0), ("distance_m", -1.0), ("reset_m", float("nan")),
-                                         ("max_tries", -1), ("max_tries", 1.5), ("max_offset_m", 0.0)])
+                                         ("max_tries", -1), ("max_tries", 1.5), ("max_offset_m", 0.0),
+                                         ("rejoin_heading_rad", 0.0), ("rejoin_approach_m", float("inf"))])
 def test_bad_settings_are_named(name, value):
     with pytest.raises(ValueError, match="recovery_" + name):
         replace(RECOVERY, **{name: value}).check()
@@ -243,6 +271,30 @@ def test_a_robot_over_the_outer_line_at_an_angle_finds_its_lane_again():
     assert abs(robot.y_m) < 0.05 and abs(robot.heading_rad) < 0.05 and robot.seen()
     assert outs[-1].state == "follow_lane" and outs[-1].linear_velocity_mps == pytest.approx(CRUISE)
     assert not outs[-1].lane_lost and outs[-1].recovery == IDLE
+
+
+@pytest.mark.parametrize("seen_m, heading_rad", [(-0.15, -0.4), (-0.2, -0.7), (-0.25, -1.0), (-0.3, -0.6)])
+def test_the_rejoin_keeps_the_lane_in_a_narrow_view(seen_m, heading_rad):
+    """The lane found again 0.15-0.3 m off its centre by a robot whose camera sees it only within
+    0.35 rad: rejoining, it heads at most recovery_rejoin_heading_rad toward the centre, keeps the lane
+    in view and is back on it after one try (before: it turned toward the centre at up to 0.52 rad,
+    lost the lane again and the second loss used up its last try: it stood)."""
+    road = make()
+    signal(road, FORWARD)
+    road.drive_m(3.0)
+    robot = BesideTheLane(road, seen_m, heading_rad)
+    headings_rad = []
+    for _ in range(int(30.0 / DT_S)):
+        out = robot.step()
+        if out.recovery == REJOIN:
+            headings_rad.append(robot.heading_rad)
+            assert robot.seen()
+    phases = [o.recovery for o in robot.outputs]
+    assert REJOIN in phases and GAVE_UP not in phases
+    assert max(headings_rad) <= CONFIG.recovery_rejoin_heading_rad + 0.01  # toward the centre (the left)
+    assert sum(1 for before, now in zip(phases, phases[1:]) if now == BACK and before != BACK) == 1  # one try
+    assert abs(robot.y_m) < 0.05 and abs(robot.heading_rad) < 0.05 and robot.seen()
+    assert robot.outputs[-1].linear_velocity_mps == pytest.approx(CRUISE)
 
 
 def test_the_lost_lane_status_says_what_the_robot_does():

@@ -108,7 +108,7 @@ from conde_decision.crosswalk import CrosswalkTracker
 from conde_decision.fork_navigator import ForkNavigator
 from conde_decision.junction_corners import JunctionCorners, visible_sides
 from conde_decision.lane_frame import UNKNOWN_LANE, LaneFrame, lane_frame
-from conde_decision.lane_recovery import AHEAD, BACK, REJOIN, LaneRecovery, RecoveryConfig
+from conde_decision.lane_recovery import AHEAD, BACK, REJOIN, LaneRecovery, RecoveryConfig, rejoin_heading_ref_rad
 from conde_decision.lap_counter import LapCounter
 from conde_decision.order_gate import OrderGate
 from conde_decision.parking import (BLIND_SPEEDS, PARKING_PLACES, PARKING_SEARCH_EVENTS, BayFinder,
@@ -206,6 +206,9 @@ class DecisionConfig:
     recovery_rejoin_m: float = RecoveryConfig.rejoin_m  # ... the lane found: at most recovery_speed_mps this far [m]
     # ... the creep ahead only within this of the lane's centre as last seen, by odometry [m]
     recovery_max_offset_m: float = RecoveryConfig.max_offset_m
+    # ... rejoining, at most this heading toward the lane's centre [rad], aiming at it this far ahead [m]
+    recovery_rejoin_heading_rad: float = RecoveryConfig.rejoin_heading_rad
+    recovery_rejoin_approach_m: float = RecoveryConfig.rejoin_approach_m
     max_step_s: float = 1.0  # longest time step dead-reckoned at once [s] (gaps in the input)
     park_speed_mps: float = 0.2  # |speed| of the parking manoeuvres (speeds creep and reverse) [m/s]
     # where to park on the parking order: auto (the place seen, parking.py) | parallel | bay_north | bay_south
@@ -335,7 +338,9 @@ class DecisionLogic:
         self.lane_bad_since_s: Optional[float] = None
         self.recovery = LaneRecovery(RecoveryConfig(config.recovery_speed_mps, config.recovery_distance_m,
                                                     config.recovery_max_tries, config.recovery_reset_m,
-                                                    config.recovery_rejoin_m, config.recovery_max_offset_m))
+                                                    config.recovery_rejoin_m, config.recovery_max_offset_m,
+                                                    config.recovery_rejoin_heading_rad,
+                                                    config.recovery_rejoin_approach_m))
         self.notes: List[str] = []
         self._transitions: List[Tuple[str, str, str]] = []
         self._events: List[str] = []
@@ -497,6 +502,10 @@ class DecisionLogic:
         heading_rad = lane.heading_error_rad if lane_ok and not blind_arc else heading_ref_rad
         if avoid.lane_rejected and math.isfinite(avoid.heading_error_rad):  # not the odometry's heading
             heading_rad = avoid.heading_error_rad
+        if recovery.phase == REJOIN and lane_ok and not blind_arc and not avoid.active:
+            # toward the lane's centre at a bounded heading, within the cameras' view (lane_recovery.py)
+            heading_ref_rad += rejoin_heading_ref_rad(offset_m - offset_ref_m, self.recovery.config)
+            offset_m = offset_ref_m
         if recovery.active:  # back straight, or onto the lane by odometry (lane_recovery.py)
             offset_m = recovery.lateral_offset_m if recovery.phase == AHEAD else offset_ref_m
             heading_rad, heading_ref_rad, curvature_per_m = recovery.heading_error_rad, 0.0, 0.0

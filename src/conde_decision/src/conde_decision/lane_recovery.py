@@ -19,7 +19,10 @@ to where it saw its lane last, and the creep's reversing start does not count as
 
 A confident lane seen in either phase ends the try: the lane follower takes over, at no more than
 speed_mps until it has driven rejoin_m on a confident lane (``rejoin``): faster, conde_control's
-turn-rate limits make it swing across the lane and lose it again.  After max_tries
+turn-rate limits make it swing across the lane and lose it again.  Rejoining, it heads at most
+rejoin_heading_rad toward the lane's centre (rejoin_heading_ref_rad): turning further, from 0.15-0.3 m
+off, takes a narrow camera view off the lane, which is lost again.  The rejoin goes on after rejoin_m
+until the robot is near enough the centre for that bound not to bite, at most reset_m.  After max_tries
 tries without a lane the robot stands for good (gave_up, with a note saying why).  The count of
 tries goes back to 0 once the robot has driven reset_m [m] with a confident lane.
 
@@ -47,15 +50,32 @@ class RecoveryConfig:
     # last seen (dead-reckoned) [m]: the lane's half width less a margin, so that it steers on a lane it
     # is in rather than onto one dead reckoning puts beside it
     max_offset_m: float = 0.35
+    # rejoining, the follower heads at most this toward the lane's centre [rad]: within the cameras'
+    # view of the lane (turning further toward it from 0.15-0.3 m off, up to 0.52 rad, a narrow view
+    # loses the lane again and the second loss uses up a try) ...
+    rejoin_heading_rad: float = 0.25
+    # ... aiming at the centre as at a point this far ahead [m]: conde_control's heading / offset gain
+    # ratio (10 / 36 m) makes that its own law within the bound (rejoin_heading_ref_rad)
+    rejoin_approach_m: float = 0.28
 
     def check(self) -> "RecoveryConfig":
-        for name in ("speed_mps", "distance_m", "reset_m", "rejoin_m", "max_offset_m"):
+        for name in ("speed_mps", "distance_m", "reset_m", "rejoin_m", "max_offset_m", "rejoin_heading_rad",
+                     "rejoin_approach_m"):
             value = getattr(self, name)
             if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
                 raise ValueError("recovery_%s: must be a finite number > 0, got %r" % (name, value))
         if not (isinstance(self.max_tries, int) and not isinstance(self.max_tries, bool) and self.max_tries >= 0):
             raise ValueError("recovery_max_tries: expected an integer >= 0, got %r" % (self.max_tries,))
         return self
+
+
+def rejoin_heading_ref_rad(offset_error_m: float, config: RecoveryConfig) -> float:
+    """The heading toward the lane's centre [rad] (+ = left of the lane's direction) the follower is
+    to take while rejoining, from the offset from where it is to be [m] (+ = left): the offset's
+    share of the law (-offset / rejoin_approach_m) within +-rejoin_heading_rad.  Given to the law as
+    its heading reference with no offset error, it is the law itself where the bound does not bite."""
+    heading_rad = -offset_error_m / config.rejoin_approach_m
+    return max(-config.rejoin_heading_rad, min(config.rejoin_heading_rad, heading_rad))
 
 
 def lost_lane_status(phase: str, tries: int, max_tries: int) -> str:
@@ -118,10 +138,18 @@ class LaneRecovery:
             self._ok_since_m = None
         if self._ok_since_m is None:
             self._ok_since_m = travelled_m
-        if self.phase == REJOIN and travelled_m - self._ok_since_m >= self.config.rejoin_m:
+        if self.phase == REJOIN and self._rejoined(travelled_m - self._ok_since_m):
             self.phase = IDLE
         if self.tries and travelled_m - self._ok_since_m >= self.config.reset_m:
             self.tries = 0
+
+    def _rejoined(self, on_lane_m: float) -> bool:
+        """The rejoin ends after rejoin_m on a confident lane once the robot is near enough its centre
+        that the heading bound no longer bites (the follower's law from there is the rejoin's), and
+        at the latest after reset_m (as the tries count from 0 again)."""
+        c = self.config
+        near_m = c.rejoin_heading_rad * c.rejoin_approach_m
+        return on_lane_m >= c.rejoin_m and (abs(self.offset_m) <= near_m or on_lane_m >= c.reset_m)
 
     def step(self, lost: bool, may_move: bool, yaw_rad: Optional[float], travelled_m: float,
              backwards: bool = False) -> RecoveryCommand:
