@@ -3,7 +3,7 @@ import math
 
 import pytest
 
-from conde_decision.road_distance import RoadDistance
+from conde_decision.road_distance import RoadDistance, road_direction_rad
 
 
 def test_dead_reckons_without_odometry_path_length():
@@ -33,3 +33,14 @@ def test_heading_is_unwrapped():
     for yaw in (3.0, -3.0, -1.0, 1.0, 3.1, float("inf")):
         road.on_odometry(yaw)
     assert road.yaw_rad == pytest.approx(3.1 + 2.0 * math.pi)
+
+
+def test_the_road_direction_is_the_heading_less_the_heading_error():
+    assert road_direction_rad(1.0, 0.2) == pytest.approx(0.8)
+    assert road_direction_rad(7.0, -0.5) == pytest.approx(7.5)  # the unwrapped heading's branch is kept
+
+
+@pytest.mark.parametrize("yaw_rad, heading_error_rad", [(None, 0.1), (float("nan"), 0.1), (1.0, float("nan")),
+                                                        (1.0, float("inf"))])
+def test_no_road_direction_without_a_heading_or_a_heading_error(yaw_rad, heading_error_rad):
+    assert road_direction_rad(yaw_rad, heading_error_rad) is None

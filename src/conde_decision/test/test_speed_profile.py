@@ -26,9 +26,30 @@ def test_stop_at_crosswalk_brakes_to_stand_before_the_margin():
     assert profile.target_mps("stop_at_crosswalk", None) == 0.5  # no crosswalk known
     assert profile.target_mps("stop_at_crosswalk", 2.0) == 0.5  # far: cruise
     assert profile.target_mps("stop_at_crosswalk", 0.2) == pytest.approx(math.sqrt(2 * 0.5 * 0.1))
+    profile.step("stop_at_crosswalk", 0.2, DT_S)  # driving by it commits to the crosswalk
     assert profile.stop_latched
     assert profile.target_mps("stop_at_crosswalk", 0.05) == 0.0
     assert profile.target_mps("stop_at_crosswalk", -0.05) == 0.0  # latched: overshoot still stops
+
+
+def test_asking_for_the_target_does_not_commit_to_the_crosswalk():
+    """target_mps is a query (the lane recovery asks whether the state wants to move): only a step
+    that drives by the command latches.  Before, the query latched, so a lost lane (the only time
+    the recovery asks) committed to the crosswalk where the plain hold does not."""
+    profile = make()
+    assert profile.target_mps("stop_at_crosswalk", 0.3) == pytest.approx(math.sqrt(2 * 0.5 * 0.2))
+    assert profile.target_mps("stop_at_finish", 0.3) == pytest.approx(math.sqrt(2 * 0.5 * 0.2))
+    assert not profile.stop_latched
+    assert profile.target_mps("stop_at_crosswalk", -0.05) == 0.5  # not committed: drives on to the next one
+
+
+def test_a_capped_step_drives_by_the_command_and_commits():
+    profile = make()
+    speeds = [profile.step("stop_at_crosswalk", 2.0, DT_S, max_mps=0.15) for _ in range(3)]
+    assert speeds == pytest.approx([0.1, 0.15, 0.15])  # the command's cruise, capped
+    assert profile.stop_latched
+    assert profile.step("stop_at_crosswalk", -0.05, DT_S, max_mps=0.15) == pytest.approx(0.05)  # committed: stops
+    assert make().step("cruise", None, DT_S, max_mps=0.15, target_mps=-0.15) == pytest.approx(-0.1)  # target wins
 
 
 def test_stop_at_finish_brakes_to_stand_before_the_finish_margin():
@@ -43,7 +64,9 @@ def test_stop_at_finish_brakes_to_stand_before_the_finish_margin():
 def test_on_the_crosswalk_when_the_state_begins_drives_on_to_the_next():
     profile = make()
     assert profile.target_mps("stop_at_crosswalk", -0.05) == 0.5 and not profile.stop_latched
-    profile.target_mps("stop_at_crosswalk", 0.3)
+    profile.step("stop_at_crosswalk", -0.05, DT_S)
+    assert not profile.stop_latched
+    profile.step("stop_at_crosswalk", 0.3, DT_S)
     assert profile.stop_latched
     profile.unlatch()
     assert profile.target_mps("stop_at_crosswalk", -0.05) == 0.5

@@ -114,7 +114,7 @@ from conde_decision.order_gate import OrderGate
 from conde_decision.parking import (BLIND_SPEEDS, PARKING_PLACES, PARKING_SEARCH_EVENTS, BayFinder,
                                     ParallelGapFinder, bay_entry_lead_m, check_parking_place, manoeuvre_advance_m,
                                     parking_event)
-from conde_decision.road_distance import RoadDistance
+from conde_decision.road_distance import RoadDistance, road_direction_rad
 from conde_decision.speed_profile import SpeedProfile
 from conde_decision.state_machine import StateMachine, StateMachineSpec
 
@@ -204,6 +204,8 @@ class DecisionConfig:
     recovery_max_tries: int = RecoveryConfig.max_tries  # ... tries before standing for good (0: no recovery)
     recovery_reset_m: float = RecoveryConfig.reset_m  # ... counted from 0 again after this far on a lane [m]
     recovery_rejoin_m: float = RecoveryConfig.rejoin_m  # ... the lane found: at most recovery_speed_mps this far [m]
+    # ... the creep ahead only within this of the lane's centre as last seen, by odometry [m]
+    recovery_max_offset_m: float = RecoveryConfig.max_offset_m
     max_step_s: float = 1.0  # longest time step dead-reckoned at once [s] (gaps in the input)
     park_speed_mps: float = 0.2  # |speed| of the parking manoeuvres (speeds creep and reverse) [m/s]
     # where to park on the parking order: auto (the place seen, parking.py) | parallel | bay_north | bay_south
@@ -333,7 +335,7 @@ class DecisionLogic:
         self.lane_bad_since_s: Optional[float] = None
         self.recovery = LaneRecovery(RecoveryConfig(config.recovery_speed_mps, config.recovery_distance_m,
                                                     config.recovery_max_tries, config.recovery_reset_m,
-                                                    config.recovery_rejoin_m))
+                                                    config.recovery_rejoin_m, config.recovery_max_offset_m))
         self.notes: List[str] = []
         self._transitions: List[Tuple[str, str, str]] = []
         self._events: List[str] = []
@@ -409,7 +411,7 @@ class DecisionLogic:
         dt_s = 0.0 if self.last_time_s is None else min(max(time_s - self.last_time_s, 0.0), c.max_step_s)
         self.last_time_s = time_s
         step_m = self.road.advance(abs(self.speed.v_mps) * dt_s)
-        recovering_back = self.speed.v_mps < 0.0 and self.recovery.phase in (BACK, AHEAD)
+        recovering_back = self.speed.v_mps < 0.0 and self.recovery.phase in (BACK, AHEAD, REJOIN)
         self.crosswalk.advance(-step_m if recovering_back else step_m)  # the recovery's way back
         self.crosswalk.on_sighting(lane.crosswalk_seen, lane.crosswalk_distance_m)
         self._road_direction(lane)
@@ -473,10 +475,10 @@ class DecisionLogic:
         if self.recovery.note:
             self.notes.append(self.recovery.note)
         target_mps = recovery.speed_mps if recovery.active else None
-        if recovery.phase == REJOIN:  # the lane found again: slowly until the follower has it
-            target_mps = min(recovery.speed_mps, self.speed.target_mps(command.speed, self.crosswalk.to_near_edge_m))
+        # the lane found again (REJOIN): slowly until the follower has it
+        max_mps = recovery.speed_mps if recovery.phase == REJOIN else None
         v_mps = self.speed.step(command.speed, self.crosswalk.to_near_edge_m, dt_s, hold=lane_lost,
-                                target_mps=target_mps)
+                                target_mps=target_mps, max_mps=max_mps)
         if v_mps > 0.0:
             self.lap_counter.on_motion(time_s)
 
@@ -534,10 +536,10 @@ class DecisionLogic:
         """The road's direction by odometry (the heading less the heading error seen with both lines,
         outside the blind manoeuvres) to the fork navigator: the loops' sweeps count from it."""
         command = self.machine.command
-        yaw_rad, heading_rad = self.road.yaw_rad, lane.heading_error_rad
-        if (yaw_rad is not None and math.isfinite(heading_rad) and lane.confidence >= 1.0
+        direction_rad = road_direction_rad(self.road.yaw_rad, lane.heading_error_rad)
+        if (direction_rad is not None and lane.confidence >= 1.0
                 and command.radius_m is None and command.speed not in BLIND_SPEEDS):
-            self.forks.on_road_direction(self.crosswalk.since_left_m, yaw_rad - heading_rad)
+            self.forks.on_road_direction(self.crosswalk.since_left_m, direction_rad)
 
     def _lane_frame(self, lane, lane_ok: bool) -> LaneFrame:
         """The measurement in the own lane's frame (lane_frame.py): after a right fork crossed

@@ -8,7 +8,14 @@ that the cameras see something else, slowly and a bounded distance at a time:
    without a confident lane holds its course), at most distance_m [m];
 2. ``ahead``: forward at speed_mps for up to distance_m, steering back onto the lane as it was last
    seen, dead-reckoned by odometry: the road's direction there (heading less the measured heading
-   error) and the lateral offset from it (the offset measured there plus the path's sideways part).
+   error) and the lateral offset from it (the offset measured there plus the path's sideways part);
+   only while that offset is within max_offset_m: from further off (or drifting further) the creep
+   would steer by a lane dead reckoning puts beside the robot, so it does not start (or stops) and
+   the try ends there.
+
+The ways are net: forward counts +, backward - (the caller says which way the path since the last
+step was driven), so that a robot still rolling forward as the try begins reverses that too, back
+to where it saw its lane last, and the creep's reversing start does not count as its way ahead.
 
 A confident lane seen in either phase ends the try: the lane follower takes over, at no more than
 speed_mps until it has driven rejoin_m on a confident lane (``rejoin``): faster, conde_control's
@@ -24,6 +31,8 @@ import math
 from dataclasses import dataclass
 from typing import Optional
 
+from conde_decision.road_distance import road_direction_rad
+
 IDLE, BACK, AHEAD, REJOIN, GAVE_UP = "", "back", "ahead", "rejoin", "gave_up"
 
 
@@ -34,15 +43,32 @@ class RecoveryConfig:
     max_tries: int = 2  # tries (back + ahead) before the robot stands for good
     reset_m: float = 1.0  # the tries count from 0 again after this far driven on a confident lane [m]
     rejoin_m: float = 0.4  # after a try found the lane: at most speed_mps for this far on a confident lane [m]
+    # the creep ahead starts, and goes on, only while the robot is within this of the lane's centre as
+    # last seen (dead-reckoned) [m]: the lane's half width less a margin, so that it steers on a lane it
+    # is in rather than onto one dead reckoning puts beside it
+    max_offset_m: float = 0.35
 
     def check(self) -> "RecoveryConfig":
-        for name in ("speed_mps", "distance_m", "reset_m", "rejoin_m"):
+        for name in ("speed_mps", "distance_m", "reset_m", "rejoin_m", "max_offset_m"):
             value = getattr(self, name)
             if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
                 raise ValueError("recovery_%s: must be a finite number > 0, got %r" % (name, value))
         if not (isinstance(self.max_tries, int) and not isinstance(self.max_tries, bool) and self.max_tries >= 0):
             raise ValueError("recovery_max_tries: expected an integer >= 0, got %r" % (self.max_tries,))
         return self
+
+
+def lost_lane_status(phase: str, tries: int, max_tries: int) -> str:
+    """What the robot does while its lane is lost, for the node's throttled log line: holding (the
+    state may not move, no odometry, recovery off), recovering (reversing / creeping ahead, which
+    try) or given up."""
+    if phase == BACK:
+        return "recovering: reversing the way it came (try %d of %d)" % (tries, max_tries)
+    if phase == AHEAD:
+        return "recovering: creeping ahead onto the lane by odometry (try %d of %d)" % (tries, max_tries)
+    if phase == GAVE_UP:
+        return "the recovery gave up after %d tries: holding the robot" % tries
+    return "holding the robot"
 
 
 @dataclass(frozen=True)
@@ -67,21 +93,24 @@ class LaneRecovery:
         self.tries = 0
         self.road_direction_rad: Optional[float] = None  # at the last confident lane (odometry frame) [rad]
         self.note = ""  # set in the step where something worth logging happened
-        self._phase_start_m = 0.0
         self._ok_since_m: Optional[float] = None
         self.offset_m = 0.0  # from the lane's centre, dead-reckoned from the last confident lane [m] (+ = left)
-        self._last_ok_m = 0.0  # travelled_m at the last confident lane [m]
-        self._back_m = 0.0  # the way back of this try [m]
-        self._travelled_m: Optional[float] = None  # at the last step [m]
+        # the way driven since the last confident lane, net: forward +, backward - [m]
+        self.since_lane_m = 0.0
+        self._phase_m = 0.0  # the way driven in this phase, net (+ = forward) [m]
+        self._phase_path_m = 0.0  # ... and its path length (either way) [m]
+        self._travelled_m: Optional[float] = None  # at the last step (or confident lane) [m]
 
     def on_confident_lane(self, yaw_rad: Optional[float], heading_error_rad: float, lateral_offset_m: float,
                           travelled_m: float) -> None:
         """A confident lane measurement (outside blind manoeuvres): the road's direction and the
         offset from the lane's centre [m], and the end of any try."""
-        if yaw_rad is not None and math.isfinite(heading_error_rad):
-            self.road_direction_rad = yaw_rad - heading_error_rad
+        direction_rad = road_direction_rad(yaw_rad, heading_error_rad)
+        if direction_rad is not None:
+            self.road_direction_rad = direction_rad
         self.offset_m = lateral_offset_m if math.isfinite(lateral_offset_m) else 0.0
-        self._last_ok_m = travelled_m
+        self.since_lane_m = 0.0
+        self._travelled_m = travelled_m  # the way to here is in the measurement
         if self.phase in (BACK, AHEAD):
             self.note = "lane recovery: lane seen again (%s, try %d of %d)" % (
                 self.phase, self.tries, self.config.max_tries)
@@ -100,13 +129,17 @@ class LaneRecovery:
         yaw_rad: the odometry's unwrapped heading (None: unknown); travelled_m: path length [m]
         (grows driving either way); backwards: the path since the last step was driven backwards."""
         self.note = ""
-        if self._travelled_m is not None and yaw_rad is not None and self.road_direction_rad is not None:
-            step_m = max(0.0, travelled_m - self._travelled_m) * (-1.0 if backwards else 1.0)
-            self.offset_m += step_m * math.sin(yaw_rad - self.road_direction_rad)
+        path_m = 0.0 if self._travelled_m is None else max(0.0, travelled_m - self._travelled_m)
+        step_m = -path_m if backwards else path_m
         self._travelled_m = travelled_m
-        return self._step(lost, may_move, yaw_rad, travelled_m)
+        self.since_lane_m += step_m
+        self._phase_m += step_m
+        self._phase_path_m += path_m
+        if yaw_rad is not None and self.road_direction_rad is not None:
+            self.offset_m += step_m * math.sin(yaw_rad - self.road_direction_rad)
+        return self._step(lost, may_move, yaw_rad)
 
-    def _step(self, lost: bool, may_move: bool, yaw_rad: Optional[float], travelled_m: float) -> RecoveryCommand:
+    def _step(self, lost: bool, may_move: bool, yaw_rad: Optional[float]) -> RecoveryCommand:
         if not lost:
             if self.phase in (BACK, AHEAD, GAVE_UP):  # the hold ended without a confident lane (a blind state)
                 self.phase = IDLE
@@ -126,11 +159,26 @@ class LaneRecovery:
                              "standing" % (self.tries, c.distance_m))
                 return RecoveryCommand(self.phase)
             self.tries += 1
-            self._back_m = min(c.distance_m, travelled_m - self._last_ok_m)
-            self._start(BACK, travelled_m)
-        if self.phase == BACK and travelled_m - self._phase_start_m >= self._back_m:
-            self._start(AHEAD, travelled_m)
-        elif self.phase == AHEAD and travelled_m - self._phase_start_m >= c.distance_m:
+            self._start(BACK)
+        # back: to where the lane was seen last, at most distance_m; ahead: distance_m.  Net ways (a
+        # robot still rolling forward when the try begins reverses that too); the path driven in a
+        # phase bounds it whatever the direction says
+        if self.phase == BACK and (self.since_lane_m <= 0.0 or -self._phase_m >= c.distance_m
+                                   or self._phase_path_m >= 2.0 * c.distance_m):
+            if abs(self.offset_m) > c.max_offset_m:  # the creep would steer by a lane it is not in
+                self.phase = IDLE
+                self.note = ("lane recovery: try %d of %d: %.2f m off the lane's centre as last seen (odometry), more "
+                             "than recovery_max_offset_m %.2f m: no creep ahead" % (
+                                 self.tries, c.max_tries, self.offset_m, c.max_offset_m))
+                return RecoveryCommand(self.phase)
+            self._start(AHEAD)
+        elif self.phase == AHEAD and abs(self.offset_m) > c.max_offset_m:
+            self.phase = IDLE
+            self.note = ("lane recovery: try %d of %d: the creep ahead came %.2f m off the lane's centre as last seen "
+                         "(odometry), more than recovery_max_offset_m %.2f m: stopped" % (
+                             self.tries, c.max_tries, self.offset_m, c.max_offset_m))
+            return RecoveryCommand(self.phase)
+        elif self.phase == AHEAD and (self._phase_m >= c.distance_m or self._phase_path_m >= 2.0 * c.distance_m):
             self.phase = IDLE
             self.note = "lane recovery: try %d of %d found no lane" % (self.tries, c.max_tries)
             return RecoveryCommand(self.phase)
@@ -141,11 +189,11 @@ class LaneRecovery:
         heading_error_rad = math.remainder(yaw_rad - self.road_direction_rad, 2.0 * math.pi)
         return RecoveryCommand(self.phase, c.speed_mps, heading_error_rad, self.offset_m)
 
-    def _start(self, phase: str, travelled_m: float) -> None:
+    def _start(self, phase: str) -> None:
         self.phase = phase
-        self._phase_start_m = travelled_m
+        self._phase_m = self._phase_path_m = 0.0
         if phase == BACK:
-            what = "reversing %.2f m (the way it came)" % self._back_m
+            what = "reversing %.2f m (the way it came)" % min(self.config.distance_m, max(0.0, self.since_lane_m))
         else:
             what = "creeping ahead up to %.2f m back onto the lane by odometry (%.2f m off its centre)" % (
                 self.config.distance_m, self.offset_m)

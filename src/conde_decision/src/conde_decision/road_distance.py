@@ -1,4 +1,5 @@
-"""How far the robot has driven along the road [m] and its unwrapped heading [rad].  Pure Python.
+"""How far the robot has driven along the road [m] and its unwrapped heading [rad]; the road's
+direction by odometry.  Pure Python.
 
 The distance is the odometry's path length once odometry gives one, else dead-reckoned from the
 commanded speed (which a robot that lags behind its commands, e.g. on a busy machine, does not
@@ -6,6 +7,16 @@ drive)."""
 
 import math
 from typing import Optional
+
+
+def road_direction_rad(yaw_rad: Optional[float], heading_error_rad: float) -> Optional[float]:
+    """The road's direction in the odometry's frame [rad]: the robot's heading yaw_rad less the
+    heading error measured against the lane (+ = robot left of the road's direction); None when
+    either is unknown (no odometry, a lane measurement without a heading).  The one rule that the
+    fork navigator's loop sweeps, the avoidance and the lane recovery take the direction by."""
+    if yaw_rad is None or not math.isfinite(yaw_rad) or not math.isfinite(heading_error_rad):
+        return None
+    return yaw_rad - heading_error_rad
 
 
 class RoadDistance:

@@ -14,6 +14,9 @@ from typing import Optional
 from conde_common.rate_limit import RateLimiter
 from conde_decision.parking import manoeuvre_speed_mps
 
+#: the speed commands that brake for the crosswalk ahead
+STOP_SPEEDS = ("stop_at_crosswalk", "stop_at_finish")
+
 
 class SpeedProfile:
     def __init__(self, cruise_speed_mps: float, ramp_mps2: float, brake_decel_mps2: float, stop_margin_m: float,
@@ -36,15 +39,25 @@ class SpeedProfile:
         self.stop_latched = False
 
     def step(self, speed: str, to_near_edge_m: Optional[float], dt_s: float, hold: bool = False,
-             target_mps: Optional[float] = None) -> float:
+             target_mps: Optional[float] = None, max_mps: Optional[float] = None) -> float:
         """The speed [m/s] after dt_s [s] for the command `speed`, with the near edge of the
         crosswalk ahead to_near_edge_m [m] away (None: unknown); hold: ramp to 0 instead;
-        target_mps: ramp to that instead of either (the lane recovery)."""
+        target_mps: ramp to that instead of either (the lane recovery); max_mps: the command's
+        target but no more than that (the lane recovery's rejoin).  Only a step that drives by the
+        command commits to the crosswalk ahead (stop_latched)."""
         if target_mps is None:
-            target_mps = 0.0 if hold else self.target_mps(speed, to_near_edge_m)
+            if hold:
+                target_mps = 0.0
+            else:
+                self._latch(speed, to_near_edge_m)
+                target_mps = self.target_mps(speed, to_near_edge_m)
+                if max_mps is not None:
+                    target_mps = min(max_mps, target_mps)
         return self._ramp.step(target_mps, dt_s)
 
     def target_mps(self, speed: str, to_near_edge_m: Optional[float]) -> float:
+        """The target [m/s] of the command `speed` with the near edge of the crosswalk ahead
+        to_near_edge_m [m] away: a query, it changes nothing (step() commits to the crosswalk)."""
         if speed == "stop":
             return 0.0
         if speed == "cruise":
@@ -56,9 +69,18 @@ class SpeedProfile:
         # finish_margin_m before the near edge.  Once committed it holds even if dead reckoning
         # overshoots the edge; a state that begins with the robot already on the crosswalk drives on
         # to the next one.
-        if to_near_edge_m is None or (to_near_edge_m < 0.0 and not self.stop_latched):
+        if not self._brakes_for(to_near_edge_m):
             return self.cruise_speed_mps
-        self.stop_latched = True
         margin_m = self.finish_margin_m if speed == "stop_at_finish" else self.stop_margin_m
         room_m = max(0.0, to_near_edge_m - margin_m)
         return min(self.cruise_speed_mps, math.sqrt(2.0 * self.brake_decel_mps2 * room_m))
+
+    def _brakes_for(self, to_near_edge_m: Optional[float]) -> bool:
+        """stop_at_crosswalk / stop_at_finish brake for the crosswalk ahead: it is known and ahead, or
+        committed to."""
+        return to_near_edge_m is not None and (to_near_edge_m >= 0.0 or self.stop_latched)
+
+    def _latch(self, speed: str, to_near_edge_m: Optional[float]) -> None:
+        """The update: a command that brakes for the crosswalk ahead commits to it."""
+        if speed in STOP_SPEEDS and self._brakes_for(to_near_edge_m):
+            self.stop_latched = True
