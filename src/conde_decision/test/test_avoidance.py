@@ -5,9 +5,13 @@ import math
 import pytest
 
 import recorded_sequence
-from conde_decision.avoidance import Avoidance, AvoidanceConfig, EventDelay, Obstacle, return_remaining_m
+from conde_decision.avoidance import (Avoidance, AvoidanceConfig, EventDelay, Obstacle, rear_swing_heading_rad,
+                                      return_remaining_m)
 
 C = AvoidanceConfig()
+# the plain ramp (no footprint, no limit on its direction's growth): for the tests of the ramp's and the
+# landing's mechanics with steps of tens of cm (the gentle start: test_the_lane_change_starts_gently_*)
+PLAIN = AvoidanceConfig(heading_ref_rate_per_m=1e9, rear_corner_back_m=1e-9, rear_corner_side_m=1e-9)
 
 
 def test_only_obstacles_reaching_into_the_own_lane_block_it():
@@ -25,7 +29,7 @@ def test_obstacle_ahead_only_within_the_trigger_distance():
 
 
 def test_the_reference_ramps_over_change_length_and_follows_a_switch_of_the_tracked_lane():
-    a = Avoidance()
+    a = Avoidance(PLAIN)
     a.step(0.0, True, 0.0, "own")
     # half of the ramp driven, heading 0.5 rad left: dead-reckoned 0.4 * sin(0.5) = 0.19 m left
     half = a.step(0.2, True, C.change_length_m / 2, "other", heading_error_rad=0.5)
@@ -49,7 +53,7 @@ def test_a_wrong_fit_does_not_move_the_dead_reckoned_offset():
 
 
 def test_passed_after_the_far_end_and_back_on_the_own_lane():
-    a = Avoidance()
+    a = Avoidance(PLAIN)
     a.step(0.0, True, 0.0, "own", [Obstacle("box", 1.0, -0.3, 0.3)])
     far_m = 1.0 + C.box_depth_m + C.avoid_clearance_m
     a.step(0.4, True, 0.5, "other", heading_error_rad=0.8)  # the robot moves over (0.5 sin 0.8 = 0.36 m)
@@ -64,7 +68,7 @@ def test_passed_after_the_far_end_and_back_on_the_own_lane():
 def test_back_on_the_own_lane_only_heading_along_it():
     """Within settle_tolerance_m of the centre but still crossing at an angle the return goes on (ended
     there, the follower took the full offset and the robot overshot onto the edge line: D3, lap 2)."""
-    a = Avoidance()
+    a = Avoidance(PLAIN)
     a.step(0.0, True, 0.0, "own", [Obstacle("box", 1.0, -0.3, 0.3)])
     far_m = 1.0 + C.box_depth_m + C.avoid_clearance_m
     a.step(0.4, True, 0.5, "other", heading_error_rad=0.8)
@@ -145,7 +149,7 @@ def test_a_delayed_event_waits_for_a_state_that_takes_it_or_is_dropped():
 
 
 def test_the_heading_reference_is_the_ramps_direction_while_it_moves():
-    a = Avoidance()
+    a = Avoidance(PLAIN)
     a.step(0.0, True, 0.0, "own", lane_spacing_m=0.8)
     ramp_rad = math.atan(0.8 / C.change_length_m)
     assert a.step(0.0, True, 0.1, "other", lane_index=0).heading_ref_rad == pytest.approx(ramp_rad)
@@ -163,7 +167,7 @@ def test_the_control_is_given_a_reference_near_the_robot():
     """The ramp runs ahead of a robot that lags: the control's reference stays within
     max_offset_error_m of the robot's offset (so that the control law does not turn it far off the
     lane); the ramp itself (offset_ref_m) goes on."""
-    a = Avoidance()
+    a = Avoidance(PLAIN)
     a.step(0.0, True, 0.0, "own")
     out = a.step(0.0, True, C.change_length_m / 2, "other", lane_index=0)
     assert out.offset_ref_m == pytest.approx(C.lane_spacing_m / 2)
@@ -211,7 +215,7 @@ def test_the_way_back_is_laid_along_the_lane_and_lands_on_it():
     assert one_go == pytest.approx(return_remaining_m(return_remaining_m(0.782, 0.4, slope, C.return_ease_per_m),
                                                       0.8, slope, C.return_ease_per_m))
     # driven at 60 deg off the lane, the way back advances by half the distance driven
-    a = Avoidance()
+    a = Avoidance(PLAIN)
     a.step(0.0, True, -2.0, "other", lane_index=1)
     a.step(0.0, True, 0.1, "other", lane_index=1)  # on the other lane
     out = a.step(-0.1, True, 0.3, "own", lane_index=1, heading_error_rad=-math.pi / 3)
@@ -231,8 +235,8 @@ def _return_in_closed_loop(config, heading_seen=1.0):
     spacing_m, dt_s = 0.782, 1.0 / 30.0
     y_m, heading_rad, s_m, v_mps = spacing_m, 0.0, 0.0, 0.5
     control.v_mps = v_mps
-    a.step(0.0, True, s_m - 2.0, "other", lane_index=1, lane_spacing_m=spacing_m)
-    a.step(0.0, True, s_m, "other", lane_index=1, lane_spacing_m=spacing_m)  # on the other lane
+    for k in range(101):  # on the other lane (its reference moved over in steps of 2 cm)
+        a.step(0.0, True, s_m - 2.0 + 0.02 * k, "other", lane_index=1, lane_spacing_m=spacing_m)
     overshoot_m, returned_heading_rad = 0.0, None
     for _ in range(int(6.0 / dt_s)):
         index = 1 if y_m > spacing_m / 2 else 0
@@ -326,3 +330,71 @@ def test_the_heading_gate_widens_with_the_distance_driven_since_the_last_fit_tak
 def test_the_heading_gate_config_is_checked():
     with pytest.raises(ValueError, match="heading_gate_rad"):
         AvoidanceConfig(heading_gate_rad=-1.0).check()
+
+
+def test_the_rear_swing_bound_is_the_heading_at_which_the_rear_corner_reaches_the_room():
+    heading_rad = rear_swing_heading_rad(0.3, C.rear_corner_back_m, C.rear_corner_side_m)
+    reach_m = C.rear_corner_back_m * math.sin(heading_rad) + C.rear_corner_side_m * math.cos(heading_rad)
+    assert 0.0 < heading_rad < 0.5 and reach_m == pytest.approx(0.3)
+    assert rear_swing_heading_rad(0.1, C.rear_corner_back_m, C.rear_corner_side_m) == 0.0  # no room
+    assert rear_swing_heading_rad(1.0, C.rear_corner_back_m, C.rear_corner_side_m) == pytest.approx(math.pi / 2)
+
+
+def _change_and_back_in_closed_loop(config, spacing_m):
+    """The robot on the own lane's centre of a straight road, told to change lanes (lane other) and,
+    once lane_changed, to come back, steered by conde_control's law at 30 Hz at 0.5 m/s on exact
+    measurements.  Returns (how far inside the start lane's outer line's centre the rear corner on
+    the far side came at worst on the change and on the way back [m], the robot's offset 1.6 m after
+    the change began (a box's near edge when obstacle_ahead) [m], the largest step of the heading
+    reference from one measurement to the next [rad])."""
+    from conde_control.control_law import ControlConfig, LaneFollowingController, Reference
+
+    control = LaneFollowingController(ControlConfig())
+    a = Avoidance(config)
+    dt_s, v_mps = 1.0 / 30.0, 0.5
+    y_m, heading_rad, s_m = 0.0, 0.0, 0.0
+    control.v_mps = v_mps
+    a.step(0.0, True, s_m, "own", lane_index=0, lane_spacing_m=spacing_m)
+    back_m, side_m = C.rear_corner_back_m, C.rear_corner_side_m
+    inside_m, y_at_box_m, jump_rad, last_ref_rad, lane = [9.0, 9.0], None, 0.0, 0.0, "other"
+    for _ in range(int(10.0 / dt_s)):
+        index = 1 if y_m > spacing_m / 2 else 0
+        out = a.step(y_m - index * spacing_m, True, s_m, lane, heading_error_rad=heading_rad, lane_index=index,
+                     lane_spacing_m=spacing_m)
+        if lane == "other" and "lane_changed" in out.events:
+            lane = "own"
+        v, omega = control.update(Reference(out.own_lane_offset_m, out.control_ref_m, heading_rad, out.heading_ref_rad,
+                                            v_mps), dt_s)
+        s_m += v * dt_s
+        jump_rad = max(jump_rad, abs(out.heading_ref_rad) - abs(last_ref_rad))
+        last_ref_rad = out.heading_ref_rad
+        y_m += v * dt_s * math.sin(heading_rad)
+        heading_rad += omega * dt_s
+        if y_at_box_m is None and s_m >= 1.6:
+            y_at_box_m = y_m
+        if lane == "other":  # turning left: the right rear corner, against the own lane's right line
+            corner_m = y_m - back_m * math.sin(heading_rad) - side_m * math.cos(heading_rad)
+            inside_m[0] = min(inside_m[0], corner_m + spacing_m / 2)
+        else:  # turning right: the left rear corner, against the other lane's left line
+            corner_m = y_m - back_m * math.sin(heading_rad) + side_m * math.cos(heading_rad)
+            inside_m[1] = min(inside_m[1], 1.5 * spacing_m - corner_m)
+    assert not a.active  # back on the own lane
+    return inside_m, y_at_box_m, jump_rad
+
+
+def test_the_lane_change_starts_gently_and_its_rear_stays_off_the_outer_lines():
+    """D3, Bullet, track seed 4 (lane 0.713 m between the lines, 0.17 m of room beside Conde): the
+    ramp's direction jumped from 0 to 0.46 rad (0.66 on the way back) at once, Conde turned nearly on
+    the spot and its rear corner, 0.443 m behind base_footprint, swung 0.19 m out and touched the
+    outer line.  The direction now grows with the distance driven, bounded by the rear corner's room:
+    it stays more than half a line (0.05 m) plus a margin inside the lines' centres, where the plain
+    ramp's rear reaches within 0.07 m of the own lane's right line and past the other lane's left one,
+    and the robot is still on the other lane when it reaches a box seen at avoid_trigger_m."""
+    for spacing_m in (0.782, 0.75):
+        inside_m, y_at_box_m, jump_rad = _change_and_back_in_closed_loop(C, spacing_m)
+        assert min(inside_m) > 0.06 and inside_m[0] > C.rear_clearance_m - 0.01, inside_m
+        assert y_at_box_m > spacing_m - 0.1
+        assert jump_rad <= C.min_ramp_rad + 1e-6  # its first step, then it grows with the distance driven
+        plain_inside_m, _, plain_jump_rad = _change_and_back_in_closed_loop(PLAIN, spacing_m)
+        assert plain_inside_m[0] < 0.07 and plain_inside_m[1] < 0.0, plain_inside_m
+        assert plain_jump_rad > 0.45

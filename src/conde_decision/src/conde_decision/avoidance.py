@@ -26,6 +26,14 @@ edge at the floor, lateral extent at their base from the tracked lane's centre l
   put on it return_end_m away.  Before, it ran by the distance driven straight into the centre: to
   keep pace the robot crossed at asin(0.78) = 51 deg (59 deg by ground truth, D4 v2, ODE), reached
   the centre at that angle, went 10 cm past it and touched the outer line.
+* The ramp's direction (and so its slope) does not jump: it grows by at most heading_ref_rate_per_m
+  per m driven from min_ramp_rad, and is at most the heading at which Conde's rear corner on the
+  far side (rear_corner_back_m behind base_footprint, rear_corner_side_m to the side) stays
+  rear_clearance_m inside the edge the robot moves away from (the start lane's outer line's centre,
+  half a spacing beyond it), placed by the reference or the robot, whichever is nearer that edge
+  (rear_swing_heading_rad): the robot turns about base_footprint, near its front, so a turn swings
+  the rear outwards.  Started at once at the ramp's direction (0.46 rad; 0.66 on the way back) the
+  rear swung 0.19 m out and touched the outer line of a narrow lane (D3, Bullet, track seed 4).
 * conde_tracking says which lane it measured (lane_index: 0 the right lane, 1 the left one, -1 not
   known): during a lane change and back, the tracked lane's centre lies lane_index spacings left
   of the own lane's (lane_shift_m), and the robot's offset from the own lane is the tracker's plus
@@ -104,6 +112,19 @@ class AvoidanceConfig:
     # ... plus this per m driven since then [rad/m] (the lane's turn under the robot: 1 / 0.97 m, the
     # tightest curve, a fork's arc)
     heading_gate_per_m: float = 1.0
+    # Conde's rear corners: this far behind base_footprint [m] ...
+    rear_corner_back_m: float = 0.443
+    # ... and this far to each side of it [m] (its body 0.373 m wide)
+    rear_corner_side_m: float = 0.187
+    # While a lane change or the way back turns the robot, its rear corner on the far side stays this far
+    # inside the edge it starts from (half a lane spacing beyond the start lane's centre: the line's
+    # centre) [m]: half the widest line (0.05 m) plus a margin for the control's lag and overshoot
+    rear_clearance_m: float = 0.12
+    # ... and the ramp's direction grows by at most this per m driven [rad/m] (no heading step)
+    heading_ref_rate_per_m: float = 2.0
+    # ... but the ramp heads at least this far off the lane [rad] (it moves from the first step on, and a
+    # robot near that edge still changes lanes)
+    min_ramp_rad: float = 0.1
 
     def check(self) -> "AvoidanceConfig":
         for f in fields(self):
@@ -151,6 +172,7 @@ class Avoidance:
         self.lane_yaw_rad: Optional[float] = None  # the lane's direction by odometry at the last usable frame [rad]
         self._taken_m = 0.0  # travelled_m at the last usable frame taken [m]
         self._last_travelled_m: Optional[float] = None
+        self._ramp_rad = 0.0  # the ramp's direction at the last step [rad], 0 while the reference stands
 
     @property
     def active(self) -> bool:
@@ -210,22 +232,33 @@ class Avoidance:
         else:
             self.own_offset_m, self.lane_shift_m = None, tracked_shift_m
         target_m = spacing_m if other else 0.0
+        direction = 1.0 if target_m > self.ref_m else -1.0
+        # the rear corner's room from the edge the robot moves away from, on the reference or the robot
+        # (whichever is nearer that edge), and the ramp's direction that keeps it inside
+        edge_m = target_m - direction * 1.5 * spacing_m
+        nearest_m = self.ref_m if self.own_offset_m is None else direction * min(
+            direction * self.ref_m, direction * self.own_offset_m)
+        swing_rad = rear_swing_heading_rad(direction * (nearest_m - edge_m) - c.rear_clearance_m,
+                                           c.rear_corner_back_m, c.rear_corner_side_m)
+        bound_rad = max(c.min_ramp_rad, min(self._ramp_rad + c.heading_ref_rate_per_m * driven_m, swing_rad))
         if other:
-            slope = spacing_m / c.change_length_m
+            slope = min(spacing_m / c.change_length_m, math.tan(bound_rad))
             slew_m = slope * driven_m
             if abs(target_m - self.ref_m) <= slew_m + 1e-9:
                 self.ref_m = target_m
             else:
                 self.ref_m += math.copysign(slew_m, target_m - self.ref_m)
         else:
-            slope = spacing_m / c.return_length_m
+            slope = min(spacing_m / c.return_length_m, math.tan(bound_rad))
             # the way back is laid along the lane: the distance driven times cos(heading error)
             along_m = driven_m if heading_rad is None else driven_m * max(0.0, math.cos(heading_rad))
             left_m = return_remaining_m(abs(target_m - self.ref_m), along_m, slope, c.return_ease_per_m)
             self.ref_m = target_m if left_m <= c.return_end_m else math.copysign(left_m, self.ref_m)  # target 0
             slope = min(slope, c.return_ease_per_m * left_m)
+        self._ramp_rad = 0.0
         if self.ref_m != target_m:
-            out.heading_ref_rad = math.copysign(math.atan(slope), target_m - self.ref_m)
+            self._ramp_rad = math.atan(slope)
+            out.heading_ref_rad = math.copysign(self._ramp_rad, target_m - self.ref_m)
         if self.own_offset_m is not None:
             own_offset_m = self.own_offset_m
         else:
@@ -290,6 +323,17 @@ def return_remaining_m(remaining_m: float, along_m: float, slope: float, ease_pe
         remaining_m -= slope * linear_m
         along_m -= linear_m
     return remaining_m * math.exp(-ease_per_m * along_m) if remaining_m <= knee_m + 1e-12 else remaining_m
+
+
+def rear_swing_heading_rad(room_m: float, back_m: float, side_m: float) -> float:
+    """The largest heading [rad, >= 0] off the lane at which a rear corner back_m behind the robot's
+    turning point and side_m to the side [m] swings at most room_m [m] out from the turning point's
+    line along the lane (turning left, the right rear corner: back_m sin + side_m cos of the heading);
+    0 when even heading along the lane leaves no room."""
+    reach_m = math.hypot(back_m, side_m)
+    if room_m >= reach_m:
+        return math.pi / 2
+    return max(0.0, math.asin(max(-1.0, room_m / reach_m)) - math.atan2(side_m, back_m))
 
 
 # Events that the avoid states do not take: they wait until a state does (EventDelay).

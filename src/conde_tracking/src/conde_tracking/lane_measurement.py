@@ -89,6 +89,9 @@ class LaneConfig:
     style_core_m: float = 0.012  # [m]
     min_style_span_m: float = 0.45  # [m] (more than a dash and a gap)
     dashed_gap_share: float = 0.2  # at least this share without the line: dashed (nominal about 0.4)
+    # A fit from the prior whose heading moved more than this from the prior's within one frame is
+    # checked against a fresh search, whose model is kept when its lines reach further [rad]
+    prior_jump_rad: float = 0.35
     solid_gap_share: float = 0.08  # at most this share: solid
 
 
@@ -285,7 +288,9 @@ class LaneMeasurement:
         more of the fit range (counted in style_bin_m bins along x): lane lines run on through the
         view, while the crosswalk's white stripes and bars fill the bands of many slanted models
         over its length only (standing at the crosswalk, the grid's best model on its subsampled
-        points was one 40 deg off; the next frames' fits, started from it, kept it).
+        points was one 40 deg off; the next frames' fits, started from it, kept it).  A fit from the
+        prior that turned more than prior_jump_rad from it is replaced by the fresh search's when
+        that one's lines reach further.
         Returns (fit or None, right-line points, left-line points)."""
         c = self.config
         sel = (pts[:, 0] >= c.fit_range_m[0]) & (pts[:, 0] <= c.fit_range_m[1]) & (np.abs(pts[:, 1]) <= c.max_abs_y_m)
@@ -293,8 +298,27 @@ class LaneMeasurement:
         empty = np.zeros((0, 2))
         if len(pts) < c.min_line_points:
             return None, empty, empty
-        starts = ([np.asarray(prior, float).copy()] if prior is not None
-                  else self._coarse_candidates(pts, c.search_candidates))
+        if prior is not None:
+            best = self._best_of(pts, [np.asarray(prior, float).copy()])
+            if best is not None and abs(math.atan(best.coeffs[1]) - math.atan(prior[1])) > c.prior_jump_rad:
+                # One frame turned the fit further than the robot turns between frames: the prior's
+                # bands lost a line to another one (Major Alvega, D1 south loop after the fork's wide
+                # arc: both lines -> the outer line taken for the inner one, 1.2 rad in one frame).
+                fresh = self._best_of(pts, self._coarse_candidates(pts, c.search_candidates))
+                if fresh is not None and fresh.support > best.support:
+                    best = fresh
+        else:
+            best = self._best_of(pts, self._coarse_candidates(pts, c.search_candidates))
+        if best is None:
+            return None, empty, empty
+        if best.separation_fitted:
+            self.line_separation_m += c.separation_smoothing * (best.separation_m - self.line_separation_m)
+        return (LaneFit(best.coeffs, best.right_found, best.left_found), pts[best.right], pts[best.left])
+
+    def _best_of(self, pts, starts) -> Optional["_Refined"]:
+        """Each start refined; the first one's result unless another's found lines reach over
+        candidate_margin more (support), then refined a few rounds more; None when none is found."""
+        c = self.config
         first = best = None
         for start in starts:
             refined = self._refine(pts, start)
@@ -304,13 +328,9 @@ class LaneMeasurement:
                 first = best = refined
             elif refined.support > max((1.0 + c.candidate_margin) * first.support, best.support):
                 best = refined
-        if best is None:
-            return None, empty, empty
         if best is not first:  # it started farther from where it ended: a few more rounds
             best = self._refine(pts, best.coeffs) or best
-        if best.separation_fitted:
-            self.line_separation_m += c.separation_smoothing * (best.separation_m - self.line_separation_m)
-        return (LaneFit(best.coeffs, best.right_found, best.left_found), pts[best.right], pts[best.left])
+        return best
 
     def _refine(self, pts, coeffs) -> Optional["_Refined"]:
         """A few rounds of windowed least squares from coeffs, both lines together (and their
