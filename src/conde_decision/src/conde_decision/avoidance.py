@@ -65,6 +65,8 @@ import math
 from dataclasses import dataclass, field, fields
 from typing import List, Optional, Sequence, Tuple
 
+from conde_decision.road_distance import road_direction_rad
+
 BOX = "box"
 CONE = "cone"
 
@@ -306,7 +308,7 @@ class Avoidance:
         lane's direction by odometry kept), else that direction's difference to the odometry's
         heading; None when neither is known."""
         if lane_ok and math.isfinite(heading_error_rad):
-            self.lane_yaw_rad = None if yaw_rad is None else yaw_rad - heading_error_rad
+            self.lane_yaw_rad = road_direction_rad(yaw_rad, heading_error_rad)
             return heading_error_rad
         if yaw_rad is None or self.lane_yaw_rad is None:
             return None
