@@ -115,7 +115,7 @@ from conde_decision.parking import (BLIND_SPEEDS, PARKING_PLACES, PARKING_SEARCH
                                     ParallelGapFinder, bay_entry_lead_m, check_parking_place, manoeuvre_advance_m,
                                     parking_event)
 from conde_decision.road_distance import RoadDistance, road_direction_rad
-from conde_decision.speed_profile import SpeedProfile
+from conde_decision.speed_profile import STOP_SPEEDS, SpeedProfile
 from conde_decision.state_machine import StateMachine, StateMachineSpec
 
 #: conde_msgs/PanelSignal constants and the event name of each (code -> name).
@@ -576,7 +576,7 @@ class DecisionLogic:
             if lap_done:
                 self._fire("lap_completed")
         # Standing at the line (stopping there) every order counts; driving, from order_latch_lead_m before it.
-        stopping = self.machine.command.speed in ("stop", "stop_at_crosswalk", "stop_at_finish")
+        stopping = self.machine.command.speed == "stop" or self.machine.command.speed in STOP_SPEEDS
         lead_m = 0.0 if stopping else self.config.order_latch_lead_m
         if ((self.crosswalk.at_crosswalk or lead_m > 0.0) and self.crosswalk.to_near_edge_m is not None
                 and self.crosswalk.to_near_edge_m < lead_m):

@@ -194,18 +194,10 @@ class LaneRecovery:
         if self.phase == BACK and (self.since_lane_m <= 0.0 or -self._phase_m >= c.distance_m
                                    or self._phase_path_m >= 2.0 * c.distance_m):
             if abs(self.offset_m) > c.max_offset_m:  # the creep would steer by a lane it is not in
-                self.phase = IDLE
-                self.note = ("lane recovery: try %d of %d: %.2f m off the lane's centre as last seen (odometry), more "
-                             "than recovery_max_offset_m %.2f m: no creep ahead" % (
-                                 self.tries, c.max_tries, self.offset_m, c.max_offset_m))
-                return RecoveryCommand(self.phase)
+                return self._too_far_off("%.2f m off", "no creep ahead")
             self._start(AHEAD)
         elif self.phase == AHEAD and abs(self.offset_m) > c.max_offset_m:
-            self.phase = IDLE
-            self.note = ("lane recovery: try %d of %d: the creep ahead came %.2f m off the lane's centre as last seen "
-                         "(odometry), more than recovery_max_offset_m %.2f m: stopped" % (
-                             self.tries, c.max_tries, self.offset_m, c.max_offset_m))
-            return RecoveryCommand(self.phase)
+            return self._too_far_off("the creep ahead came %.2f m off", "stopped")
         elif self.phase == AHEAD and (self._phase_m >= c.distance_m or self._phase_path_m >= 2.0 * c.distance_m):
             self.phase = IDLE
             self.note = "lane recovery: try %d of %d found no lane" % (self.tries, c.max_tries)
@@ -216,6 +208,15 @@ class LaneRecovery:
             return RecoveryCommand(self.phase, -c.speed_mps)
         heading_error_rad = math.remainder(yaw_rad - self.road_direction_rad, 2.0 * math.pi)
         return RecoveryCommand(self.phase, c.speed_mps, heading_error_rad, self.offset_m)
+
+    def _too_far_off(self, how: str, what: str) -> RecoveryCommand:
+        """The try ends: the robot is further than max_offset_m from the lane's centre as last seen."""
+        c = self.config
+        self.phase = IDLE
+        self.note = ("lane recovery: try %d of %d: " + how + " the lane's centre as last seen (odometry), more than "
+                     "recovery_max_offset_m %.2f m: %s") % (self.tries, c.max_tries, self.offset_m, c.max_offset_m,
+                                                            what)
+        return RecoveryCommand(self.phase)
 
     def _start(self, phase: str) -> None:
         self.phase = phase
