@@ -7,7 +7,8 @@ import math
 import numpy as np
 import pytest
 
-from conde_traffic_sign.sign_visibility import ViewLimits, face_normal, sign_view
+from conde_traffic_sign.sign_visibility import (ViewLimits, ViewRange, camera_limits, face_normal, hidden,
+                                                random_view, sign_view)
 
 SPACING_M = 0.01
 
@@ -162,3 +163,82 @@ def test_v1_the_rear_left_camera_sees_the_four_inner_signs_face_on_from_condes_l
         if n in (8, 9, 11, 12):
             assert rear.in_view_m > 3.0 and rear.best_off_normal_deg < 1.0, n
             assert rear.distances_in_view_m[1] < 3.9 and rear.face_px_in_view[0] > 14.0, n
+
+
+def sign_camera_mount(yaw_deg=130.0, x_m=-0.66, z_m=0.9):
+    """camera_to_base (optical frame: z forward, x right, y down) of a level camera turned yaw_deg left, and K
+    of the 320x240, 90 deg camera."""
+    yaw = math.radians(yaw_deg)
+    forward = np.array([math.cos(yaw), math.sin(yaw), 0.0])
+    right = np.array([math.sin(yaw), -math.cos(yaw), 0.0])
+    T = np.eye(4)
+    T[:3, 0], T[:3, 1], T[:3, 2], T[:3, 3] = right, [0.0, 0.0, -1.0], forward, [x_m, 0.0, z_m]
+    return T, np.array([[160.0, 0.0, 160.0], [0.0, 160.0, 120.0], [0.0, 0.0, 1.0]])
+
+
+def test_camera_limits_read_the_mount_from_the_camera_pose():
+    T, K = sign_camera_mount()
+    limits = camera_limits(ViewRange(1.4, 4.0, 50.0, 38.0), T, K)
+    assert limits.camera_yaw_deg == pytest.approx(130.0)
+    assert (limits.camera_x_m, limits.camera_y_m, limits.camera_z_m) == pytest.approx((-0.66, 0.0, 0.9))
+    assert limits.camera_pitch_deg == pytest.approx(0.0, abs=1e-9)
+    assert limits.half_vfov_deg == pytest.approx(36.87, abs=0.01)
+    assert (limits.min_distance_m, limits.max_distance_m, limits.half_fov_deg) == (1.4, 4.0, 38.0)
+
+
+def test_a_face_behind_another_is_hidden_one_beside_or_behind_it_is_not():
+    face = (0.0, 4.0, 0.0)  # facing south, towards the camera at the origin
+    assert hidden((0.0, 0.0), face, [(0.1, 2.0, 0.0)])          # in front, overlapping in bearing
+    assert not hidden((0.0, 0.0), face, [(1.0, 2.0, 0.0)])      # in front, to the side
+    assert not hidden((0.0, 0.0), face, [(0.0, 6.0, 0.0)])      # behind it
+    assert not hidden((0.0, 0.0), face, [])
+    # edge-on at 2 m, its 0.305 m width along the line of sight: still in front of the face
+    assert hidden((0.0, 0.0), face, [(0.0, 2.0, math.pi / 2)])
+
+
+def test_random_views_of_the_sign_camera_show_the_whole_face_inside_the_image():
+    T, K = sign_camera_mount()
+    view_range = ViewRange(1.4, 4.0, 50.0, 38.0)
+    mount = camera_limits(view_range, T, K)
+    sign = (-1.6, 5.0, 2.0)
+    blocker = (-1.6, 3.5, 2.0)
+    rng = np.random.default_rng(5)
+    half = 0.305 / 2
+    corners = [np.array([sign[0], sign[1], 1.0]) + np.array([math.cos(sign[2]) * a, math.sin(sign[2]) * a, b])
+               for a in (-half, half) for b in (-half, half)]
+    distances = []
+    for _ in range(300):
+        x, y, yaw = random_view(sign, rng, view_range, mount, [blocker])
+        base_to_world = np.array([[math.cos(yaw), -math.sin(yaw), 0, x], [math.sin(yaw), math.cos(yaw), 0, y],
+                                  [0, 0, 1, 0], [0, 0, 0, 1.0]])
+        world_to_camera = np.linalg.inv(base_to_world @ T)
+        for corner in corners:
+            p = world_to_camera @ np.append(corner, 1.0)
+            assert p[2] > 0
+            u, v = (K @ (p[:3] / p[2]))[:2]
+            assert 0 < u < 320 and 0 < v < 240
+        camera_xy = (base_to_world @ T)[:2, 3]
+        distances.append(math.hypot(sign[0] - camera_xy[0], sign[1] - camera_xy[1]))
+        assert not hidden(camera_xy, sign, [blocker])
+        to_camera = (camera_xy - sign[:2]) / distances[-1]
+        assert math.degrees(math.acos(to_camera @ face_normal(sign[2]))) <= 50.0 + 1e-6
+    assert min(distances) >= 1.4 and max(distances) <= 4.0
+    assert max(distances) - min(distances) > 2.0  # spread over the range
+
+
+def test_random_views_without_a_mount_are_taken_from_the_robot_looking_ahead():
+    sign = (0.0, 4.0, 0.0)  # facing south
+    rng = np.random.default_rng(1)
+    for _ in range(200):
+        x, y, yaw = random_view(sign, rng, ViewRange(0.8, 2.2, 50.0, 25.0))
+        assert 0.8 <= math.hypot(x, y - 4.0) <= 2.2
+        assert math.degrees(math.atan2(abs(x), 4.0 - y)) <= 50.0 + 1e-9
+        off_axis = (math.atan2(4.0 - y, -x) - yaw + math.pi) % (2 * math.pi) - math.pi
+        assert abs(math.degrees(off_axis)) <= 25.0 + 1e-9
+
+
+def test_random_view_names_the_face_when_no_pose_fits():
+    with pytest.raises(ValueError, match=r"\(0.00, 4.00\)"):
+        random_view((0.0, 4.0, 0.0), np.random.default_rng(0), ViewRange(1.4, 4.0, 50.0, 38.0),
+                    camera_limits(ViewRange(1.4, 4.0, 50.0, 38.0), *sign_camera_mount()), [(0.0, 3.0, 0.0)]
+                    + [(0.4 * k, 3.0, 0.0) for k in range(-8, 9)], max_draws=50)

@@ -1,5 +1,5 @@
-"""The top camera as a sign_recognition.Camera: K and D from its CameraInfo, its pose in the robot
-frame from TF (ROS plumbing shared by the node and the accuracy script)."""
+"""A camera (the top camera unless told) as a sign_recognition.Camera: K and D from its CameraInfo,
+its pose in the robot frame from TF (ROS plumbing shared by the node and the accuracy script)."""
 import numpy as np
 import rospy
 import tf2_ros
@@ -10,6 +10,9 @@ from conde_traffic_sign.sign_recognition import Camera
 
 TOP_CAMERA_IMAGE = "/conde_camera_signalling_panel/image_raw"
 TOP_CAMERA_INFO = "/conde_camera_signalling_panel/camera_info_top"
+#: Conde's V1 sign camera (xacro arg sign_camera): 0.66 m behind the drive axle, 0.9 m high, turned 130 deg left
+SIGN_CAMERA_IMAGE = "/conde_camera_signs_rear/image_raw"
+SIGN_CAMERA_INFO = "/conde_camera_signs_rear/camera_info"
 ROBOT_FRAME = "base_footprint"
 
 

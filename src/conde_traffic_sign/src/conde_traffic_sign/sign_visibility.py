@@ -14,6 +14,10 @@ A camera elsewhere on the robot is described by its offset from the route point 
 camera_y_m, robot frame: x ahead, y left) and, to check that the whole face fits the image's
 height and to give its size in pixels, its height, pitch and focal length (camera_z_m, not None).
 Distances, bearings and angles are then taken from the camera, not from the route point.
+
+random_view draws robot poses from which a camera sees a sign's face within a ViewRange (the
+accuracy campaign, traffic_sign_accuracy); camera_limits gives a camera's ViewLimits from its
+intrinsics and its pose on the robot, so that view_along checks each pose.
 """
 
 import math
@@ -153,3 +157,85 @@ def condes_route(lanes: dict) -> Tuple[np.ndarray, np.ndarray]:
     i, j = southbound_crossing("north_ccw"), southbound_crossing("north_cw")
     return (np.vstack([north["xy"][:i], south["xy"][j:]]),
             np.concatenate([north["heading"][:i], south["heading"][j:]]))
+
+
+@dataclass(frozen=True)
+class ViewRange:
+    """Where random views of a face are taken from: between min_distance_m and max_distance_m from
+    the face's centre, at most max_off_normal_deg off its normal, the camera's axis turned at most
+    max_off_axis_deg from the face's centre (each uniform) [m, deg]."""
+    min_distance_m: float
+    max_distance_m: float
+    max_off_normal_deg: float
+    max_off_axis_deg: float
+
+
+def camera_limits(view_range: ViewRange, camera_to_base, K) -> ViewLimits:
+    """ViewLimits of a camera (camera_to_base 4x4: optical frame z forward, x right, y down -> robot
+    frame; K 3x3) for the views of view_range: the camera's offset, height, yaw and pitch in the robot
+    frame, its focal length and half the image height as an angle."""
+    T, K = np.asarray(camera_to_base, dtype=float), np.asarray(K, dtype=float)
+    axis = T[:3, 2]
+    return ViewLimits(
+        min_distance_m=view_range.min_distance_m, max_distance_m=view_range.max_distance_m,
+        max_off_normal_deg=view_range.max_off_normal_deg, half_fov_deg=view_range.max_off_axis_deg,
+        camera_yaw_deg=math.degrees(math.atan2(axis[1], axis[0])), camera_x_m=float(T[0, 3]),
+        camera_y_m=float(T[1, 3]), camera_z_m=float(T[2, 3]),
+        camera_pitch_deg=math.degrees(math.asin(max(-1.0, min(1.0, axis[2])))),
+        half_vfov_deg=math.degrees(math.atan2(K[1, 2], K[1, 1])), focal_px=float(K[1, 1]))
+
+
+def hidden(camera_xy, face_pose, other_faces, face_size_m: float = ViewLimits.face_size_m) -> bool:
+    """Whether one of other_faces [(x, y, yaw)] stands between the camera at camera_xy and the face at
+    face_pose (x, y, yaw), hiding any of it: seen from the camera, the two faces' horizontal extents
+    (segments face_size_m wide along Rz(yaw) * (1, 0, 0)) overlap in bearing and the other's centre
+    is nearer."""
+    camera = np.asarray(camera_xy, dtype=float)
+
+    def extent(pose):
+        x, y, yaw = pose
+        half = 0.5 * face_size_m * np.array([math.cos(yaw), math.sin(yaw)])
+        ends = np.array([[x, y] + half, [x, y] - half]) - camera
+        return np.arctan2(ends[:, 1], ends[:, 0]), math.hypot(x - camera[0], y - camera[1])
+
+    (a, b), distance = extent(face_pose)
+    centre = math.atan2(face_pose[1] - camera[1], face_pose[0] - camera[0])
+
+    def from_centre(bearings):
+        return sorted((bearing - centre + math.pi) % (2 * math.pi) - math.pi for bearing in bearings)
+
+    low, high = from_centre((a, b))
+    for other in other_faces:
+        ends, other_distance = extent(other)
+        if other_distance >= distance:
+            continue
+        o_low, o_high = from_centre(ends)
+        if o_low <= high and o_high >= low:
+            return True
+    return False
+
+
+def random_view(sign_pose, rng, view_range: ViewRange, mount: Optional[ViewLimits] = None, other_faces=(),
+                max_draws: int = 1000) -> Tuple[float, float, float]:
+    """A robot pose (x, y, yaw) [m, rad] drawn with rng (numpy Generator) that shows the face at
+    sign_pose (x, y, yaw) from within view_range.  mount (camera_limits): distances and angles are
+    taken from that camera, and poses are drawn again until view_along finds the face in its view
+    (the whole face within the image's height) and none of other_faces hides it (hidden);
+    ValueError after max_draws.  Without a mount they are taken from the robot's origin, looking
+    ahead, unchecked."""
+    sx, sy, syaw = sign_pose
+    normal = syaw - math.pi / 2  # the direction of face_normal(syaw)
+    for _ in range(max_draws):
+        off = normal + math.radians(rng.uniform(-view_range.max_off_normal_deg, view_range.max_off_normal_deg))
+        distance = rng.uniform(view_range.min_distance_m, view_range.max_distance_m)
+        cx, cy = sx + distance * math.cos(off), sy + distance * math.sin(off)
+        axis = math.atan2(sy - cy, sx - cx) + math.radians(
+            rng.uniform(-view_range.max_off_axis_deg, view_range.max_off_axis_deg))
+        if mount is None:
+            return cx, cy, axis
+        yaw = axis - math.radians(mount.camera_yaw_deg)
+        c, s = math.cos(yaw), math.sin(yaw)
+        x, y = cx - (c * mount.camera_x_m - s * mount.camera_y_m), cy - (s * mount.camera_x_m + c * mount.camera_y_m)
+        if view_along([[x, y]], [yaw], (sx, sy), syaw, mount).view[0] and not hidden((cx, cy), sign_pose, other_faces):
+            return x, y, yaw
+    raise ValueError("no view of the face at (%.2f, %.2f) within %s in %d draws" % (sx, sy, view_range, max_draws))

@@ -1,5 +1,5 @@
-"""Top-camera views rendered by the real simulator at chosen robot poses (ROS plumbing shared by
-the accuracy and route scripts): starts conde_bringup challenge.launch V1 paused, as fast as
+"""Camera views (the top camera unless told) rendered by the real simulator at chosen robot poses
+(ROS plumbing shared by the accuracy and route scripts): starts conde_bringup challenge.launch V1 paused, as fast as
 possible and without referee, on a free loopback port, and gives the camera (CameraInfo and TF)."""
 import os
 import socket
@@ -37,14 +37,15 @@ def stop_simulation(launch):
 STARTUP_TIMEOUT_S = 240.0
 
 
-def connect_camera(prog, first_pose, launch=None):
+def connect_camera(prog, first_pose, launch=None, image_topic=None, info_topic=None):
     """(SimPanelCamera, sign_recognition.Camera) once the simulator answers; RuntimeError (with
-    roslaunch's output when it has exited) otherwise. first_pose: (x, y, yaw) to render from."""
+    roslaunch's output when it has exited) otherwise. first_pose: (x, y, yaw) to render from;
+    image_topic, info_topic: the camera's (default: the top camera's)."""
     from conde_semaphore.sim_panel_camera import SimPanelCamera, connect
-    from conde_traffic_sign.ros_camera import wait_for_camera
+    from conde_traffic_sign.ros_camera import TOP_CAMERA_IMAGE, TOP_CAMERA_INFO, wait_for_camera
     try:
         connect(prog, STARTUP_TIMEOUT_S)
-        sim = SimPanelCamera(panel=False, timeout_s=STARTUP_TIMEOUT_S)
+        sim = SimPanelCamera(image_topic=image_topic or TOP_CAMERA_IMAGE, panel=False, timeout_s=STARTUP_TIMEOUT_S)
         sim.set_pose(*first_pose)
         sim.next_image()  # CameraInfo and TF flow once the simulation steps
         stepping = threading.Event()
@@ -56,7 +57,7 @@ def connect_camera(prog, first_pose, launch=None):
         stepper = threading.Thread(target=keep_stepping, daemon=True)
         stepper.start()
         try:
-            camera = wait_for_camera(timeout_s=STARTUP_TIMEOUT_S)
+            camera = wait_for_camera(info_topic or TOP_CAMERA_INFO, timeout_s=STARTUP_TIMEOUT_S)
         finally:
             stepping.set()
             stepper.join()
