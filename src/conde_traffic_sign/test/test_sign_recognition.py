@@ -1,6 +1,9 @@
-"""sign_recognition on top-camera images rendered by the simulator (test/data, written by
-traffic_sign_accuracy --save-views: image, camera K, D and pose, the sign and its true position in
-the robot frame) and on the drawings themselves."""
+"""sign_recognition on camera images rendered by the simulator (written by traffic_sign_accuracy
+--save-views: image, camera K, D and pose, the sign and its true position in the robot frame) and on
+the drawings themselves.  test/data: the top camera (--samples 12 --track-seeds 0);
+test/data/signs_rear: the V1 sign camera (--camera signs_rear --samples 12 --seed 7 --track-seeds 2),
+1.4-3.9 m from the faces (the buses sign 3.9 m away, 10 px, was not found before its fill was
+measured between pixel centres)."""
 import glob
 import math
 import os
@@ -12,15 +15,29 @@ import pytest
 from conde_traffic_sign.sign_recognition import Camera, find_signs
 from conde_worlds import traffic_signs as ts
 
-DATA = sorted(glob.glob(os.path.join(os.path.dirname(os.path.abspath(__file__)), "data", "*.npz")))
+DATA_DIR = os.path.join(os.path.dirname(os.path.abspath(__file__)), "data")
+#: camera -> its views; the position tolerance [m] grows with the distance (a pixel of a 10 px face 4 m away is 0.4 m)
+DATA = {"top": sorted(glob.glob(os.path.join(DATA_DIR, "*.npz"))),
+        "signs_rear": sorted(glob.glob(os.path.join(DATA_DIR, "signs_rear", "*.npz")))}
+TOLERANCE_M = {"top": 0.25, "signs_rear": 0.35}
+VIEWS = [(camera, path) for camera, paths in DATA.items() for path in paths]
 
 
-def test_rendered_views_cover_every_sign():
-    assert {str(np.load(f)["sign"]) for f in DATA} == set(ts.SIGNS)
+@pytest.mark.parametrize("camera", sorted(DATA))
+def test_rendered_views_cover_every_sign(camera):
+    assert {str(np.load(f)["sign"]) for f in DATA[camera]} == set(ts.SIGNS)
 
 
-@pytest.mark.parametrize("path", DATA, ids=[os.path.basename(f) for f in DATA])
-def test_rendered_view_is_recognised_and_located(path):
+def test_the_sign_cameras_views_are_its_own():
+    for path in DATA["signs_rear"]:
+        camera_to_base = np.load(path)["camera_to_base"]
+        axis = camera_to_base[:3, 2]
+        assert math.degrees(math.atan2(axis[1], axis[0])) == pytest.approx(130.0, abs=0.5)
+        assert camera_to_base[:3, 3] == pytest.approx([-0.66, 0.0, 0.9], abs=0.05)
+
+
+@pytest.mark.parametrize("camera_name, path", VIEWS, ids=["%s/%s" % (c, os.path.basename(p)) for c, p in VIEWS])
+def test_rendered_view_is_recognised_and_located(camera_name, path):
     view = np.load(path)
     camera = Camera(view["K"], view["D"], view["camera_to_base"])
     tx, ty = view["sign_xy_m"]
@@ -29,7 +46,7 @@ def test_rendered_view_is_recognised_and_located(path):
     assert near, "no sign found"
     error_m, name = near[0]
     assert name == str(view["sign"])
-    assert error_m < 0.25, "position off by %.2f m" % error_m
+    assert error_m < TOLERANCE_M[camera_name], "position off by %.2f m" % error_m
 
 
 @pytest.mark.parametrize("name", ts.SIGNS)

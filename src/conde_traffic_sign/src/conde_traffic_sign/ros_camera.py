@@ -13,6 +13,8 @@ TOP_CAMERA_INFO = "/conde_camera_signalling_panel/camera_info_top"
 #: Conde's V1 sign camera (xacro arg sign_camera): 0.66 m behind the drive axle, 0.9 m high, turned 130 deg left
 SIGN_CAMERA_IMAGE = "/conde_camera_signs_rear/image_raw"
 SIGN_CAMERA_INFO = "/conde_camera_signs_rear/camera_info"
+#: The cameras by name (the scripts' --camera): (image topic, CameraInfo topic)
+CAMERAS = {"top": (TOP_CAMERA_IMAGE, TOP_CAMERA_INFO), "signs_rear": (SIGN_CAMERA_IMAGE, SIGN_CAMERA_INFO)}
 ROBOT_FRAME = "base_footprint"
 
 

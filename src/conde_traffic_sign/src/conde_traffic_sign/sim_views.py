@@ -37,15 +37,46 @@ def stop_simulation(launch):
 STARTUP_TIMEOUT_S = 240.0
 
 
-def connect_camera(prog, first_pose, launch=None, image_topic=None, info_topic=None):
-    """(SimPanelCamera, sign_recognition.Camera) once the simulator answers; RuntimeError (with
-    roslaunch's output when it has exited) otherwise. first_pose: (x, y, yaw) to render from;
-    image_topic, info_topic: the camera's (default: the top camera's)."""
+class SimCameras:
+    """Cameras of one simulator (SimPanelCameras, the first one steps it): set_pose(x_m, y_m, yaw_rad);
+    next_images() -> [RGB array] of one capture time, in the cameras' order."""
+
+    def __init__(self, sims):
+        self.sims = sims
+
+    def set_pose(self, x_m, y_m, yaw_rad):
+        self.sims[0].set_pose(x_m, y_m, yaw_rad)
+
+    def next_images(self, tries=25, wait_s=5.0):
+        from conde_common.images import image_to_array
+        from conde_semaphore.sim_panel_camera import STEPS_PER_TRY
+        image, msg = self.sims[0].next_image()
+        images = [image]
+        for sim in self.sims[1:]:  # the other cameras render in the same steps (one frame rate)
+            for _ in range(tries):
+                with sim.condition:
+                    if sim.condition.wait_for(lambda: sim.last_image is not None
+                                              and sim.last_image.header.stamp >= msg.header.stamp, timeout=wait_s):
+                        images.append(image_to_array(sim.last_image))
+                        break
+                sim.step_service(STEPS_PER_TRY)
+            else:
+                raise RuntimeError("no image on %s of t >= %.3f s after %d steps"
+                                   % (sim.image_topic, msg.header.stamp.to_sec(), tries * STEPS_PER_TRY))
+        return images
+
+
+def connect_cameras(prog, first_pose, launch=None, names=("top",)):
+    """(SimCameras, [sign_recognition.Camera]) of the cameras `names` (ros_camera.CAMERAS) once the
+    simulator answers; RuntimeError (with roslaunch's output when it has exited) otherwise.
+    first_pose: (x, y, yaw) to render from."""
     from conde_semaphore.sim_panel_camera import SimPanelCamera, connect
-    from conde_traffic_sign.ros_camera import TOP_CAMERA_IMAGE, TOP_CAMERA_INFO, wait_for_camera
+    from conde_traffic_sign.ros_camera import CAMERAS, wait_for_camera
     try:
         connect(prog, STARTUP_TIMEOUT_S)
-        sim = SimPanelCamera(image_topic=image_topic or TOP_CAMERA_IMAGE, panel=False, timeout_s=STARTUP_TIMEOUT_S)
+        sims = [SimPanelCamera(image_topic=CAMERAS[name][0], panel=False, timeout_s=STARTUP_TIMEOUT_S)
+                for name in names]
+        sim = sims[0]
         sim.set_pose(*first_pose)
         sim.next_image()  # CameraInfo and TF flow once the simulation steps
         stepping = threading.Event()
@@ -57,11 +88,11 @@ def connect_camera(prog, first_pose, launch=None, image_topic=None, info_topic=N
         stepper = threading.Thread(target=keep_stepping, daemon=True)
         stepper.start()
         try:
-            camera = wait_for_camera(info_topic or TOP_CAMERA_INFO, timeout_s=STARTUP_TIMEOUT_S)
+            cameras = [wait_for_camera(CAMERAS[name][1], timeout_s=STARTUP_TIMEOUT_S) for name in names]
         finally:
             stepping.set()
             stepper.join()
-        return sim, camera
+        return SimCameras(sims), cameras
     except RuntimeError as error:
         if launch is not None and launch.poll() is not None:
             launch.log.seek(0)
