@@ -13,8 +13,10 @@ red-bordered triangles, information signs blue squares, mandatory signs blue dis
    normalised correlation) with the drawings of the danger signs (red) or of the information and
    mandatory signs (blue), cut to the same box; the best match names the sign and its family.  The
    bounding box absorbs the horizontal foreshortening of a face seen at an angle.  A box smaller
-   than the comparison square is compared with the drawings first shrunk to its own size, so that
-   both have lost the same detail (an 11 px road_narrows matched the sharp other_danger best).
+   than the comparison square is compared at its own size with the drawings shrunk to it, so that
+   both have lost the same detail (an 11 px road_narrows matched the sharp other_danger best), and
+   with each drawing shifted by half a pixel either way first (the box is whole pixels, the face is
+   not): the best of the nine shifts counts.
 4. Position: the face's known height [m] and its height in pixels give the range along the ray
    through the box centre (undistorted with the camera's plumb_bob coefficients); the point is
    returned in the robot frame with the camera's pose (camera_to_base, 4x4).
@@ -89,16 +91,33 @@ def _drawings():
     return _DRAWINGS
 
 
-@functools.lru_cache(maxsize=128)
+#: shifts of a drawing [px of the box] before it is shrunk to a box under TEMPLATE_PX
+SUBPIXEL_SHIFTS_PX = (-0.5, 0.0, 0.5)
+
+
+@functools.lru_cache(maxsize=32)  # at most 31 x 49 x 3 x 4 bytes x 108 templates (2 MB) a size
 def _templates_at(width_px, height_px):
-    """The templates of the drawings shrunk to a box of width_px x height_px first (boxes smaller
-    than TEMPLATE_PX): family -> [(name, vector)]."""
-    return {family: [(name, _normalised(cv2.resize(cut, (width_px, height_px), interpolation=cv2.INTER_AREA)))
-                     for name, cut in cuts] for family, cuts in _drawings().cuts.items()}
+    """The templates of the drawings at a box of width_px x height_px (boxes smaller than
+    TEMPLATE_PX), each shifted by SUBPIXEL_SHIFTS_PX in x and y: family -> [(name, vector)]."""
+    templates = {}
+    for family, cuts in _drawings().cuts.items():
+        for name, cut in cuts:
+            # shifted at 4x the box's size, not at the drawing's (faster, the same templates)
+            fine = (4 * width_px, 4 * height_px)
+            finer = cv2.resize(cut, fine, interpolation=cv2.INTER_AREA)
+            for dx in SUBPIXEL_SHIFTS_PX:
+                for dy in SUBPIXEL_SHIFTS_PX:
+                    shift = np.float32([[1, 0, 4 * dx], [0, 1, 4 * dy]])
+                    shifted = cv2.warpAffine(finer, shift, fine, borderMode=cv2.BORDER_REPLICATE)
+                    small = cv2.resize(shifted, (width_px, height_px), interpolation=cv2.INTER_AREA)
+                    templates.setdefault(family, []).append((name, _normalised(small, None)))
+    return templates
 
 
-def _normalised(patch_rgb):
-    small = cv2.resize(patch_rgb, (TEMPLATE_PX, TEMPLATE_PX), interpolation=cv2.INTER_AREA).astype(np.float32)
+def _normalised(patch_rgb, size_px=TEMPLATE_PX):
+    """The patch resampled to size_px x size_px (None: as it is), zero-mean per channel, unit norm, flat."""
+    small = (cv2.resize(patch_rgb, (size_px, size_px), interpolation=cv2.INTER_AREA) if size_px
+             else patch_rgb).astype(np.float32)
     # per-channel brightness is normalised away: only the pattern counts
     small -= small.mean(axis=(0, 1), keepdims=True)
     norm = np.linalg.norm(small)
@@ -128,9 +147,10 @@ def _shape_families(filled_fraction, red):
 def classify_patch(patch_rgb, families):
     """(best sign name, its score) of a patch cut to the coloured shape's bounding box, among the
     signs of `families`."""
-    vector = _normalised(patch_rgb)
     h, w = patch_rgb.shape[:2]
-    templates = _templates_at(w, h) if min(w, h) < TEMPLATE_PX else _drawings().templates
+    small = min(w, h) < TEMPLATE_PX
+    vector = _normalised(patch_rgb, None if small else TEMPLATE_PX)
+    templates = _templates_at(w, h) if small else _drawings().templates
     scores = [(float(vector @ t), name) for family in families for name, t in templates[family]]
     score, name = max(scores)
     return name, score
