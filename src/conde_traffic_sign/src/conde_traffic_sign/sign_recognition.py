@@ -95,7 +95,7 @@ def _drawings():
 SUBPIXEL_SHIFTS_PX = (-0.5, 0.0, 0.5)
 
 
-@functools.lru_cache(maxsize=32)  # at most 31 x 49 x 3 x 4 bytes x 108 templates (2 MB) a size
+@functools.lru_cache(maxsize=256)  # ~0.5 MB a size (at most 31 x 49 x 3 x 4 bytes x 108 templates, 2 MB)
 def _templates_at(width_px, height_px):
     """The templates of the drawings at a box of width_px x height_px (boxes smaller than
     TEMPLATE_PX), each shifted by SUBPIXEL_SHIFTS_PX in x and y: family -> [(name, vector)]."""
