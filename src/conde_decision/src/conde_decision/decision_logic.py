@@ -103,6 +103,7 @@ from typing import List, Optional, Tuple
 from conde_common.bay_pairing import BAY_WIDTH_M
 from conde_common.panel_signals import NAMES_BY_CODE, SIGNAL_CODES
 from conde_decision.arc_end import ArcEnd
+from conde_decision.handover import HandOver
 from conde_decision.avoidance import Avoidance, AvoidanceConfig, EventDelay, Obstacle
 from conde_decision.crosswalk import CrosswalkTracker
 from conde_decision.fork_navigator import ForkNavigator
@@ -182,6 +183,9 @@ class DecisionConfig:
     # the follower's approach heading per m of offset (conde_control: offset gain / heading gain = 36 / 10) [rad/m]
     lane_aligned_approach_per_m: float = 3.6
     lane_aligned_max_approach_rad: float = 0.4  # ... at most this [rad]
+    # after a junction's blind arc, the follower's offset reference starts at the offset measured and
+    # eases to 0 over this distance driven (handover.py; 0: at once) [m]
+    handover_ease_m: float = 0.6
     branch_offset_m: float = 0.2  # peak lateral offset reference while taking a branch [m] (+ = left branch)
     branch_heading_rad: float = 0.0  # peak heading reference while taking a branch [rad] (+ = left branch)
     min_signal_confidence: float = 0.5  # panel signals below this confidence are ignored
@@ -269,7 +273,7 @@ class DecisionConfig:
                      "corner_line_offset_m", "corner_lead_m", "min_line_end_m", "lane_aligned_rad",
                      "order_latch_lead_m", "lane_aligned_min_sweep", "lane_aligned_direction_rad",
                      "lane_aligned_spread_rad", "lane_aligned_spread_m", "lane_aligned_approach_per_m",
-                     "lane_aligned_max_approach_rad", "order_hold_s", "order_crosswalk_range_m"):
+                     "lane_aligned_max_approach_rad", "handover_ease_m", "order_hold_s", "order_crosswalk_range_m"):
             need(name, getattr(self, name) >= 0, "must be >= 0")
         for name in ("min_signal_confidence", "min_lane_confidence"):
             need(name, 0 <= getattr(self, name) <= 1, "must be in [0, 1]")
@@ -330,6 +334,8 @@ class DecisionLogic:
                                      min_sightings=config.bay_line_sightings)
         self.corners = JunctionCorners(config)  # the junctions' corners the cameras see, both sides
         self.arc_end = ArcEnd(self.config)  # where a junction's arc ends on the lane seen (lane_aligned)
+        self.handover = HandOver(config.handover_ease_m)  # from a blind arc to the follower (handover.py)
+        self.after_arc = False  # a blind arc has ended, the hand-over waits for a confident lane
         self.last_time_s: Optional[float] = None
         self.state_entry_m = 0.0  # travelled_m when the current state was entered
         self.distance_fired = False  # distance_elapsed already fired in this state
@@ -496,6 +502,10 @@ class DecisionLogic:
             bias = side * self._branch_shape(command)
         offset_ref_m = bias * c.branch_offset_m + avoid.control_ref_m
         heading_ref_rad = bias * c.branch_heading_rad + avoid.heading_ref_rad
+        handover_offset_m, handover_heading_rad = self._handover(command, lane_ok, blind_arc, avoid.active,
+                                                                 measured_offset_m)
+        offset_ref_m += handover_offset_m
+        heading_ref_rad += handover_heading_rad
         offset_m = measured_offset_m if lane_ok and not blind_arc else offset_ref_m
         if avoid.active and math.isfinite(avoid.own_lane_offset_m):  # a lane change: the own lane's frame
             offset_m = avoid.own_lane_offset_m
@@ -645,6 +655,18 @@ class DecisionLogic:
                     self.notes.append("parallel parking: no free stretch of the parallel bay seen; the manoeuvre "
                                       "begins by the stored distance (%.2f m in %s)" % (command.distance_m, self.state))
         return events
+
+    def _handover(self, command, lane_ok: bool, blind_arc: bool, avoiding: bool,
+                  measured_offset_m: float) -> Tuple[float, float]:
+        """The hand-over's (offset, heading) reference after a junction's blind arc (handover.py)."""
+        if command.radius_m is not None or avoiding:
+            self.handover.cancel()
+            self.after_arc = command.radius_m is not None
+            return 0.0, 0.0
+        if self.after_arc and lane_ok and not blind_arc:
+            self.after_arc = False
+            self.handover.start(measured_offset_m, self.road.travelled_m)
+        return self.handover.reference(self.road.travelled_m)
 
     def _lane_aligned_in_arc(self, lane, command) -> bool:
         """In an arc driven blind: the cameras confirm the lane the turn leads to (both lines, several
