@@ -335,7 +335,6 @@ class DecisionLogic:
         self.corners = JunctionCorners(config)  # the junctions' corners the cameras see, both sides
         self.arc_end = ArcEnd(self.config)  # where a junction's arc ends on the lane seen (lane_aligned)
         self.handover = HandOver(config.handover_ease_m)  # from a blind arc to the follower (handover.py)
-        self.after_arc = False  # a blind arc has ended, the hand-over waits for a confident lane
         self.last_time_s: Optional[float] = None
         self.state_entry_m = 0.0  # travelled_m when the current state was entered
         self.distance_fired = False  # distance_elapsed already fired in this state
@@ -660,13 +659,9 @@ class DecisionLogic:
                   measured_offset_m: float) -> Tuple[float, float]:
         """The hand-over's (offset, heading) reference after a junction's blind arc (handover.py)."""
         if command.radius_m is not None or avoiding:
-            self.handover.cancel()
-            self.after_arc = command.radius_m is not None
+            self.handover.arm(command.radius_m is not None)
             return 0.0, 0.0
-        if self.after_arc and lane_ok and not blind_arc:
-            self.after_arc = False
-            self.handover.start(measured_offset_m, self.road.travelled_m)
-        return self.handover.reference(self.road.travelled_m)
+        return self.handover.step(lane_ok and not blind_arc, measured_offset_m, self.road.travelled_m)
 
     def _lane_aligned_in_arc(self, lane, command) -> bool:
         """In an arc driven blind: the cameras confirm the lane the turn leads to (both lines, several

@@ -22,7 +22,7 @@ from typing import Optional, Tuple
 
 
 class HandOver:
-    """start() where a blind arc has ended and the lane is measured; reference() each step after."""
+    """arm() in a blind arc; step() each step after it (it starts at the first confident lane)."""
 
     def __init__(self, ease_m: float):
         """ease_m: the distance driven over which the offset reference eases to 0 [m] (0: off)."""
@@ -31,6 +31,7 @@ class HandOver:
         self.ease_m = ease_m
         self.start_offset_m = 0.0
         self.start_travelled_m: Optional[float] = None
+        self.armed = False  # a blind arc is being driven or has ended; waiting for a confident lane
 
     @property
     def active(self) -> bool:
@@ -44,6 +45,20 @@ class HandOver:
 
     def cancel(self) -> None:
         self.start_travelled_m = None
+
+    def arm(self, in_arc: bool) -> None:
+        """A step in a blind arc (in_arc) or in a lane change (not): any easing stops; after an arc
+        the next confident lane starts one."""
+        self.cancel()
+        self.armed = in_arc
+
+    def step(self, lane_ok: bool, offset_m: float, travelled_m: float) -> Tuple[float, float]:
+        """(offset, heading) reference of a step outside arcs and lane changes; lane_ok: the lane
+        (offset_m) is measured with confidence."""
+        if self.armed and lane_ok:
+            self.armed = False
+            self.start(offset_m, travelled_m)
+        return self.reference(travelled_m)
 
     def reference(self, travelled_m: float) -> Tuple[float, float]:
         """(offset reference [m], heading reference [rad]) at travelled_m; (0, 0) when not easing."""
