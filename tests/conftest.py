@@ -11,6 +11,13 @@ TESTING_SRC_DIR = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(_
 if TESTING_SRC_DIR not in sys.path:
     sys.path.insert(0, TESTING_SRC_DIR)
 
+#: The container tests (image builds, the main job and the unit tier inside the images, noVNC).
+CONTAINER_TEST_FILES = ["test_container_images.py", "test_novnc_rviz.py"]
+# tests/run_all_tests.sh runs them in a pytest of their own beside the others (most of their time
+# is podman building and running images at a low CPU priority) and sets CONDE_CONTAINER_TESTS=apart
+# for the catkin run of this folder, which then leaves them out.
+collect_ignore = CONTAINER_TEST_FILES if os.environ.get("CONDE_CONTAINER_TESTS") == "apart" else []
+
 
 @pytest.fixture(scope="module")
 def master():

@@ -58,9 +58,31 @@ if [ "$tier" = unit ]; then
       --junit-xml="$results/pytest/$(echo "$d" | tr '/' '_').xml" || echo "pytest: failures in $d"
   done
 else
+  # The container tests (tests/test_container_images.py, test_novnc_rviz.py: about 18 min, most of
+  # it podman building the images and running the main job and the unit tier in them) run in a
+  # pytest of their own beside the catkin run below, at a lower CPU priority (their image builds at
+  # the lowest), so they take the CPU that the simulation runs in lock-step leave idle; the catkin
+  # run leaves them out (CONDE_CONTAINER_TESTS=apart, tests/conftest.py). Their output:
+  # build/test_results/containers/pytest.log.
+  mkdir -p "$results/containers"
+  containers_xml="$results/containers/pytest-containers.xml"
+  BUILD_NICENESS=19 nice -n 10 /usr/bin/python3 -m pytest -q -p no:cacheprovider -o python_files="test_*.py" \
+    tests/test_container_images.py tests/test_novnc_rviz.py --junit-xml="$containers_xml" \
+    > "$results/containers/pytest.log" 2>&1 &
+  containers_pid=$!
   # Every test registered with catkin: gtest, rostest, and each package's pytest files
   # (conde_add_pytests of conde_testing), with their results under build/test_results/<package>.
-  scripts/build.sh run_tests -j1 || echo "run_tests: make reported a failure (details in the results below)"
+  CONDE_CONTAINER_TESTS=apart scripts/build.sh run_tests -j1 \
+    || echo "run_tests: make reported a failure (details in the results below)"
+  echo "run_all_tests.sh: waiting for the container tests (pid $containers_pid)"
+  wait "$containers_pid"
+  containers_status=$?
+  tail -n 25 "$results/containers/pytest.log"
+  if [ ! -s "$containers_xml" ]; then  # pytest died before writing its results: a failure, not a silence
+    echo "run_all_tests.sh: the container tests exited $containers_status without results (see $results/containers/pytest.log)"
+    printf '<testsuite name="containers"><testcase classname="containers" name="pytest"><failure message="exit %s, no results"/></testcase></testsuite>\n' \
+      "$containers_status" > "$containers_xml"
+  fi
   # A folder of Python tests that no package registered would be skipped without a word: fail instead.
   for d in src/*/test urdf/test worlds/test tests; do
     ls "$d"/test_*.py >/dev/null 2>&1 || continue
