@@ -70,6 +70,9 @@ else
     tests/test_container_images.py tests/test_novnc_rviz.py --junit-xml="$containers_xml" \
     > "$results/containers/pytest.log" 2>&1 &
   containers_pid=$!
+  # The test executables first, on every core (run_tests below runs one test at a time, -j1, and
+  # would also compile them one at a time).
+  scripts/build.sh tests || echo "tests: the build failed (run_tests below names what is missing)"
   # Every test registered with catkin: gtest, rostest, and each package's pytest files
   # (conde_add_pytests of conde_testing), with their results under build/test_results/<package>.
   CONDE_CONTAINER_TESTS=apart scripts/build.sh run_tests -j1 \
