@@ -22,8 +22,10 @@ def test_the_reference_starts_at_the_offset_and_eases_linearly_to_0():
     assert heading_ref_rad == pytest.approx(math.atan(0.171 / 0.6))  # toward the centre: left
     assert handover.reference(10.3)[0] == pytest.approx(-0.0855)
     assert handover.reference(10.61) == (0.0, 0.0)
+    assert handover.active  # reference() is a query; step() ends the easing
+    assert handover.step(True, 0.0, 10.61) == (0.0, 0.0)
     assert not handover.active
-    assert handover.reference(10.1) == (0.0, 0.0)  # once done, done
+    assert handover.step(True, -0.1, 10.1) == (0.0, 0.0)  # once done, done (until the next arc)
 
 
 def test_zero_ease_turns_it_off_and_bad_values_are_named():

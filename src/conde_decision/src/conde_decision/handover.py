@@ -58,15 +58,22 @@ class HandOver:
         if self.armed and lane_ok:
             self.armed = False
             self.start(offset_m, travelled_m)
+        if self.active and self._along_m(travelled_m) is None:
+            self.cancel()  # eased all the way (or odometry went back): done until the next arc
         return self.reference(travelled_m)
 
-    def reference(self, travelled_m: float) -> Tuple[float, float]:
-        """(offset reference [m], heading reference [rad]) at travelled_m; (0, 0) when not easing."""
+    def _along_m(self, travelled_m: float) -> Optional[float]:
+        """Distance driven since the start [m] while it is within [0, ease_m); otherwise None."""
         if self.start_travelled_m is None:
-            return 0.0, 0.0
+            return None
         along_m = travelled_m - self.start_travelled_m
-        if along_m >= self.ease_m or along_m < 0:
-            self.cancel()
+        return along_m if 0.0 <= along_m < self.ease_m else None
+
+    def reference(self, travelled_m: float) -> Tuple[float, float]:
+        """(offset reference [m], heading reference [rad]) at travelled_m; (0, 0) when not easing.
+        A query: it changes nothing (step() ends the easing)."""
+        along_m = self._along_m(travelled_m)
+        if along_m is None:
             return 0.0, 0.0
         offset_ref_m = self.start_offset_m * (1.0 - along_m / self.ease_m)
         return offset_ref_m, math.atan(-self.start_offset_m / self.ease_m)

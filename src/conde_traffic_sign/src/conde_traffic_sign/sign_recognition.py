@@ -95,7 +95,9 @@ def _drawings():
 SUBPIXEL_SHIFTS_PX = (-0.5, 0.0, 0.5)
 
 
-@functools.lru_cache(maxsize=256)  # ~0.5 MB a size (at most 31 x 49 x 3 x 4 bytes x 108 templates, 2 MB)
+# One size's templates: 108 vectors of w x h x 3 float32, about 0.5 MB for a typical 16 x 24 px box and
+# at most 2 MB (31 x 49 px); 256 sizes: about 130 MB, 500 MB at the very most.
+@functools.lru_cache(maxsize=256)
 def _templates_at(width_px, height_px):
     """The templates of the drawings at a box of width_px x height_px (boxes smaller than
     TEMPLATE_PX), each shifted by SUBPIXEL_SHIFTS_PX in x and y: family -> [(name, vector)]."""
