@@ -3,12 +3,12 @@
 the standing pose, the joints reach it, the IMU says the torso is upright, and a command to the
 HipYawPitch controller moves both hips (mimic_joints). The simulation is stepped."""
 import os
-import time
 
 import rospy
 import rostest
 from std_msgs.msg import Float64
 
+from conde_common.delivery import AcknowledgedPublisher
 from conde_humanoid.poses import load_pose_commands
 from nao_stepped import CONFIG_DIR, SteppedNaoTest
 from stepped_sim import Latest, connected, send, wait_for
@@ -37,11 +37,13 @@ class NaoTest(SteppedNaoTest):
             latest.sub.unregister()  # the connections counted below are then the simulator's
         # The simulator may connect to some of them later than this test did: send the same pose
         # once more through connections known to be up, so that stepping starts from it.
+        # Each acknowledged by the simulator (a new publisher: nothing of this node's is in flight).
         for name, angle in commands.items():
             pub = rospy.Publisher('/%s/command' % name, Float64, queue_size=1, latch=True)
             connected(pub, '/%s/command' % name)
-            pub.publish(Float64(angle))
-        time.sleep(0.3)
+            acknowledged = AcknowledgedPublisher(pub)
+            acknowledged.send(Float64(angle))
+            acknowledged.close()
         self.sim.run(3.0)
         position = self.positions()
         self.assertEqual(len(position), 26)

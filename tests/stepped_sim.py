@@ -1,10 +1,12 @@
 """Helpers for rostests that drive a paused conde_sim node by its step service (no sleeping on
-the wall clock for simulated time; wall-clock waits only for message delivery)."""
+the wall clock for simulated time; wall-clock waits only for message delivery, and none for a
+message to the simulator: send() has it acknowledged)."""
 import os
 import time
 import unittest
 
 import rospy
+from conde_common.delivery import AcknowledgedPublisher, subscribes
 from conde_msgs.srv import StepSimulation
 
 WALL_TIMEOUT_S = 60.0  # generous: the machine may be slow and busy
@@ -76,11 +78,24 @@ def connected(publisher_or_subscriber, what):
     wait_for(lambda: publisher_or_subscriber.get_num_connections() > 0, f"a connection on {what}")
 
 
-def send(publisher, message, what):
-    """Publishes once the node listens, and gives the message time to arrive before stepping."""
+DELIVERY_S = 0.3  # [s] wall time given to a message for a receiver that does not acknowledge it
+
+
+def send(publisher, message, what, sim_node="/conde_sim"):
+    """Publishes once the node listens. When the simulator subscribes to the topic, returns once it
+    has received the message and its plugin has handled it (acknowledged delivery,
+    conde_common.delivery): the next step sees it. Any other receiver (the referee, a driving node)
+    gives no acknowledgement: the message gets DELIVERY_S of wall time to arrive."""
     connected(publisher, what)
-    publisher.publish(message)
-    time.sleep(0.3)
+    if subscribes(sim_node, publisher.resolved_name):
+        acknowledged = AcknowledgedPublisher(publisher, sim_node)
+        try:
+            acknowledged.send(message)
+        finally:
+            acknowledged.close()
+    else:
+        publisher.publish(message)
+        time.sleep(DELIVERY_S)
 
 
 class Latest:

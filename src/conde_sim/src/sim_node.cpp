@@ -25,11 +25,13 @@
 // Topics: ~lockstep_timeouts (std_msgs/UInt64, latched): frames given up at the lock-step timeout.
 // Services: ~pause_physics, ~unpause_physics, ~reset_world (std_srvs/Empty),
 //           ~step (conde_msgs/StepSimulation), ~set_start_pose (conde_msgs/SetStartPose);
+//           ~wait_for_messages (conde_msgs/WaitForMessages): acknowledged delivery, see onWaitForMessages;
 //           Gazebo's under ~gazebo_namespace (gazebo_api.h). When the node is named like that
 //           namespace (gazebo_ros/empty_world.launch names it "gazebo"), its pause, unpause
 //           and reset_world are Gazebo's.
 #include <conde_msgs/SetStartPose.h>
 #include <conde_msgs/StepSimulation.h>
+#include <conde_msgs/WaitForMessages.h>
 #include <ros/callback_queue.h>
 #include <ros/package.h>
 #include <ros/publication.h>
@@ -58,6 +60,7 @@
 #include "conde_sim/contacts.h"
 #include "conde_sim/lockstep_frames.h"
 #include "conde_sim/loop_watch.h"
+#include "conde_sim/message_counts.h"
 #include "conde_sim/plugin_loader.h"
 #include "conde_sim/simulation.h"
 #include "conde_sim/step_loop.h"
@@ -257,6 +260,7 @@ class SimNode : public SimHost {
     }
     services_.push_back(service_nh_.advertiseService("set_start_pose", &SimNode::onSetStartPose, this));
     services_.push_back(service_nh_.advertiseService("step", &SimNode::onStep, this));
+    services_.push_back(service_nh_.advertiseService("wait_for_messages", &SimNode::onWaitForMessages, this));
     gazebo_ = std::make_unique<GazeboApi>(*this, *sim_, gazebo_ns_, service_nh_, gazebo_states_rate_hz_);
     rebuildLoop();
     service_spinner_ = std::make_unique<ros::AsyncSpinner>(1, &service_queue_);
@@ -730,6 +734,45 @@ class SimNode : public SimHost {
     return true;
   }
 
+  // Acknowledged delivery: a node that publishes a command and then steps the simulator asks here
+  // for its messages first. The counting subscription joins the plugin's subscription to the topic
+  // (one roscpp Subscription per topic and process) and is added after it, at the first request
+  // naming the topic: roscpp queues a message's callbacks in that order on the loop's queue, which
+  // runs them in order, so when the count has the message the plugin has handled it. Until the
+  // request is met the service thread waits; the simulation, paused, does not move.
+  bool onWaitForMessages(
+      ros::ServiceEvent<conde_msgs::WaitForMessages::Request, conde_msgs::WaitForMessages::Response>& event) {
+    const conde_msgs::WaitForMessages::Request& req = event.getRequest();
+    conde_msgs::WaitForMessages::Response& res = event.getResponse();
+    const std::string caller = req.publisher.empty() ? event.getCallerName() : req.publisher;
+    if (req.topic.empty() || req.topic[0] != '/') {
+      res.message = "topic: '" + req.topic + "' (expected a resolved topic name, starting with /)";
+      return true;
+    }
+    if (!(req.timeout_s >= 0) || !std::isfinite(req.timeout_s)) {
+      res.message = "timeout_s must be finite and >= 0 (0 = 30 s)";
+      return true;
+    }
+    const double timeout_s = req.timeout_s > 0 ? req.timeout_s : 30.0;
+    std::unique_lock<std::mutex> lock(mutex_);
+    if (message_counts_.watch(req.topic)) {
+      const std::string topic = req.topic;
+      boost::function<void(const ros::MessageEvent<topic_tools::ShapeShifter const>&)> count =
+          [this, topic](const ros::MessageEvent<topic_tools::ShapeShifter const>& message) {
+            std::lock_guard<std::mutex> guard(mutex_);
+            message_counts_.onMessage(topic, message.getPublisherName());
+            done_.notify_all();
+          };
+      count_subs_.push_back(nh_.subscribe<topic_tools::ShapeShifter>(topic, 1000, count));
+    }
+    res.success = done_.wait_for(lock, std::chrono::duration<double>(timeout_s), [&] {
+      return message_counts_.met(req.topic, caller, req.count) || !ros::ok();
+    }) && ros::ok();
+    res.received = message_counts_.received(req.topic, caller);
+    if (!res.success) res.message = message_counts_.describeMissing(req.topic, caller, req.count, timeout_s);
+    return true;
+  }
+
   ros::NodeHandle nh_, pnh_;
   ros::NodeHandle service_nh_{"~"};
   ros::CallbackQueue service_queue_;
@@ -778,6 +821,8 @@ class SimNode : public SimHost {
   cp::Pose start_pose_;
   std::uint64_t requested_steps_ = 0;
   double step_done_time_s_ = 0.0;
+  MessageCounts message_counts_;             // ~wait_for_messages: counted on the loop's thread
+  std::vector<ros::Subscriber> count_subs_;  // one per topic counted
 
  public:
   void initialPause() { requested_paused_ = paused_; }
