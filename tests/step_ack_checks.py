@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Checks of acknowledged delivery (see step_ack.test): a Twist published just before a one-step
 ~step request takes effect in that step when the simulator acknowledged it (~wait_for_messages),
-sent directly and through a relay that delivers it 1 s of wall time late; the same command through
+sent directly and through a relay that delivers it 2 s of wall time late; the same command through
 the relay without the acknowledgement is not in effect after the step (the old way was late). The
 planar move fixture's velocity is its last command after every step: the model's twist
 (/gazebo/get_model_state) shows which command the step used."""
@@ -17,7 +17,7 @@ from conde_common.delivery import AcknowledgedPublisher
 from conde_msgs.srv import WaitForMessages
 from stepped_sim import WALL_TIMEOUT_S, SteppedSim, connected
 
-RELAY_DELAY_S = 1.0  # step_ack.test's delayed_relay ~delay_s
+RELAY_DELAY_S = 2.0  # step_ack.test's delayed_relay ~delay_s
 SPEEDS_M_S = [0.3, 0.0, -0.2, 0.5, 0.0]  # each differs from the one before
 
 
@@ -48,7 +48,7 @@ class StepAckTest(unittest.TestCase):
         baseline = self.wait_for_messages("/planar/cmd_vel", "/delayed_relay", 0, 1.0).received
         for attempt in range(20):
             slow.publish(twist(0.0))
-            if self.wait_for_messages("/planar/cmd_vel", "/delayed_relay", baseline + 1, 3.0).success:
+            if self.wait_for_messages("/planar/cmd_vel", "/delayed_relay", baseline + 1, 3 * RELAY_DELAY_S).success:
                 if attempt > 0:  # an earlier attempt may still be under way: let it come, then count
                     time.sleep(3 * RELAY_DELAY_S)
                 return self.wait_for_messages("/planar/cmd_vel", "/delayed_relay", 0, 1.0).received
