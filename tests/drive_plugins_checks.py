@@ -12,19 +12,13 @@ from gazebo_msgs.srv import ApplyBodyWrench, BodyRequest, GetModelState, GetPhys
 from geometry_msgs.msg import Point, Twist, Wrench, WrenchStamped
 from nav_msgs.msg import Odometry
 
-from stepped_sim import Latest, SteppedSim, connected
+from stepped_sim import Latest, SteppedSim, connected, twist
 
 BOX_MASS_KG = 2.0  # tests/fixtures/force_box.urdf
 
 
 def yaw_of(q):
     return math.atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z))
-
-
-def twist(x=0.0, y=0.0, yaw_rate=0.0):
-    msg = Twist()
-    msg.linear.x, msg.linear.y, msg.angular.z = x, y, yaw_rate
-    return msg
 
 
 class DrivePluginsTest(unittest.TestCase):
@@ -56,7 +50,7 @@ class DrivePluginsTest(unittest.TestCase):
         odom = Latest.connected("/skid/odom", Odometry)
         self.sim.step(500)  # settle on the wheels
         start = self.pose("skid")
-        self.drive("/skid/cmd_vel", twist(x=0.4), 2.0)
+        self.drive("/skid/cmd_vel", twist(x_m_s=0.4), 2.0)
         end = self.pose("skid")
         travelled = math.hypot(end.position.x - start.position.x, end.position.y - start.position.y)
         rospy.loginfo("skid steer: travelled %.4f m of 0.8", travelled)
@@ -67,7 +61,7 @@ class DrivePluginsTest(unittest.TestCase):
         self.assertEqual([last.pose.covariance[i] for i in (0, 7, 35)], [0.0002, 0.0003, 0.02])
         self.sim.step(500)
         start_yaw = yaw_of(self.pose("skid").orientation)
-        self.drive("/skid/cmd_vel", twist(yaw_rate=0.8), 2.0)
+        self.drive("/skid/cmd_vel", twist(yaw_rate_rad_s=0.8), 2.0)
         turned = math.remainder(yaw_of(self.pose("skid").orientation) - start_yaw, 2 * math.pi)
         rospy.loginfo("skid steer: turned %.4f rad of 1.6", turned)
         # Skid steering slips sideways in a turn: the turn falls short of 1.6 rad, but not by much.

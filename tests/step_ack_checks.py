@@ -15,16 +15,10 @@ from geometry_msgs.msg import Twist
 
 from conde_common.delivery import AcknowledgedPublisher
 from conde_msgs.srv import WaitForMessages
-from stepped_sim import WALL_TIMEOUT_S, SteppedSim, connected
+from stepped_sim import WALL_TIMEOUT_S, SteppedSim, connected, twist
 
 RELAY_DELAY_S = 2.0  # step_ack.test's delayed_relay ~delay_s
 SPEEDS_M_S = [0.3, 0.0, -0.2, 0.5, 0.0]  # each differs from the one before
-
-
-def twist(vx_m_s):
-    msg = Twist()
-    msg.linear.x = vx_m_s
-    return msg
 
 
 class StepAckTest(unittest.TestCase):

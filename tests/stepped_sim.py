@@ -8,8 +8,16 @@ import unittest
 import rospy
 from conde_common.delivery import AcknowledgedPublisher, subscribes
 from conde_msgs.srv import StepSimulation
+from geometry_msgs.msg import Twist
 
 WALL_TIMEOUT_S = 60.0  # generous: the machine may be slow and busy
+
+
+def twist(x_m_s=0.0, y_m_s=0.0, yaw_rate_rad_s=0.0):
+    """A velocity command: forward and leftward speed [m/s], yaw rate [rad/s]."""
+    msg = Twist()
+    msg.linear.x, msg.linear.y, msg.angular.z = x_m_s, y_m_s, yaw_rate_rad_s
+    return msg
 
 
 def wait_for(predicate, what, timeout_s=WALL_TIMEOUT_S):
