@@ -18,7 +18,9 @@ import json
 import os
 import re
 import shutil
+import atexit
 import subprocess
+import tempfile
 import threading
 import time
 
@@ -96,6 +98,27 @@ def run_in_container(name, args, timeout_s):
 _built = {}  # one build (or one skip or failure) per pytest session, shared with test_novnc_rviz.py
 
 
+def context_snapshot():
+    """A copy of the build context as it is now (the checkout's files that git does not ignore);
+    the checkout itself when it is not a git checkout. The other tests run while the images build
+    (tests/run_all_tests.sh) and some write beside the sources (a CI log in the checkout, for one):
+    with the live checkout as the context, each stage's COPY of it would differ from the one before
+    and the dev stage would be built again for run and for gui."""
+    listing = subprocess.run(["git", "-C", REPO, "ls-files", "-z", "--cached", "--others", "--exclude-standard"],
+                             capture_output=True, text=True)
+    if listing.returncode != 0:
+        return REPO
+    snapshot = tempfile.mkdtemp(prefix="conde_sim-context.")
+    atexit.register(shutil.rmtree, snapshot, True)
+    for path in filter(None, listing.stdout.split("\0")):
+        source = os.path.join(REPO, path)
+        if not os.path.lexists(source):  # deleted in the checkout, not yet in git
+            continue
+        os.makedirs(os.path.dirname(os.path.join(snapshot, path)), exist_ok=True)
+        shutil.copy2(source, os.path.join(snapshot, path), follow_symlinks=False)
+    return snapshot
+
+
 def build_images(config):
     """Builds the base image and the dev, run and gui stages once per session; returns
     {stage: (build time [s], size [MB])}. Skips the calling test if no container can start;
@@ -117,13 +140,14 @@ def build_images(config):
         os.remove(os.path.join(ARTEFACTS, "images.md"))
     report(f"container images ({IMAGE}:<stage>), built with docker/podman_build.sh:")
     script = os.path.join(REPO, "docker", "podman_build.sh")
+    context = context_snapshot()
     result = {}
     for stage in ("base",) + STAGES:
         started = time.monotonic()
         log_path = os.path.join(ARTEFACTS, f"build_{stage}.log")
         with open(log_path, "w") as log:
-            proc = subprocess.run([script, stage], env=dict(podman_env(), IMAGE=IMAGE), stdout=log,
-                                  stderr=subprocess.STDOUT, timeout=BUILD_TIMEOUT_S)
+            proc = subprocess.run([script, "--context", context, stage], env=dict(podman_env(), IMAGE=IMAGE),
+                                  stdout=log, stderr=subprocess.STDOUT, timeout=BUILD_TIMEOUT_S)
         build_s = time.monotonic() - started
         if proc.returncode != 0:
             with open(log_path) as log:
