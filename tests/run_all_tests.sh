@@ -70,12 +70,17 @@ else
     tests/test_container_images.py tests/test_novnc_rviz.py --junit-xml="$containers_xml" \
     > "$results/containers/pytest.log" 2>&1 &
   containers_pid=$!
-  # The test executables first, on every core (run_tests below runs one test at a time, -j1, and
-  # would also compile them one at a time).
+  # The test executables first, on every core (run_tests below, two at a time, would also compile
+  # them two at a time).
   scripts/build.sh tests || echo "tests: the build failed (run_tests below names what is missing)"
   # Every test registered with catkin: gtest, rostest, and each package's pytest files
   # (conde_add_pytests of conde_testing), with their results under build/test_results/<package>.
-  CONDE_CONTAINER_TESTS=apart scripts/build.sh run_tests -j1 \
+  # Two test targets at a time: a simulation in lock-step keeps about one core busy, so one at a
+  # time left the other idle. The system tests of tests/ (about half of the run) are named first so
+  # that they start first and everything else runs beside them. Each rostest and each test's
+  # roscore has a free port of its own; the tests step the simulation and so do not depend on
+  # having the machine to themselves.
+  CONDE_CONTAINER_TESTS=apart scripts/build.sh run_tests_conde_tests_pytest_tests run_tests -j2 \
     || echo "run_tests: make reported a failure (details in the results below)"
   echo "run_all_tests.sh: waiting for the container tests (pid $containers_pid)"
   wait "$containers_pid"
