@@ -174,3 +174,15 @@ def test_report_files(tmp_path):
     import matplotlib.image as mpimg
     png = mpimg.imread(paths["png"])
     assert png.shape[0] > 1000 and (png[..., :3].mean(axis=2) < 0.1).mean() > 0.3  # the dark track texture
+
+
+def test_the_report_names_the_track_seed():
+    """A report and its plot title say which track was driven: "track seed N" on a varied track,
+    nothing more on the nominal one (and on reports written before the field existed)."""
+    from conde_referee.report import markdown, seeds_text
+
+    _, report = judge("D1", laps(n=1))
+    assert report["track_seed"] == 0 and seeds_text(report) == "seed 0"
+    assert markdown(report).startswith("## Referee: D1 (seed 0)\n")
+    assert seeds_text(dict(report, seed=2, track_seed=6)) == "seed 2, track seed 6"
+    assert seeds_text({k: v for k, v in report.items() if k != "track_seed"}) == "seed 0"

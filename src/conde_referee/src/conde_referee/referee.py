@@ -454,7 +454,8 @@ class Referee:
             if self.laps_done_at is not None:
                 score += target * s["reference_half_lap_s"] - driving_s
         return {
-            "challenge": self.course.challenge, "seed": self.course.seed, "kind": kind, "rules": self.rules.name,
+            "challenge": self.course.challenge, "seed": self.course.seed, "track_seed": self.course.track_seed,
+            "kind": kind, "rules": self.rules.name,
             "score": round(score, 3), "penalty_total": penalty, "disqualified": self.disqualified,
             "end": self.over, "laps": self.half_laps // 2, "half_laps": self.half_laps,
             "driving_time_s": None if driving_s is None else round(driving_s, 3),

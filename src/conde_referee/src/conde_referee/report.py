@@ -39,8 +39,15 @@ def thin_path(path, period_s=PATH_PERIOD_S):
     return out
 
 
+def seeds_text(report) -> str:
+    """"seed 0" on the nominal track, "seed 0, track seed 6" on a varied one (reports written before
+    the track seed was recorded have none: nominal)."""
+    track_seed = report.get("track_seed", 0)
+    return "seed %d" % report["seed"] + (", track seed %d" % track_seed if track_seed else "")
+
+
 def markdown(report) -> str:
-    lines = ["## Referee: %s (seed %d)" % (report["challenge"], report["seed"]), "",
+    lines = ["## Referee: %s (%s)" % (report["challenge"], seeds_text(report)), "",
              "| result | value |", "|---|---|",
              "| score (%s) | %.1f |" % (report["kind"], report["score"]),
              "| penalties | %.1f |" % report["penalty_total"],
@@ -98,8 +105,8 @@ def plot(report, path, course, out_png, texture_path=None):
     ax.set_aspect("equal")
     ax.set_xlabel("x [m]")
     ax.set_ylabel("y [m]")
-    ax.set_title("%s seed %d: score %.1f, penalties %g (%s)\nred = penalty, blue = no penalty" % (
-        report["challenge"], report["seed"], report["score"], report["penalty_total"], report["end"]), fontsize=8)
+    ax.set_title("%s (%s): score %.1f, penalties %g (%s)\nred = penalty, blue = no penalty" % (
+        report["challenge"], seeds_text(report), report["score"], report["penalty_total"], report["end"]), fontsize=8)
     ax.legend(loc="lower left", fontsize=7)
     fig.tight_layout()
     fig.savefig(out_png)
