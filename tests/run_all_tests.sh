@@ -70,18 +70,35 @@ else
     tests/test_container_images.py tests/test_novnc_rviz.py --junit-xml="$containers_xml" \
     > "$results/containers/pytest.log" 2>&1 &
   containers_pid=$!
-  # The test executables first, on every core (run_tests below, two at a time, would also compile
-  # them two at a time).
+  # The test executables first, on every core (the test targets below would compile them one at
+  # a time).
   scripts/build.sh tests || echo "tests: the build failed (run_tests below names what is missing)"
   # Every test registered with catkin: gtest, rostest, and each package's pytest files
-  # (conde_add_pytests of conde_testing), with their results under build/test_results/<package>.
-  # Two test targets at a time: a simulation in lock-step keeps about one core busy, so one at a
-  # time left the other idle. The system tests of tests/ (about half of the run) are named first so
-  # that they start first and everything else runs beside them. Each rostest and each test's
-  # roscore has a free port of its own; the tests step the simulation and so do not depend on
-  # having the machine to themselves.
-  CONDE_CONTAINER_TESTS=apart scripts/build.sh run_tests_conde_tests_pytest_tests run_tests -j2 \
-    || echo "run_tests: make reported a failure (details in the results below)"
+  # (conde_add_pytests of conde_testing), with their results under build/test_results/<package>,
+  # in two streams side by side, because a simulation in lock-step keeps about one core busy and
+  # one test at a time left the other core idle: the system tests of tests/ (about half of the
+  # run; their output goes to build/test_results/system_tests.log and is printed when they end)
+  # and every other package's tests and the rostests, one target at a time. Each rostest and each
+  # test's roscore has a free port of its own, and the tests step the simulation, so they do not
+  # need the machine to themselves. The per-package targets run_tests_<package>_<type> are used
+  # (make's run_tests would run them one at a time and clean the results first: done above).
+  mapfile -t test_targets < <(make -C build help \
+    | sed -n 's/^\.\.\. \(run_tests_[A-Za-z0-9_]*_\(gtest\|rostest\|pytest\|nosetests\)\)$/\1/p')
+  system_target=run_tests_conde_tests_pytest
+  other_targets=()
+  for target in "${test_targets[@]}"; do
+    [ "$target" = "$system_target" ] || other_targets+=("$target")
+  done
+  if [ "${#other_targets[@]}" -eq "${#test_targets[@]}" ] || [ "${#other_targets[@]}" -eq 0 ]; then
+    echo "run_all_tests.sh: expected $system_target and other run_tests_<package>_<type> targets in build/, found: ${test_targets[*]}" >&2
+    exit 1
+  fi
+  CONDE_CONTAINER_TESTS=apart make -C build "$system_target" > "$results/system_tests.log" 2>&1 &
+  system_pid=$!
+  make -C build -j1 "${other_targets[@]}" || echo "run_tests: make reported a failure (details in the results below)"
+  echo "run_all_tests.sh: waiting for the system tests of tests/ (pid $system_pid)"
+  wait "$system_pid" || echo "run_tests: make reported a failure in the system tests (details in the results below)"
+  cat "$results/system_tests.log"
   echo "run_all_tests.sh: waiting for the container tests (pid $containers_pid)"
   wait "$containers_pid"
   containers_status=$?
