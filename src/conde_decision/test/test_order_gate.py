@@ -241,3 +241,57 @@ def test_the_panels_stop_read_from_afar_is_taken_with_the_crosswalk_in_sight():
 def test_a_bad_crosswalk_range_is_refused_naming_the_field():
     with pytest.raises(ValueError, match="order_crosswalk_range_m"):
         DecisionConfig(order_crosswalk_range_m=-1.0).check()
+
+
+# --- a stop at the line (DecisionConfig.stop_near_m) -----------------------------------------------
+
+@pytest.mark.parametrize("stop_near_m", [1.0, 0.0])
+def test_a_stop_shown_just_before_the_crosswalk_is_taken_before_the_line(stop_near_m):
+    """D2, track seed 9 (both engines): the panel turned to stop when the robot was 0.4 m before the
+    crosswalk's near edge and was read for 2.2 s. With the hold alone (stop_near_m 0, as before) it
+    was taken on the crosswalk and the robot crossed it under stop (a penalty); taken at once, the
+    robot stands before the near edge."""
+    road = make(order_hold_s=1.5, stop_near_m=stop_near_m)
+    show(road, FORWARD, 1.0, DT_S)
+    road.drive_m(HALF_LAP_M - 0.4 - road.s)
+    assert road.logic.stop_near() == (stop_near_m > 0.0)
+    fired = show(road, STOP, 1.0, DT_S)
+    if stop_near_m == 0.0:
+        assert fired == []
+        fired = show(road, STOP, 1.0, 1.5)
+        assert fired == [("follow_lane", "signal_stop", "approach_stop")]
+        assert road.s > HALF_LAP_M  # on the crosswalk when it is taken: drives on
+        return
+    assert fired == [("follow_lane", "signal_stop", "approach_stop")]
+    assert road.until("crosswalk_reached").state == "stopped"
+    assert HALF_LAP_M - 0.15 <= road.s < HALF_LAP_M  # stands before the near edge
+
+
+def test_a_stop_read_before_the_near_range_is_held_until_it():
+    """stop_near_m only shortens a stop read close to the line: read from 1.15 m on, the stop waits
+    (the hold) until the robot is within 1.0 m of the near edge and is taken there; a direction read
+    at the line still needs the hold."""
+    road = make(order_hold_s=1.5)
+    show(road, FORWARD, 1.0, DT_S)
+    road.drive_m(HALF_LAP_M - 1.15 - road.s)  # the crosswalk in sight, 1.15 m ahead
+    assert road.logic.panel_ahead() and not road.logic.stop_near()
+    fired = []
+    while not fired:
+        assert road.logic.crosswalk.to_near_edge_m > 1.0 - 0.5 * DT_S, "taken before the near range"
+        fired = show(road, STOP, 1.0, DT_S)
+    assert fired == [("follow_lane", "signal_stop", "approach_stop")]
+    assert road.logic.crosswalk.to_near_edge_m <= 1.0
+    assert road.until("crosswalk_reached").state == "stopped"
+
+
+def test_a_direction_read_at_the_line_keeps_the_hold():
+    road = make(order_hold_s=1.5)
+    show(road, FORWARD, 1.0, DT_S)
+    road.drive_m(HALF_LAP_M - 0.5 - road.s)
+    assert road.logic.stop_near()
+    assert show(road, RIGHT, 1.0, 0.5) == [] and road.logic.orders.held == FORWARD
+
+
+def test_a_bad_stop_near_distance_is_refused_naming_the_field():
+    with pytest.raises(ValueError, match="stop_near_m"):
+        DecisionConfig(stop_near_m=-0.5).check()

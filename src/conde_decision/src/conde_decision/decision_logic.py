@@ -200,6 +200,10 @@ class DecisionConfig:
     # seen the crosswalk ahead within this distance of its near edge (the panel stands over it; V1's
     # red danger signs elsewhere are read as stop) [m]; 0: anywhere (the rule before)
     order_crosswalk_range_m: float = 2.0
+    # driving, a stop read while the crosswalk ahead is within this distance of its near edge counts at
+    # once, without order_hold_s: the panel is close above, and the hold (0.75 m at cruise) would carry
+    # the robot over the crosswalk; a false stop there costs a halt at the line [m]; 0: the hold everywhere
+    stop_near_m: float = 1.0
     min_lane_confidence: float = 0.3  # lane measurements below this confidence are not used
     lane_lost_timeout_s: float = 1.0  # stop after this long without a confident lane [s]
     # then, in a state driving along the lane, recover (lane_recovery.py): |speed| [m/s], ...
@@ -273,7 +277,8 @@ class DecisionConfig:
                      "corner_line_offset_m", "corner_lead_m", "min_line_end_m", "lane_aligned_rad",
                      "order_latch_lead_m", "lane_aligned_min_sweep", "lane_aligned_direction_rad",
                      "lane_aligned_spread_rad", "lane_aligned_spread_m", "lane_aligned_approach_per_m",
-                     "lane_aligned_max_approach_rad", "handover_ease_m", "order_hold_s", "order_crosswalk_range_m"):
+                     "lane_aligned_max_approach_rad", "handover_ease_m", "order_hold_s", "order_crosswalk_range_m",
+                     "stop_near_m"):
             need(name, getattr(self, name) >= 0, "must be >= 0")
         for name in ("min_signal_confidence", "min_lane_confidence"):
             need(name, 0 <= getattr(self, name) <= 1, "must be in [0, 1]")
@@ -383,7 +388,7 @@ class DecisionLogic:
         watched = self.orders.candidate
         panel_ahead = self.panel_ahead()
         if not self.orders.accept(signal, time_s, standing=self.machine.command.speed == "stop",
-                                  panel_ahead=panel_ahead):
+                                  panel_ahead=panel_ahead, at_once=signal == STOP and self.stop_near()):
             if watched != signal:
                 self.notes.append("signal %s (confidence %.2f) while driving, order %s held: "
                                   "taken once read for %.1f s%s"
@@ -405,6 +410,12 @@ class DecisionLogic:
         range_m = self.config.order_crosswalk_range_m
         ahead_m = self.crosswalk.to_near_edge_m
         return range_m == 0.0 or self.crosswalk.at_crosswalk or (ahead_m is not None and ahead_m <= range_m)
+
+    def stop_near(self) -> bool:
+        """The crosswalk ahead (seen by conde_tracking, then dead-reckoned) is within stop_near_m of
+        its near edge: a stop read now is taken at once."""
+        ahead_m = self.crosswalk.to_near_edge_m
+        return self.config.stop_near_m > 0.0 and ahead_m is not None and ahead_m <= self.config.stop_near_m
 
     def on_odometry(self, yaw_rad: float, travelled_m: Optional[float] = None) -> None:
         """The robot's heading [rad] (any branch of the angle; unwrapped here) and, if known, the
