@@ -47,9 +47,14 @@ if [ "$tier" = all ]; then
   scripts/lint.sh "$results/lint" || echo "lint: findings (listed above)"
 fi
 
+# The targets run_tests_<package>_<type> that catkin made in build/ (one per package and type of
+# test) for the types given as a sed alternation, e.g. 'gtest' or 'gtest\|pytest'.
+test_targets_of() {
+  make -C build help | sed -n "s/^\.\.\. \(run_tests_[A-Za-z0-9_]*_\($1\)\)\$/\1/p"
+}
+
 if [ "$tier" = unit ]; then
-  # catkin makes one run_tests_<package>_gtest target per package with gtests.
-  mapfile -t gtest_targets < <(make -C build help | sed -n 's/^\.\.\. \(run_tests_[A-Za-z0-9_]*_gtest\)$/\1/p')
+  mapfile -t gtest_targets < <(test_targets_of 'gtest')
   [ "${#gtest_targets[@]}" -gt 0 ] || { echo "run_all_tests.sh: no run_tests_<package>_gtest target in build/" >&2; exit 1; }
   scripts/build.sh "${gtest_targets[@]}" -j1 || echo "gtest: make reported a failure (details in the results below)"
   for d in src/*/test urdf/test worlds/test; do
@@ -82,8 +87,7 @@ else
   # test's roscore has a free port of its own, and the tests step the simulation, so they do not
   # need the machine to themselves. The per-package targets run_tests_<package>_<type> are used
   # (make's run_tests would run them one at a time and clean the results first: done above).
-  mapfile -t test_targets < <(make -C build help \
-    | sed -n 's/^\.\.\. \(run_tests_[A-Za-z0-9_]*_\(gtest\|rostest\|pytest\|nosetests\)\)$/\1/p')
+  mapfile -t test_targets < <(test_targets_of 'gtest\|rostest\|pytest\|nosetests')
   system_target=run_tests_conde_tests_pytest
   other_targets=()
   for target in "${test_targets[@]}"; do
