@@ -44,7 +44,7 @@ def test_lane_and_signal_in_reference_and_state_out(core):
 
     # One reference per lane message, stamped with the measurement's time, measurement passed on.
     speeds = [r[6] for r in refs]
-    start = next(i for i, v in enumerate(speeds) if v > 0.0)  # the measurement that took the go
+    start = next((i for i, v in enumerate(speeds) if v > 0.0), None)  # the measurement that took the go
     # The go signal was stamped with measurement 9: applied at 10, never at 9 itself (or at 11
     # when it came after measurement 10, the probe's publishers being two connections).
     assert start in (10, 11), speeds

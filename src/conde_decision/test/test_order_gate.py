@@ -269,8 +269,7 @@ def test_a_stop_shown_just_before_the_crosswalk_is_taken_before_the_line(stop_ne
 
 def test_a_stop_read_before_the_near_range_is_held_until_it():
     """stop_near_m only shortens a stop read close to the line: read from 1.15 m on, the stop waits
-    (the hold) until the robot is within 1.0 m of the near edge and is taken there; a direction read
-    at the line still needs the hold."""
+    (the hold) until the robot is within 1.0 m of the near edge and is taken there."""
     road = make(order_hold_s=1.5)
     show(road, FORWARD, 1.0, DT_S)
     road.drive_m(HALF_LAP_M - 1.15 - road.s)  # the crosswalk in sight, 1.15 m ahead

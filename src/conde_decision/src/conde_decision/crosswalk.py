@@ -33,6 +33,10 @@ class CrosswalkTracker:
         if not self.at_crosswalk and rearmed and seen and math.isfinite(distance_m):
             self.to_near_edge_m = distance_m
 
+    def ahead_within(self, range_m: float) -> bool:
+        """A crosswalk ahead is known and its near edge is at most range_m [m] ahead (or behind)."""
+        return self.to_near_edge_m is not None and self.to_near_edge_m <= range_m
+
     def reached(self, zone_m: Optional[float] = None) -> bool:
         """True once, when the robot arrives at the crosswalk ahead (within zone_m [m] of its near
         edge; None: the tracker's zone_m)."""

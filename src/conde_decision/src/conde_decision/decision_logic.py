@@ -408,14 +408,12 @@ class DecisionLogic:
         """The panel can be what the top camera reads: the robot is on the crosswalk, or the crosswalk
         ahead (seen by conde_tracking, then dead-reckoned) is within order_crosswalk_range_m."""
         range_m = self.config.order_crosswalk_range_m
-        ahead_m = self.crosswalk.to_near_edge_m
-        return range_m == 0.0 or self.crosswalk.at_crosswalk or (ahead_m is not None and ahead_m <= range_m)
+        return range_m == 0.0 or self.crosswalk.at_crosswalk or self.crosswalk.ahead_within(range_m)
 
     def stop_near(self) -> bool:
         """The crosswalk ahead (seen by conde_tracking, then dead-reckoned) is within stop_near_m of
         its near edge: a stop read now is taken at once."""
-        ahead_m = self.crosswalk.to_near_edge_m
-        return self.config.stop_near_m > 0.0 and ahead_m is not None and ahead_m <= self.config.stop_near_m
+        return self.config.stop_near_m > 0.0 and self.crosswalk.ahead_within(self.config.stop_near_m)
 
     def on_odometry(self, yaw_rad: float, travelled_m: Optional[float] = None) -> None:
         """The robot's heading [rad] (any branch of the angle; unwrapped here) and, if known, the
