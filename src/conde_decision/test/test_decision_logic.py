@@ -851,18 +851,36 @@ def test_a_panel_misread_past_the_stop_line_does_not_change_the_order(misread_on
 
 def test_straight_on_at_a_right_fork_the_robot_holds_its_course_across_the_junction():
     """"left" at the south fork (opens right) is not obeyable: straight on, and across the
-    junction the lane measurement (which would follow the edge line into the branch) is not used."""
+    junction the lane measurement (which would follow the edge line into the branch) is not used:
+    the robot steers along the road's direction seen before the fork, by odometry, from the offset
+    measured last (course_hold.py)."""
     road = make()
     signal(road, FORWARD)
     road.drive_m(HALF_LAP_M - 3.0)  # on the north loop, before the southbound crossing
     signal(road, LEFT)
+    road.lateral_offset_m = 0.05  # the straight before the fork: the robot 5 cm left, along the road
+    hold_from_m = CONFIG.fork_distance_m - CONFIG.junction_window_m
+    road.until("crosswalk_left")  # the southbound crossing
+    while road.logic.crosswalk.since_left_m < hold_from_m - 0.02:  # the lure begins at most a step early
+        road.step()
     road.lateral_offset_m, road.heading_error_rad = 0.3, 0.2  # what a lane follower into the branch would see
+    road.yaw_rad += 0.1  # ... while the robot points 0.1 rad left of the road (the odometry's heading)
+    first = len(road.outputs)
     road.until("fork_straight")
-    held = [out for s, out in zip(road.positions, road.outputs)
-            if out.heading_error_rad == out.heading_ref_rad and out.lateral_offset_m == out.lateral_offset_ref_m]
-    assert held and all(out.linear_velocity_mps > 0 and not out.lane_lost for out in held)
+    # the road's direction: the median of the heading less the heading error seen on the straight
+    # (the model's lane measurement and odometry agree within 0.01 rad there)
+    off_road_rad = road.yaw_rad - road.logic.forks.road_direction_rad()
+    assert off_road_rad == pytest.approx(0.1, abs=0.015)
+    held = [out for out in road.outputs[first:] if out.heading_error_rad == pytest.approx(off_road_rad)]
+    assert len(held) >= len(road.outputs[first:]) - 3  # in the hold from junction_window_m before the fork
+    assert all(out.linear_velocity_mps > 0 and not out.lane_lost for out in held)
+    assert all(out.heading_ref_rad == 0.0 and out.lateral_offset_ref_m == 0.0 for out in held)
+    # the offset dead-reckoned from the 0.05 m seen before (the median of the last measurements, one of
+    # them the lure's): + sin(heading error) per metre, never the lure's 0.3 m
+    driven_m = road.path_m - road.positions[first]
+    assert held[-1].lateral_offset_m == pytest.approx(0.05 + math.sin(off_road_rad) * driven_m, abs=0.01)
     crossing_m = road.drive_m(CONFIG.straight_crossing_m - 0.05) or road.outputs[-1]
-    assert crossing_m.heading_error_rad == crossing_m.heading_ref_rad and crossing_m.state == "follow_lane"
+    assert crossing_m.heading_error_rad == pytest.approx(off_road_rad) and crossing_m.state == "follow_lane"
     road.drive_m(0.2)
     assert road.outputs[-1].heading_error_rad == pytest.approx(0.2)  # the lane again
     # the tracker measures against the lane on the left after the crossing: taken modulo the line spacing

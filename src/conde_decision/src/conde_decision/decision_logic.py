@@ -44,7 +44,9 @@ Left turns (fork_left, merge_left) likewise from far_left_line_end_m, the other 
 line, which turns left at the left turn's corner with the same radius (junction_corners.py; the
 dashed centre line ends anywhere within a dash period before the branch and is no mark).
 Straight on at a fork that opens right the course is held across the junction (straight_crossing_m
-past the fork: the lane's edge line turns into the branch there; ForkNavigator.holds_course).
+past the fork: the lane's edge line turns into the branch there; ForkNavigator.holds_course),
+steering by odometry along the road's direction seen before the fork, from the offset seen
+there (course_hold.py).
 
 Where the robot is along the road is measured by odometry (the path length on_odometry is given)
 or, without it, dead-reckoned from the speed it is commanded (ramped at speed_ramp_mps2 with
@@ -107,6 +109,7 @@ from conde_decision.handover import HandOver
 from conde_decision.avoidance import Avoidance, AvoidanceConfig, EventDelay, Obstacle
 from conde_decision.crosswalk import CrosswalkTracker
 from conde_decision.fork_navigator import ForkNavigator
+from conde_decision.course_hold import CourseHold
 from conde_decision.junction_corners import JunctionCorners, visible_sides
 from conde_decision.lane_frame import UNKNOWN_LANE, LaneFrame, lane_frame
 from conde_decision.lane_recovery import AHEAD, BACK, REJOIN, LaneRecovery, RecoveryConfig, rejoin_heading_ref_rad
@@ -340,6 +343,8 @@ class DecisionLogic:
         self.corners = JunctionCorners(config)  # the junctions' corners the cameras see, both sides
         self.arc_end = ArcEnd(self.config)  # where a junction's arc ends on the lane seen (lane_aligned)
         self.handover = HandOver(config.handover_ease_m)  # from a blind arc to the follower (handover.py)
+        # straight across a junction by odometry (course_hold.py)
+        self.course_hold = CourseHold(config.min_road_direction_samples)
         self.last_time_s: Optional[float] = None
         self.state_entry_m = 0.0  # travelled_m when the current state was entered
         self.distance_fired = False  # distance_elapsed already fired in this state
@@ -455,8 +460,9 @@ class DecisionLogic:
             self._fire("lane_aligned")
         command = self.machine.command
 
-        blind_arc = (command.radius_m is not None or command.speed in BLIND_SPEEDS
-                     or self.forks.holds_course(self.crosswalk.since_left_m))
+        arc_or_blind = command.radius_m is not None or command.speed in BLIND_SPEEDS
+        holding = not arc_or_blind and self.forks.holds_course(self.crosswalk.since_left_m)
+        blind_arc = arc_or_blind or holding
         lane_ok = (math.isfinite(lane.lateral_offset_m) and math.isfinite(lane.heading_error_rad)
                    and lane.confidence >= c.min_lane_confidence)
         lane_index = getattr(lane, "lane_index", UNKNOWN_LANE)
@@ -520,6 +526,11 @@ class DecisionLogic:
         heading_rad = lane.heading_error_rad if lane_ok and not blind_arc else heading_ref_rad
         if avoid.lane_rejected and math.isfinite(avoid.heading_error_rad):  # not the odometry's heading
             heading_rad = avoid.heading_error_rad
+        held = self.course_hold.step(self.road.yaw_rad, self.forks.road_direction_rad(), step_m) if holding else None
+        if held is not None:  # across the junction: along the road seen before it, by odometry (course_hold.py)
+            offset_m, heading_rad = held
+        if not holding:
+            self.course_hold.release()
         if recovery.phase == REJOIN and lane_ok and not blind_arc and not avoid.active:
             # toward the lane's centre at a bounded heading, within the cameras' view (lane_recovery.py)
             heading_ref_rad += rejoin_heading_ref_rad(offset_m - offset_ref_m, self.recovery.config)
@@ -566,7 +577,8 @@ class DecisionLogic:
         direction_rad = road_direction_rad(self.road.yaw_rad, lane.heading_error_rad)
         if (direction_rad is not None and lane.confidence >= 1.0
                 and command.radius_m is None and command.speed not in BLIND_SPEEDS):
-            self.forks.on_road_direction(self.crosswalk.since_left_m, direction_rad)
+            if self.forks.on_road_direction(self.crosswalk.since_left_m, direction_rad):
+                self.course_hold.measured(lane.lateral_offset_m)  # where on the road: course_hold.py
 
     def _lane_frame(self, lane, lane_ok: bool) -> LaneFrame:
         """The measurement in the own lane's frame (lane_frame.py): after a right fork crossed

@@ -77,17 +77,19 @@ class ForkNavigator:
         self.fork_pending = True
         self.road_directions_rad = []
 
-    def on_road_direction(self, since_crosswalk_m: Optional[float], direction_rad: float) -> None:
+    def on_road_direction(self, since_crosswalk_m: Optional[float], direction_rad: float) -> bool:
         """The road's direction [rad] (unwrapped, in the odometry's frame: the robot's heading less
         the heading error the cameras measured, from a measurement with both lines) at
         since_crosswalk_m [m] past the crosswalk.  Kept on the straight road between the crosswalk
         and junction_window_m before the fork: the loop's sweep counts from their median, not from
         the robot's heading at the fork (in D2 the robot pointed about 6 deg left there, after its
-        lane follower swerved at the fork, and the sweep never completed)."""
+        lane follower swerved at the fork, and the sweep never completed).  True when it is kept."""
         c = self.config
         if (self.fork_pending and since_crosswalk_m is not None and math.isfinite(direction_rad)
                 and since_crosswalk_m <= c.fork_distance_m - c.junction_window_m):
             self.road_directions_rad.append(direction_rad)
+            return True
+        return False
 
     def road_direction_rad(self) -> Optional[float]:
         """The median of the road directions seen since the crosswalk [rad]; None below
