@@ -573,6 +573,8 @@ def test_time_gaps_are_capped():
      "loop_lane_radii_m: expected one radius > 0 per entry of fork_sides, got (2.5, -1.0)"),
     ({"loop_exit_m": -0.1}, "loop_exit_m: must be >= 0, got -0.1"),
     ({"min_road_direction_samples": 0}, "min_road_direction_samples: expected an integer >= 1, got 0"),
+    ({"corner_sides": ("right", "up")}, "corner_sides: expected a list of left/right, got ('right', 'up')"),
+    ({"corner_sides": "right"}, "corner_sides: expected a list of left/right, got 'right'"),
 ])
 def test_config_errors(change, message):
     with pytest.raises(ValueError) as info:
@@ -829,6 +831,18 @@ def test_a_left_turn_without_a_corner_seen_begins_at_the_fallback_and_says_so():
     assert road.s == pytest.approx(FORK_S + 0.3, abs=2 * STEP_M)
     assert out.transitions == [("follow_lane", "fork_left", "turn_left")]
     assert any(note.startswith("fork_left at the fallback") for note in road.logic.notes)
+
+
+def test_a_left_turn_whose_corner_the_cameras_cannot_show_begins_at_the_stored_distance():
+    """corner_sides without left (Major Alvega: its camera never shows the far-left line): no late
+    fallback, and a corner reported on that side is not used."""
+    road = make(junction_fallback_m=0.3, corner_sides=("right",))
+    road.corners.append(("left", FORK_S - 0.25, CONFIG.corner_line_offset_m))
+    reach_before_fork(road, "follow_lane", "left")
+    out = road.until("fork_left")
+    assert road.s == pytest.approx(FORK_S, abs=2 * STEP_M)
+    assert out.transitions == [("follow_lane", "fork_left", "turn_left")]
+    assert not any("fallback" in note for note in road.logic.notes)
 
 
 @pytest.mark.parametrize("misread_on_the_crosswalk, fork", [(True, "fork_left"), (False, "fork_straight")])

@@ -165,6 +165,10 @@ class DecisionConfig:
     junction_window_m: float = 0.6
     # where the cameras mark the corner (right turns), the stored distance is the fallback this much later [m]
     junction_fallback_m: float = 0.3
+    # the sides whose junction corners the robot's cameras show (junction_corners.py): turns to the
+    # others begin at the stored distances, with no fallback.  Major Alvega: right only (its one
+    # ground camera never shows the far-left line that marks a left turn's corner)
+    corner_sides: Tuple[str, ...] = ("right", "left")
     corner_sight_m: float = 0.6  # a right edge line ending within this distance ahead marks a corner [m]
     # a fork that opens right taken straight: the course is held (no lane) this far past the stored fork distance [m]
     straight_crossing_m: float = 1.8
@@ -252,6 +256,9 @@ class DecisionConfig:
             if f.name == "fork_sides":
                 need(f.name, isinstance(value, (list, tuple)) and len(value) > 0
                      and all(v in ("left", "right") for v in value), "expected a non-empty list of left/right")
+            elif f.name == "corner_sides":
+                need(f.name, isinstance(value, (list, tuple)) and all(v in ("left", "right") for v in value),
+                     "expected a list of left/right")
             elif f.name == "fork_forward":
                 need(f.name, isinstance(value, (list, tuple)) and len(value) == len(self.fork_sides)
                      and all(v in ("straight", "branch") for v in value),
@@ -332,7 +339,7 @@ class DecisionLogic:
         self.crosswalk = CrosswalkTracker(config.crosswalk_length_m, config.crosswalk_zone_m,
                                           config.crosswalk_rearm_m, config.start_to_near_edge_m)
         self.lap_counter = LapCounter(config.crossings_per_lap)
-        self.forks = ForkNavigator(config)
+        self.forks = ForkNavigator(config, config.corner_sides)
         self.speed = SpeedProfile(config.cruise_speed_mps, config.speed_ramp_mps2, config.brake_decel_mps2,
                                   config.stop_margin_m, config.park_speed_mps, config.finish_margin_m)
         self.parking_event = parking_event(check_parking_place(config.parking_place))
