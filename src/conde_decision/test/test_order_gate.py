@@ -267,6 +267,18 @@ def test_a_stop_shown_just_before_the_crosswalk_is_taken_before_the_line(stop_ne
     assert HALF_LAP_M - 0.15 <= road.s < HALF_LAP_M  # stands before the near edge
 
 
+def test_a_stop_taken_at_once_says_how_far_the_line_was():
+    road = make(order_hold_s=1.5)
+    show(road, FORWARD, 1.0, DT_S)
+    road.drive_m(HALF_LAP_M - 0.4 - road.s)
+    assert road.logic.on_signal(STOP, 0.9, road.t) == [("follow_lane", "signal_stop", "approach_stop")]
+    assert road.logic.notes == ["signal stop (confidence 0.90) while driving taken at once: the crosswalk's near "
+                                "edge is %.2f m ahead (stop_near_m 1.00)" % road.logic.crosswalk.to_near_edge_m]
+    assert 0.35 < road.logic.crosswalk.to_near_edge_m < 0.45
+    road.step()
+    assert road.logic.on_signal(STOP, 0.9, road.t) == [] and road.logic.notes == []  # held: no new note
+
+
 def test_a_stop_read_before_the_near_range_is_held_until_it():
     """stop_near_m only shortens a stop read close to the line: read from 1.15 m on, the stop waits
     (the hold) until the robot is within 1.0 m of the near edge and is taken there."""

@@ -397,10 +397,11 @@ class DecisionLogic:
             return []
         if time_s is None:
             time_s = self.last_time_s if self.last_time_s is not None else 0.0
-        watched = self.orders.candidate
+        watched, held = self.orders.candidate, self.orders.held
         panel_ahead = self.panel_ahead()
-        if not self.orders.accept(signal, time_s, standing=self.machine.command.speed == "stop",
-                                  panel_ahead=panel_ahead, at_once=signal == STOP and self.stop_near()):
+        standing = self.machine.command.speed == "stop"
+        at_once = signal == STOP and self.stop_near()
+        if not self.orders.accept(signal, time_s, standing=standing, panel_ahead=panel_ahead, at_once=at_once):
             if watched != signal:
                 self.notes.append("signal %s (confidence %.2f) while driving, order %s held: "
                                   "taken once read for %.1f s%s"
@@ -408,6 +409,10 @@ class DecisionLogic:
                                      self.config.order_hold_s,
                                      "" if panel_ahead else " with the crosswalk in sight"))
             return []
+        if at_once and not standing and held != signal:
+            self.notes.append("signal stop (confidence %.2f) while driving taken at once: the crosswalk's near edge "
+                              "is %.2f m ahead (stop_near_m %.2f)"
+                              % (confidence, self.crosswalk.to_near_edge_m, self.config.stop_near_m))
         self.last_signal = signal
         if signal in DIRECTIONS:
             note = self.forks.on_direction(DIRECTIONS[signal])
