@@ -54,7 +54,23 @@ def test_paired_seeds_run_side_by_side():
     assert str(error.value) == "--paired: 3 track seeds and 2 placement seeds (expected as many of each)"
 
 
+def test_another_robot_runs_its_own_challenges_under_keys_of_its_own():
+    """--robot major_alvega: D1 and D2 by default (the challenges Major is set up for), the run keys
+    (job folders, records) name the robot; Conde's keep the names of earlier campaigns."""
+    options = parse_options(["--robot", "major_alvega", "--engines", "ode", "--track-seeds", "6",
+                             "--placement-seeds", "6", "--paired"])
+    assert options.challenges == ("D1", "D2") and options.robot == "major_alvega"
+    runs = options.runs()
+    assert [r.key for r in runs[:2]] == ["major_alvega_D1_ode_track1_place1", "major_alvega_D2_ode_track1_place1"]
+    assert all(r.robot == "major_alvega" for r in runs)
+    assert parse_options(["--track-seeds", "0", "--placement-seeds", "0"]).runs()[0].key == "D1_ode_track0_place0"
+    assert parse_options(["--robot", "major_alvega", "--challenges", "P1"]).challenges == ("P1",)
+    report = robustness.report_markdown(options, runs, {})
+    assert "robot Major Alvega; challenges D1 D2; engines ode;" in report
+
+
 @pytest.mark.parametrize("argv, message", [
+    (["--robot", "marvin"], "--robot: unknown robot 'marvin' (expected conde or major_alvega)"),
     (["--challenges", "D9"], "--challenges: unknown 'D9' (expected D1, D2, D3, D4, P1, P2, B1, B2, V1)"),
     (["--engines", "physx"], "--engines: unknown 'physx' (expected ode, bullet)"),
     (["--jobs", "0"], "--jobs: expected an integer >= 1, got '0'"),

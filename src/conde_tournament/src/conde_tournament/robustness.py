@@ -6,11 +6,12 @@ stopped), the table per challenge and engine and the Markdown report. The runner
 robustness_run.py.
 
     rosrun conde_tournament robustness --challenges D1,P1 --engines ode,bullet --track-seeds 20 \\
-        --placement-seeds 20 [--paired] [--jobs 2] [--out results/robustness]
+        --placement-seeds 20 [--paired] [--jobs 2] [--out results/robustness] [--robot major_alvega]
 
 Seeds: a count N means seeds 1..N (varied tracks / placements), 0 the nominal one only; a list
 such as 0,3,5 or a range 1-20 names them. By default every track seed is run with every placement
 seed; --paired runs track seed i with placement seed i (the lists must then be equally long).
+--robot major_alvega drives the stack with Major Alvega (default challenges: its own, D1 and D2).
 """
 import argparse
 import json
@@ -18,7 +19,8 @@ import os
 from dataclasses import asdict, dataclass
 from typing import Dict, Iterable, List, Optional, Tuple
 
-from conde_tournament.competition import CHALLENGES, ENGINES, OptionError, jobs_count, outcome, positive_seconds
+from conde_tournament.competition import (CHALLENGES, ENGINES, ROBOT_CHALLENGES, ROBOT_NAMES, OptionError,
+                                          jobs_count, outcome, positive_seconds)
 from conde_tournament.leaderboard import scored
 
 RESULTS_FILE = "runs.jsonl"
@@ -34,10 +36,13 @@ class Run:
     engine: str
     track_seed: int
     placement_seed: int
+    robot: str = "conde"  # team_run.launch robot:=
 
     @property
     def key(self) -> str:
-        return "%s_%s_track%d_place%d" % (self.challenge, self.engine, self.track_seed, self.placement_seed)
+        """e.g. D2_ode_track6_place6; another robot than Conde leads: major_alvega_D2_ode_track6_place6."""
+        key = "%s_%s_track%d_place%d" % (self.challenge, self.engine, self.track_seed, self.placement_seed)
+        return key if self.robot == "conde" else self.robot + "_" + key
 
 
 @dataclass(frozen=True)
@@ -50,6 +55,7 @@ class Options:
     jobs: int = 1
     out_dir: str = "results/robustness"
     wall_limit_s: float = 900.0
+    robot: str = "conde"
 
     def runs(self) -> List[Run]:
         """Every run of the campaign in a stable order: seed pair by seed pair, each over every
@@ -58,7 +64,7 @@ class Options:
             seeds = list(zip(self.track_seeds, self.placement_seeds))
         else:
             seeds = [(t, p) for t in self.track_seeds for p in self.placement_seeds]
-        return [Run(c, e, t, p) for t, p in seeds for c in self.challenges for e in self.engines]
+        return [Run(c, e, t, p, self.robot) for t, p in seeds for c in self.challenges for e in self.engines]
 
 
 def parse_seeds(text: str, option: str) -> Tuple[int, ...]:
@@ -97,7 +103,8 @@ def _parser() -> argparse.ArgumentParser:
         prog="rosrun conde_tournament robustness",
         description="Robustness benchmark of the Conde stack: challenges x engines x track seeds x placement "
         "seeds, each run scored by the referee; resumable; writes a table and a Markdown report.")
-    parser.add_argument("--challenges", default=",".join(CHALLENGES), help="comma-separated (default: all)")
+    parser.add_argument("--challenges", default=None,
+                        help="comma-separated (default: all; with --robot major_alvega: D1,D2)")
     parser.add_argument("--engines", default=",".join(ENGINES), help="comma-separated (default: ode,bullet)")
     parser.add_argument("--track-seeds", default="20", metavar="N|LIST",
                         help="count N = seeds 1..N, 0 = the nominal track only, or a list 0,3,7-9 (default 20)")
@@ -110,12 +117,17 @@ def _parser() -> argparse.ArgumentParser:
                         help="results, job folders and the report (default results/robustness); an existing "
                         "campaign there is resumed")
     parser.add_argument("--wall-limit", default="900", metavar="S", help="wall-clock limit of one run [s]")
+    parser.add_argument("--robot", default="conde",
+                        help="the robot driving the stack: conde (default) or major_alvega")
     return parser
 
 
 def parse_options(argv) -> Options:
     args = _parser().parse_args(argv)
-    challenges = _names(args.challenges, "--challenges", CHALLENGES, upper=True)
+    if args.robot not in ROBOT_CHALLENGES:
+        raise OptionError("--robot: unknown robot %r (expected %s)" % (args.robot, " or ".join(ROBOT_CHALLENGES)))
+    challenges = (_names(args.challenges, "--challenges", CHALLENGES, upper=True) if args.challenges is not None
+                  else ROBOT_CHALLENGES[args.robot])
     engines = _names(args.engines, "--engines", ENGINES, upper=False)
     tracks = parse_seeds(args.track_seeds, "--track-seeds")
     placements = parse_seeds(args.placement_seeds, "--placement-seeds")
@@ -124,7 +136,7 @@ def parse_options(argv) -> Options:
                           % (len(tracks), len(placements)))
     jobs = jobs_count(args.jobs)
     wall_limit_s = positive_seconds(args.wall_limit, "--wall-limit")
-    return Options(challenges, engines, tracks, placements, args.paired, jobs, args.out, wall_limit_s)
+    return Options(challenges, engines, tracks, placements, args.paired, jobs, args.out, wall_limit_s, args.robot)
 
 
 # --- results ---------------------------------------------------------------------------------------
@@ -243,8 +255,9 @@ def report_markdown(options: Options, runs: List[Run], records: Dict[str, dict])
     rows = table_rows(runs, records)
     done = sum(1 for r in runs if r.key in records and judged(records[r.key]))
     lines = ["# Robustness benchmark of the Conde stack", "",
-             "challenges %s; engines %s; track seeds %s; placement seeds %s (%s); %d of %d runs done."
-             % (" ".join(options.challenges), " ".join(options.engines), _seed_text(options.track_seeds),
+             "robot %s; challenges %s; engines %s; track seeds %s; placement seeds %s (%s); %d of %d runs done."
+             % (ROBOT_NAMES[options.robot], " ".join(options.challenges), " ".join(options.engines),
+                _seed_text(options.track_seeds),
                 _seed_text(options.placement_seeds), "paired" if options.paired else "every combination",
                 done, len(runs)),
              "", "A run passes when the referee judges the task done (two laps, parked in a free bay, every "

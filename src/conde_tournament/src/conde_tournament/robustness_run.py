@@ -1,6 +1,6 @@
 """Runs a robustness campaign (conde_tournament.robustness's options): the runs without a record in
 OUT/runs.jsonl, `--jobs` at a time, each an isolated tournament job (conde_tournament.job) of the
-reference Conde stack on the challenge's world with `track_seed:=T placement_seed:=P`; each finished
+reference Conde stack on the challenge's world with `track_seed:=T placement_seed:=P robot:=R`; each finished
 run is appended to runs.jsonl at once (an interrupted campaign resumes), its job folder kept in
 OUT/jobs/<key>/. Prints the table per challenge and engine and writes OUT/robustness.md. Exit
 status: 0 when every run of the campaign has a record, 1 otherwise, 2 on bad options."""
@@ -33,7 +33,8 @@ def run(options: robustness.Options) -> int:
         job_dir = os.path.join(out_dir, "jobs", run_.key)
         shutil.rmtree(job_dir, ignore_errors=True)  # what an interrupted attempt left
         result = run_job(Job(team, run_.challenge, "", 0, run_.engine, 0), job_dir, 0.0, options.wall_limit_s,
-                         ["track_seed:=%d" % run_.track_seed, "placement_seed:=%d" % run_.placement_seed])
+                         ["track_seed:=%d" % run_.track_seed, "placement_seed:=%d" % run_.placement_seed,
+                          "robot:=" + run_.robot])
         return robustness.run_record(run_, result, LAPS_REQUIRED, total_signs)
 
     try:
