@@ -867,7 +867,7 @@ def test_straight_on_at_a_right_fork_the_robot_holds_its_course_across_the_junct
     """"left" at the south fork (opens right) is not obeyable: straight on, and across the
     junction the lane measurement (which would follow the edge line into the branch) is not used:
     the robot steers along the road's direction seen before the fork, by odometry, from the offset
-    measured last (course_hold.py)."""
+    seen there (course_hold.py)."""
     road = make()
     signal(road, FORWARD)
     road.drive_m(HALF_LAP_M - 3.0)  # on the north loop, before the southbound crossing

@@ -538,9 +538,10 @@ class DecisionLogic:
         heading_rad = lane.heading_error_rad if lane_ok and not blind_arc else heading_ref_rad
         if avoid.lane_rejected and math.isfinite(avoid.heading_error_rad):  # not the odometry's heading
             heading_rad = avoid.heading_error_rad
-        held = self.course_hold.step(self.road.yaw_rad, self.forks.road_direction_rad(), step_m) if holding else None
-        if held is not None:  # across the junction: along the road seen before it, by odometry (course_hold.py)
-            offset_m, heading_rad = held
+        by_odometry = (self.course_hold.step(self.road.yaw_rad, self.forks.road_direction_rad(), step_m)
+                       if holding else None)
+        if by_odometry is not None:  # across the junction: along the road seen before it (course_hold.py)
+            offset_m, heading_rad = by_odometry
         if not holding:
             self.course_hold.release()
         if recovery.phase == REJOIN and lane_ok and not blind_arc and not avoid.active:
