@@ -575,6 +575,8 @@ def test_time_gaps_are_capped():
     ({"min_road_direction_samples": 0}, "min_road_direction_samples: expected an integer >= 1, got 0"),
     ({"corner_sides": ("right", "up")}, "corner_sides: expected a list of left/right, got ('right', 'up')"),
     ({"corner_sides": "right"}, "corner_sides: expected a list of left/right, got 'right'"),
+    ({"arcs_by_odometry": 1}, "arcs_by_odometry: expected true or false, got 1"),
+    ({"arcs_by_odometry": "yes"}, "arcs_by_odometry: expected true or false, got 'yes'"),
 ])
 def test_config_errors(change, message):
     with pytest.raises(ValueError) as info:
@@ -911,6 +913,45 @@ def test_straight_on_at_a_right_fork_the_robot_holds_its_course_across_the_junct
     road.lateral_offset_m = -0.5
     road.drive_m(0.1)
     assert road.outputs[-1].lateral_offset_m == pytest.approx(-0.5)
+
+
+@pytest.mark.parametrize("tracked", [True, False])
+def test_a_merge_arc_tracked_by_odometry_starts_along_the_road_seen_on_the_loops_straight(tracked):
+    """The merge after the south loop (left ordered at the south fork): with arcs_by_odometry the
+    turn's arc is a path along the road's direction seen on the straight at the loop's end
+    (arc_track.py); a robot pointing 0.15 rad right of it where the turn begins (its follower swerved
+    on the junction's lines) gets that heading error with the arc's curvature.  Without, the arc's
+    curvature alone, no error."""
+    road = make(arcs_by_odometry=tracked)
+    signal(road, FORWARD)
+    road.drive_m(HALF_LAP_M - 3.0)
+    signal(road, LEFT)
+    road.until("fork_straight")
+    forks = road.logic.forks
+    while True:
+        loop = forks.loop
+        exit_m = CONFIG.loop_exit_m + CONFIG.loop_exit_tolerance_rad * loop.radius_m
+        if loop.exit_mark_m is not None and road.logic.road.travelled_m - loop.exit_mark_m > exit_m - 0.5:
+            break
+        road.step()
+    # the model's lane: heading error -0.01 on the straight, so the road lies 0.01 rad left of the heading
+    road_rad = road.yaw_rad + 0.01
+    assert len(loop.exit_directions_rad) >= CONFIG.min_road_direction_samples
+    # (the first may lie on the model's loop arc, which ends a step later than the logic's mark)
+    assert sum(d == pytest.approx(road_rad) for d in loop.exit_directions_rad) >= len(loop.exit_directions_rad) - 1
+    road.yaw_rad -= 0.15  # in the junction's window: the robot turned 0.15 rad right of the road
+    out = road.until("merge_left")
+    assert out.state == "turn_left" and out.path_curvature_per_m == pytest.approx(1.0 / 1.391)
+    assert forks.turn_road_rad is None  # used up by the turn
+    if tracked:
+        # -0.16, less the path's turn over the step driven in the arc's first output (0.012 rad)
+        assert out.heading_error_rad == pytest.approx(-0.16 - STEP_M / 1.391, abs=0.002)
+        assert out.lateral_offset_m == pytest.approx(0.0, abs=0.01)
+        assert road.logic.arc_track.active
+    else:
+        assert out.heading_error_rad == 0.0 and out.lateral_offset_m == 0.0
+    road.until("distance_elapsed")
+    assert not road.logic.arc_track.active  # released with the arc
 
 
 def test_nearest_lane_offset():

@@ -65,7 +65,9 @@ Commands (the state's `command` in the YAML):
   crosswalk (crosswalk_reached) as much nearer as finish_margin_m is smaller than stop_margin_m;
 * branch ``left`` / ``right`` with ``radius_m``: an arc of that radius toward the branch, driven
   blind (the control reference carries the path curvature, the lane measurement is not used and
-  a lost lane does not stop the robot), for distance_m; the junctions' turns;
+  a lost lane does not stop the robot), for distance_m; the junctions' turns.  With
+  arcs_by_odometry the arc is a path on the floor from where it begins, along the road's direction
+  seen before the turn, and its offset and heading error by odometry go to the control (arc_track.py);
 * branch ``left`` / ``right`` without ``radius_m``: a bias of the references toward the branch, for a short while:
   the lateral offset reference becomes +-branch_offset_m times a trapezoid of the distance driven
   in the state (rising over the first quarter of the state's distance_m, full until half-way,
@@ -105,6 +107,7 @@ from typing import List, Optional, Tuple
 from conde_common.bay_pairing import BAY_WIDTH_M
 from conde_common.panel_signals import NAMES_BY_CODE, SIGNAL_CODES
 from conde_decision.arc_end import ArcEnd
+from conde_decision.arc_track import ArcTrack
 from conde_decision.handover import HandOver
 from conde_decision.avoidance import Avoidance, AvoidanceConfig, EventDelay, Obstacle
 from conde_decision.crosswalk import CrosswalkTracker
@@ -179,6 +182,10 @@ class DecisionConfig:
     # the corner's radius (0.19 m on the competition track), leaves its band [m] (measured: 0.19-0.22)
     corner_line_offset_m: float = 0.21
     corner_lead_m: float = 0.05  # the turn begins this far before the corner: the robot follows its commands late [m]
+    # the junctions' arcs tracked by odometry (arc_track.py): a path on the floor from where the turn
+    # begins, along the road's direction seen before it, steered back onto like a lane; false: the
+    # arc's curvature alone (feed-forward).  Major Alvega: true (its steering lags the arc's start)
+    arcs_by_odometry: bool = False
     min_line_end_m: float = 0.1  # line ends nearer than this are no measurement (an unset field is 0) [m]
     lane_aligned_rad: float = 0.1  # lane_aligned: heading within this of (or past) the follower's approach [rad]
     # ... confirmed (arc_end.py): not before this part of the arc's sweep is turned
@@ -267,6 +274,8 @@ class DecisionConfig:
                 need(f.name, isinstance(value, (list, tuple)) and len(value) == len(self.fork_sides)
                      and all(isinstance(v, (int, float)) and not isinstance(v, bool) and v > 0 for v in value),
                      "expected one radius > 0 per entry of fork_sides")
+            elif f.name == "arcs_by_odometry":
+                need(f.name, isinstance(value, bool), "expected true or false")
             elif f.name == "parking_place":
                 need(f.name, value in PARKING_PLACES, "expected one of %s" % ", ".join(PARKING_PLACES))
             elif f.name in ("crossings_per_lap", "bay_line_sightings", "min_road_direction_samples",
@@ -349,6 +358,7 @@ class DecisionLogic:
                                      min_sightings=config.bay_line_sightings)
         self.corners = JunctionCorners(config)  # the junctions' corners the cameras see, both sides
         self.arc_end = ArcEnd(self.config)  # where a junction's arc ends on the lane seen (lane_aligned)
+        self.arc_track = ArcTrack()  # a junction's arc as a path on the floor (arcs_by_odometry)
         self.handover = HandOver(config.handover_ease_m)  # from a blind arc to the follower (handover.py)
         # straight across a junction by odometry (course_hold.py)
         self.course_hold = CourseHold(config.min_road_direction_samples)
@@ -538,6 +548,9 @@ class DecisionLogic:
         heading_rad = lane.heading_error_rad if lane_ok and not blind_arc else heading_ref_rad
         if avoid.lane_rejected and math.isfinite(avoid.heading_error_rad):  # not the odometry's heading
             heading_rad = avoid.heading_error_rad
+        on_arc = self.arc_track.step(self.road.yaw_rad, step_m) if command.radius_m is not None else None
+        if on_arc is not None:  # a junction's arc tracked by odometry (arc_track.py)
+            offset_m, heading_rad = on_arc
         by_odometry = (self.course_hold.step(self.road.yaw_rad, self.forks.road_direction_rad(), step_m)
                        if holding else None)
         if by_odometry is not None:  # across the junction: along the road seen before it (course_hold.py)
@@ -570,8 +583,20 @@ class DecisionLogic:
             self.state_entry_m = self.road.travelled_m
             self.distance_fired = False
             self.arc_end.start(self.road.yaw_rad)
+            self._start_arc_track()
             if self.state != before:
                 self.speed.unlatch()
+
+    def _start_arc_track(self) -> None:
+        """A state just entered: where it drives a junction's arc and arcs_by_odometry is set, the arc
+        is tracked from here, along the road's direction the fork navigator saw before the turn."""
+        command = self.machine.command
+        self.arc_track.release()
+        if (self.config.arcs_by_odometry and command.radius_m is not None and command.speed not in BLIND_SPEEDS
+                and command.branch in ("left", "right")):
+            side = 1.0 if command.branch == "left" else -1.0
+            self.arc_track.start(self.road.yaw_rad, self.forks.turn_road_rad, command.radius_m, side)
+        self.forks.turn_road_rad = None  # used up by this turn
 
     @property
     def right_corner_at_m(self) -> Optional[float]:
@@ -592,6 +617,7 @@ class DecisionLogic:
                 and command.radius_m is None and command.speed not in BLIND_SPEEDS):
             if self.forks.on_road_direction(self.crosswalk.since_left_m, direction_rad):
                 self.course_hold.measured(lane.lateral_offset_m)  # where on the road: course_hold.py
+            self.forks.on_exit_road_direction(self.road.travelled_m, direction_rad)
 
     def _lane_frame(self, lane, lane_ok: bool) -> LaneFrame:
         """The measurement in the own lane's frame (lane_frame.py): after a right fork crossed

@@ -25,7 +25,7 @@ loop_exit).  Turns to other sides fire at the stored distances."""
 
 import math
 import statistics
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import List, Optional, Sequence, Tuple
 
 
@@ -39,6 +39,8 @@ class LoopExit:
     merge: str  # "left" / "right": the turn onto the central road at its end
     exit_mark_m: Optional[float] = None  # distance travelled when the sweep was complete [m]
     crossed_junction: bool = False  # entered straight across a junction whose branch opens right
+    # the road's direction seen on the straight between the loop's arc and the turn at its end [rad]
+    exit_directions_rad: List[float] = field(default_factory=list)
 
 
 class ForkNavigator:
@@ -55,6 +57,9 @@ class ForkNavigator:
         self.ignored_order = ""  # the last order ignored while latched
         self.fallback_note = ""  # set by loop_exit when a merge began at the fallback, not at a corner seen
         self.road_directions_rad: List[float] = []  # the road's direction seen before the next fork [rad]
+        # the road's direction seen before the turn just begun (fork_left / fork_right / a merge), None
+        # when too few measurements showed it: the arc of the turn starts along it (arc_track.py) [rad]
+        self.turn_road_rad: Optional[float] = None
 
     def on_direction(self, order: str) -> str:
         """A direction signal: "forward", "left" or "right".  Returns a note when it is ignored
@@ -91,12 +96,28 @@ class ForkNavigator:
             return True
         return False
 
+    def on_exit_road_direction(self, travelled_m: float, direction_rad: float) -> None:
+        """The road's direction [rad] (as in on_road_direction) at travelled_m [m]: kept on the
+        straight at the end of a loop, from where the loop's arc ends (loop_exit_tolerance_rad x the
+        lane's radius past the mark of its sweep) to junction_window_m before the stored turn: the
+        merge's arc starts along their median."""
+        c, loop = self.config, self.loop
+        if loop is None or loop.exit_mark_m is None or not math.isfinite(direction_rad):
+            return
+        driven_m = travelled_m - loop.exit_mark_m
+        arc_left_m = c.loop_exit_tolerance_rad * loop.radius_m
+        if arc_left_m <= driven_m <= arc_left_m + c.loop_exit_m - c.junction_window_m:
+            loop.exit_directions_rad.append(direction_rad)
+
     def road_direction_rad(self) -> Optional[float]:
         """The median of the road directions seen since the crosswalk [rad]; None below
         min_road_direction_samples of them."""
-        if len(self.road_directions_rad) < self.config.min_road_direction_samples:
+        return self._median(self.road_directions_rad)
+
+    def _median(self, directions_rad: Sequence[float]) -> Optional[float]:
+        if len(directions_rad) < self.config.min_road_direction_samples:
             return None
-        return statistics.median(self.road_directions_rad)
+        return statistics.median(directions_rad)
 
     def _next_fork(self) -> Tuple[int, str, str]:
         """(index in fork_sides, the side it opens to, the way the order takes there: a side or "forward")."""
@@ -127,6 +148,7 @@ class ForkNavigator:
         self.forks_passed += 1
         self.direction_order = "forward"
         if order == side:
+            self.turn_road_rad = self.road_direction_rad()
             return "fork_" + side, "" if seen or not marked else fallback_note("fork_" + side, due_m)
         note = ""
         if order != "forward":
@@ -205,6 +227,7 @@ class ForkNavigator:
             seen, due = False, driven_m >= exit_m
         if seen or due:
             self.loop = None
+            self.turn_road_rad = self._median(loop.exit_directions_rad)
             if not seen and loop.merge in self.marked_sides and loop.merge in visible:
                 self.fallback_note = fallback_note("merge_" + loop.merge, exit_m + c.junction_fallback_m,
                                                    "past the end of the loop's sweep")
