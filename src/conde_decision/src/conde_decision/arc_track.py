@@ -23,7 +23,7 @@ the path's direction (conde_msgs/ControlReference).
 import math
 from typing import Optional, Tuple
 
-from conde_decision.course_hold import wrap_rad
+from conde_common.angles import wrap_rad
 
 
 class ArcTrack:

@@ -24,10 +24,7 @@ import statistics
 from collections import deque
 from typing import Deque, Optional, Tuple
 
-
-def wrap_rad(angle_rad: float) -> float:
-    """The angle in [-pi, pi) [rad]."""
-    return (angle_rad + math.pi) % (2.0 * math.pi) - math.pi
+from conde_common.angles import wrap_rad
 
 
 class CourseHold:

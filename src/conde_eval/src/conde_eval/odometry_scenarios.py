@@ -12,6 +12,8 @@ import math
 from dataclasses import dataclass
 from typing import List, Tuple
 
+from conde_common.angles import wrap_rad
+
 Segment = Tuple[float, float, float]  # duration_s, linear_mps, angular_radps
 
 STRAIGHT_SPEED_MPS = 0.3
@@ -65,8 +67,7 @@ def relative_pose(start, end):
     """`end` (x, y, yaw) expressed in the frame of `start`."""
     dx, dy = end[0] - start[0], end[1] - start[1]
     c, s = math.cos(start[2]), math.sin(start[2])
-    yaw = math.atan2(math.sin(end[2] - start[2]), math.cos(end[2] - start[2]))
-    return (c * dx + s * dy, -s * dx + c * dy, yaw)
+    return (c * dx + s * dy, -s * dx + c * dy, wrap_rad(end[2] - start[2]))
 
 
 def evaluate(scenario: Scenario, truth_start, truth_end, odom_start, odom_end) -> dict:

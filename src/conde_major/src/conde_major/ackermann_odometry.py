@@ -16,6 +16,8 @@ starting at (0, 0, 0). Assumptions: no slip, flat ground.
 import math
 from dataclasses import dataclass
 
+from conde_common.angles import wrap_rad
+
 
 @dataclass
 class Pose2D:
@@ -67,7 +69,7 @@ class AckermannOdometry:
             heading = self.pose.yaw_rad + dyaw / 2
             self.pose.x_m += chord * math.cos(heading)
             self.pose.y_m += chord * math.sin(heading)
-            self.pose.yaw_rad = math.atan2(math.sin(self.pose.yaw_rad + dyaw), math.cos(self.pose.yaw_rad + dyaw))
+            self.pose.yaw_rad = wrap_rad(self.pose.yaw_rad + dyaw)
             self.travelled_m += abs(ds)
             dt = time_s - t0
             if dt > 0:

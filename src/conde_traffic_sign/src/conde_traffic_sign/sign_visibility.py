@@ -26,6 +26,8 @@ from typing import Optional, Tuple
 
 import numpy as np
 
+from conde_common.angles import wrap_rad
+
 
 @dataclass(frozen=True)
 class ViewLimits:
@@ -85,7 +87,7 @@ def view_along(xy, heading_rad, sign_xy, sign_yaw_rad: float, limits: ViewLimits
     distance = np.hypot(to_sign[:, 0], to_sign[:, 1])
     safe = np.maximum(distance, 1e-9)
     off_normal = np.degrees(np.arccos(np.clip(-(to_sign @ face_normal(sign_yaw_rad)) / safe, -1.0, 1.0)))
-    bearing = np.degrees((np.arctan2(to_sign[:, 1], to_sign[:, 0]) - heading + math.pi) % (2 * math.pi) - math.pi)
+    bearing = np.degrees(wrap_rad(np.arctan2(to_sign[:, 1], to_sign[:, 0]) - heading))
     reach = ((distance >= limits.min_distance_m) & (distance <= limits.max_distance_m)
              & (off_normal <= limits.max_off_normal_deg))
     off_axis = (bearing - limits.camera_yaw_deg + 180.0) % 360.0 - 180.0
@@ -202,7 +204,7 @@ def hidden(camera_xy, face_pose, other_faces, face_size_m: float = ViewLimits.fa
     centre = math.atan2(face_pose[1] - camera[1], face_pose[0] - camera[0])
 
     def from_centre(bearings):
-        return sorted((bearing - centre + math.pi) % (2 * math.pi) - math.pi for bearing in bearings)
+        return sorted(wrap_rad(bearing - centre) for bearing in bearings)
 
     low, high = from_centre((a, b))
     for other in other_faces:
