@@ -13,6 +13,7 @@ SPEED_MPS = 0.5
 
 def drive_arc(track, yaw0_rad, side, distance_m, step_m=0.01):
     """Drives exactly the arc from heading yaw0_rad; the (offset, heading error) of every step."""
+    assert track.step(yaw0_rad, 0.5) == pytest.approx((0.0, yaw0_rad - track.direction_rad))  # driven before
     out, yaw = [], yaw0_rad
     for _ in range(int(round(distance_m / step_m))):
         yaw += side * step_m / RADIUS_M

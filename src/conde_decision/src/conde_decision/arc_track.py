@@ -37,6 +37,7 @@ class ArcTrack:
         self.radius_m = 1.0
         self.side = 1.0  # +1 a left arc, -1 a right one
         self.last_yaw_rad: Optional[float] = None
+        self.begun_now = False  # start() came after this step's distance was driven (before the arc)
 
     def start(self, yaw_rad: Optional[float], road_direction_rad: Optional[float], radius_m: float,
               side: float) -> bool:
@@ -53,13 +54,17 @@ class ArcTrack:
         self.direction_rad = yaw_rad + wrap_rad(direction_rad - yaw_rad)  # on the heading's branch
         self.radius_m, self.side = radius_m, side
         self.last_yaw_rad = yaw_rad
+        self.begun_now = True
         return True
 
     def step(self, yaw_rad: Optional[float], step_m: float) -> Optional[Tuple[float, float]]:
         """(lateral offset [m], heading error [rad]) against the arc after the robot drove step_m [m]
-        (+ forward) to heading yaw_rad [rad]; None when the arc is not tracked."""
+        (+ forward) to heading yaw_rad [rad]; None when the arc is not tracked.  The first step after
+        start() moves nothing: its distance was driven before the arc began (the caller's step)."""
         if not self.active or yaw_rad is None or not math.isfinite(yaw_rad):
             return None
+        if self.begun_now:
+            self.begun_now, step_m = False, 0.0
         mean_rad = 0.5 * (self.last_yaw_rad + yaw_rad) - self.direction_rad  # the step's heading in the arc frame
         self.x_m += step_m * math.cos(mean_rad)
         self.y_m += step_m * math.sin(mean_rad)
