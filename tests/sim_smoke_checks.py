@@ -88,7 +88,9 @@ class SimSmokeTest(unittest.TestCase):
             wait_for(all_found, "TF odom -> every link")
         except AssertionError:
             self.fail(f"no transform from odom to: {missing}")
-        self.assertTrue(buffer.can_transform("world", "base_footprint", rospy.Time(0)))
+        # world -> odom comes from another publisher than odom -> the links: waited for as well (on a
+        # loaded machine it came after the links once)
+        wait_for(lambda: buffer.can_transform("world", "base_footprint", rospy.Time(0)), "TF world -> base_footprint")
 
 
 if __name__ == "__main__":
