@@ -84,7 +84,7 @@ def closed_loop_end(tracked, start_error_rad=-0.15, lag_s=0.3, turning_right_rad
     x = y = 0.0
     yaw, omega = start_error_rad, turning_right_radps
     track.start(yaw, 0.0, RADIUS_M, 1.0)
-    offset = heading = 0.0
+    offset, heading = track.step(yaw, 0.0)  # the decision's step in which the arc begins
     for _ in range(int(round(0.5 * math.pi * RADIUS_M / (SPEED_MPS * DT_S)))):
         command = SPEED_MPS / RADIUS_M
         if tracked:
