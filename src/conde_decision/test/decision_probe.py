@@ -41,7 +41,12 @@ def main():
     set_clock(now)
     wait_for(lambda: states and markers, "the latched state and marker")
 
+    shown = [PanelSignal.NONE]  # the signal on the panel: sent with every measurement, as conde_semaphore
+    #                             sends one per camera image, so the node in lock-step knows one is owed
+
     def lane_step(t):
+        signal = PanelSignal(signal=shown[0], confidence=1.0 if shown[0] != PanelSignal.NONE else 0.0)
+        signal.header.stamp = t
         msg = LaneMeasurement()
         msg.header.stamp = t
         msg.header.frame_id = "base_footprint"
@@ -50,26 +55,23 @@ def main():
         msg.confidence = 1.0
         count = len(refs)
         set_clock(t)
+        signal_pub.publish(signal)
         lane_pub.publish(msg)
         wait_for(lambda: len(refs) > count, "a control reference")
 
     step = rospy.Duration(0, 33333333)
-    for _ in range(10):  # no signal yet: wait at the start
+    for _ in range(9):  # no signal yet: wait at the start
         now += step
         lane_step(now)
     count = len(states)
-    # Stamped with the last measurement: the node applies it at the next one (its frame boundary)
-    # if it has come by then. It travels on a connection of its own, so on a busy machine it may
-    # come after the next measurement and be applied at the one after: measure until the robot
-    # starts (the test checks at which measurement).
-    go = PanelSignal(signal=PanelSignal.FORWARD, confidence=1.0)
-    go.header.stamp = now
-    signal_pub.publish(go)
-    for _ in range(10):
-        now += step
-        lane_step(now)
-        if refs[-1].linear_velocity_mps > 0.0:
-            break
+    # The go signal comes with measurement 10 (index 9); the node applies it at measurement 11 (the
+    # frame after its stamp's), having waited for it there (lock-step, ~input_wait_s) if it travelled
+    # slower than that measurement on its own connection.
+    shown[0] = PanelSignal.FORWARD
+    now += step
+    lane_step(now)
+    now += step
+    lane_step(now)
     wait_for(lambda: len(states) > count, "the state after the go signal")
     for _ in range(29):
         now += step

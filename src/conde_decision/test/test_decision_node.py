@@ -37,7 +37,10 @@ def startup_error(core, **params):
 
 def test_lane_and_signal_in_reference_and_state_out(core):
     core.set_params({"/use_sim_time": True}, clear=["/conde_decision"])
-    probe_out, log = run_probe(os.path.join(HERE, "decision_probe.py"), ["rosrun", "conde_decision", "conde_decision"],
+    # Lock-step (~input_wait_s): a measurement waits for the panel signal of the previous frame, which
+    # the probe sends with every measurement, as conde_semaphore does with every image.
+    probe_out, log = run_probe(os.path.join(HERE, "decision_probe.py"),
+                               ["rosrun", "conde_decision", "conde_decision", "_input_wait_s:=30"],
                                core.env, timeout_s=300)
     result = json.loads(probe_out)
     refs, states, markers = result["refs"], result["states"], result["markers"]
@@ -45,9 +48,9 @@ def test_lane_and_signal_in_reference_and_state_out(core):
     # One reference per lane message, stamped with the measurement's time, measurement passed on.
     speeds = [r[6] for r in refs]
     start = next((i for i, v in enumerate(speeds) if v > 0.0), None)  # the measurement that took the go
-    # The go signal was stamped with measurement 9: applied at 10, never at 9 itself (or at 11
-    # when it came after measurement 10, the probe's publishers being two connections).
-    assert start in (10, 11), speeds
+    # The go signal was stamped with measurement 9 (index): applied at 10, neither at 9 itself nor
+    # later, however late its own connection delivered it.
+    assert start == 10, speeds
     assert len(refs) == start + 30  # the probe measures 29 more after it
     assert all(r[1] == "base_footprint" and r[2] == 0.05 and r[3] == 0.0 and r[4] == 0.02 and r[5] == 0.0
                for r in refs)
