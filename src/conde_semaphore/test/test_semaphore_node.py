@@ -136,7 +136,8 @@ def test_truncated_image_is_ignored_with_a_warning(ros):
 
 def test_cpu_timing_is_logged_at_shutdown(ros):
     """A second instance of the node on its own image topic (so that the shared one keeps running):
-    images until it publishes a signal, then SIGINT; its stdout has the timing line."""
+    images until it publishes a signal, then SIGINT; its stdout has the timing line. Before its
+    debouncer has settled it answers each image with NONE (confidence 0)."""
     _, signals, _ = ros
     topic = "/conde_semaphore_timing_test/image_raw"
     publisher = rospy.Publisher(topic, Image, queue_size=10)
@@ -144,9 +145,10 @@ def test_cpu_timing_is_logged_at_shutdown(ros):
                              "_image_topic:=" + topic], stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
                             start_new_session=True)
     try:
-        wait_until(lambda: publisher.get_num_connections() > 0, "the second conde_semaphore to connect")
-        publish_until(publisher, signals, lambda s: image_message("stop_1.png", "rgb8", s), SIGNAL_CODES["stop"],
-                      20000.0)
+        wait_until(lambda: publisher.get_num_connections() > 0 and signals.subscriber.get_num_connections() > 1,
+                   "the second conde_semaphore to connect")  # its /conde_signal too: no answer missed
+        first_stop, _ = publish_until(publisher, signals, lambda s: image_message("stop_1.png", "rgb8", s),
+                                      SIGNAL_CODES["stop"], 20000.0)
     finally:
         os.killpg(node.pid, signal.SIGINT)
         log = node.communicate(timeout=60)[0]
@@ -154,5 +156,8 @@ def test_cpu_timing_is_logged_at_shutdown(ros):
     timing = TIMING_LINE.findall(log)
     assert timing, "no timing line in the node's output:\n" + log
     frames, mean_ms, max_ms = timing[-1]
-    # The debouncer needs 3 images before the first signal.
+    # The debouncer needs 3 images before the first signal; the two before it are answered with NONE.
     assert int(frames) >= 3 and 0.0 < float(mean_ms) <= float(max_ms), timing[-1]
+    first_stop_s = first_stop.header.stamp.to_sec()
+    before = [m for m in signals.snapshot() if 20000.0 <= m.header.stamp.to_sec() < first_stop_s]
+    assert [(m.signal, m.confidence) for m in before] == [(PanelSignal.NONE, 0.0)] * 2, before

@@ -5,6 +5,7 @@ import json
 import os
 
 import numpy as np
+from conde_common.files import replaced_whole
 
 #: The competition texture's extent in the world [m]: x0, x1, y0, y1 (worlds/competition.world.yaml).
 TRACK_EXTENT_M = (-3.475, 3.975, -8.35, 8.35)
@@ -118,10 +119,14 @@ def write_report(report, path, course, out_dir, stem="referee", texture_path=Non
     os.makedirs(out_dir, exist_ok=True)
     paths = {ext: os.path.join(out_dir, stem + "." + ext) for ext in ("json", "md", "png")}
     data = dict(report, path_t_x_y=thin_path(path))
-    with open(paths["json"], "w") as f:
-        json.dump(data, f, indent=1, sort_keys=True)
-        f.write("\n")
-    with open(paths["md"], "w") as f:
-        f.write(markdown(report))
-    plot(report, path, course, paths["png"], texture_path)
+    # Each file appears whole (a watcher reads them as soon as they exist); the plot comes last.
+    with replaced_whole(paths["json"]) as tmp:
+        with open(tmp, "w") as f:
+            json.dump(data, f, indent=1, sort_keys=True)
+            f.write("\n")
+    with replaced_whole(paths["md"]) as tmp:
+        with open(tmp, "w") as f:
+            f.write(markdown(report))
+    with replaced_whole(paths["png"]) as tmp:
+        plot(report, path, course, tmp, texture_path)
     return paths

@@ -18,6 +18,7 @@ import socket
 import subprocess
 import time
 
+from conde_common.files import replaced_whole
 from conde_eval import launch_log
 
 from conde_tournament import cpu_profile
@@ -214,15 +215,12 @@ def _stop(process, grace_s: float):
         pass
 
 
-def _wait_for_file(path: str, timeout_s: float, settle_s: float = 1.0):
-    """Until `path` exists and its size has not changed for settle_s, or timeout_s has passed."""
-    deadline, last = time.monotonic() + timeout_s, None
-    while time.monotonic() < deadline:
-        size = os.path.getsize(path) if os.path.exists(path) else None
-        if size is not None and size == last:
-            return
-        last = size
-        time.sleep(settle_s)
+def _wait_for_file(path: str, timeout_s: float, poll_s: float = 0.05):
+    """Until `path` exists (the referee writes each file whole: conde_common.files), or timeout_s
+    has passed."""
+    deadline = time.monotonic() + timeout_s
+    while not os.path.exists(path) and time.monotonic() < deadline:
+        time.sleep(poll_s)
 
 
 def start_stalled(now: float, started: float, running_at, limit_s: float = STARTUP_LIMIT_S) -> bool:
@@ -272,8 +270,10 @@ def _run_job_once(job: Job, job_dir: str, sim_limit_s: float, wall_limit_s: floa
     with open(os.path.join(job_dir, "job.json"), "w") as f:
         json.dump(dict(result, port=port, command=command), f, indent=1)
     report_path = os.path.join(job_dir, "challenge", "referee.json")
-    if os.path.exists(report_path):
-        os.remove(report_path)  # a report of an interrupted earlier attempt
+    plot_path = report_path[:-len(".json")] + ".png"
+    for old in (report_path, plot_path):  # a report of an interrupted earlier attempt
+        if os.path.exists(old):
+            os.remove(old)
     log_path = os.path.join(job_dir, "roslaunch.log")
     over_wall_limit = False
     log_bytes = None  # what roslaunch wrote before the job was stopped (then nodes die on purpose)
@@ -298,7 +298,7 @@ def _run_job_once(job: Job, job_dir: str, sim_limit_s: float, wall_limit_s: floa
                     cpu.mark("run", decided_at)
                     # The referee ended the run (end of trial, parked, disqualified, time limit);
                     # its path plot is written last.
-                    _wait_for_file(report_path[:-len(".json")] + ".png", timeout_s=30.0)
+                    _wait_for_file(plot_path, timeout_s=30.0)
                     break
                 if time.monotonic() - started > wall_limit_s:
                     over_wall_limit = True
@@ -347,10 +347,9 @@ def failed_result(job: Job, job_dir: str, reason: str, status: str = "sim_failed
 
 
 def _write_result(job_dir: str, result: dict) -> dict:
-    tmp = os.path.join(job_dir, RESULT_FILE + ".tmp")
-    with open(tmp, "w") as f:
-        json.dump(result, f, indent=1, sort_keys=True)
-    os.replace(tmp, os.path.join(job_dir, RESULT_FILE))
+    with replaced_whole(os.path.join(job_dir, RESULT_FILE)) as tmp:
+        with open(tmp, "w") as f:
+            json.dump(result, f, indent=1, sort_keys=True)
     return result
 
 
