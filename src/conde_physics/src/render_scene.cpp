@@ -6,6 +6,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <fstream>
 #include <stdexcept>
@@ -163,7 +164,31 @@ void RenderScene::addLightRegion(const LightRegion& region) {
     shaded.y_min_m = std::min(shaded.y_min_m, corner[1]);
     shaded.y_max_m = std::max(shaded.y_max_m, corner[1]);
   }
+  // About one edge per band on a long, curved polygon (a tunnel's), each edge in the bands its y
+  // range meets: lightAt tests a few edges instead of all of them, with the same result (an edge
+  // the even-odd rule counts has the point's y in its y range, so in one of its bands; band() is
+  // monotonic in y).
+  const auto& corners = region.polygon_xy_m;
+  shaded.band_count = static_cast<int>(corners.size());
+  shaded.band_height_m = std::max((shaded.y_max_m - shaded.y_min_m) / shaded.band_count, 1e-9);
+  std::vector<std::vector<int>> per_band(static_cast<size_t>(shaded.band_count));
+  for (size_t i = 0, j = corners.size() - 1; i < corners.size(); j = i++) {
+    const int b0 = lightBand(shaded, std::min(corners[i][1], corners[j][1]));
+    const int b1 = lightBand(shaded, std::max(corners[i][1], corners[j][1]));
+    for (int b = b0; b <= b1; ++b) per_band[static_cast<size_t>(b)].push_back(static_cast<int>(i));
+  }
+  shaded.band_first.push_back(0);
+  for (const std::vector<int>& edges : per_band) {
+    shaded.band_edges.insert(shaded.band_edges.end(), edges.begin(), edges.end());
+    shaded.band_first.push_back(static_cast<int>(shaded.band_edges.size()));
+  }
   light_regions_.push_back(std::move(shaded));
+}
+
+int RenderScene::lightBand(const ShadedRegion& s, double y_m) {
+  const int last = s.band_count - 1;
+  const double band = std::floor((y_m - s.y_min_m) / s.band_height_m);
+  return band <= 0.0 ? 0 : band >= last ? last : static_cast<int>(band);
 }
 
 double RenderScene::lightAt(const Vec3& p) const {
@@ -172,10 +197,13 @@ double RenderScene::lightAt(const Vec3& p) const {
     if (p.x < s.x_min_m || p.x > s.x_max_m || p.y < s.y_min_m || p.y > s.y_max_m || p.z < s.region.z_min_m ||
         p.z > s.region.z_max_m || s.region.light >= light)
       continue;
-    // Even-odd rule: count the polygon edges that a ray from p along +x crosses.
+    // Even-odd rule: count the polygon edges that a ray from p along +x crosses (those of p's band).
     const auto& corners = s.region.polygon_xy_m;
+    const int band = lightBand(s, p.y);
     bool inside = false;
-    for (size_t i = 0, j = corners.size() - 1; i < corners.size(); j = i++) {
+    for (int e = s.band_first[static_cast<size_t>(band)]; e < s.band_first[static_cast<size_t>(band) + 1]; ++e) {
+      const size_t i = static_cast<size_t>(s.band_edges[static_cast<size_t>(e)]);
+      const size_t j = i == 0 ? corners.size() - 1 : i - 1;
       const double xi = corners[i][0], yi = corners[i][1], xj = corners[j][0], yj = corners[j][1];
       if ((yi > p.y) != (yj > p.y) && p.x < xi + (p.y - yi) * (xj - xi) / (yj - yi)) inside = !inside;
     }

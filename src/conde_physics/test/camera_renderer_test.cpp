@@ -504,6 +504,51 @@ TEST(CameraRendererTest, LightRegionDarkensWhatLiesInsideIt) {
   EXPECT_THROW(scene.addLightRegion(bad), std::invalid_argument);
 }
 
+// The banded even-odd test gives what testing every edge gives: a tunnel-like curved band (an
+// annulus sector of 90 corners), points on a fine grid over its box, on corners' y values and on
+// its edges' ends.
+TEST(CameraRendererTest, LightRegionInsideTestMatchesEveryEdgeTest) {
+  cp::LightRegion band;
+  band.name = "curved";
+  const int per_arc = 45;
+  for (int k = 0; k < per_arc; ++k) {  // outer arc out, inner arc back
+    const double a = 1.9 + 1.6 * k / (per_arc - 1);
+    band.polygon_xy_m.push_back({-0.2 + 1.3 * std::cos(a), -6.9 + 1.3 * std::sin(a)});
+  }
+  for (int k = per_arc - 1; k >= 0; --k) {
+    const double a = 1.9 + 1.6 * k / (per_arc - 1);
+    band.polygon_xy_m.push_back({-0.2 + 0.85 * std::cos(a), -6.9 + 0.85 * std::sin(a)});
+  }
+  band.z_min_m = -0.01;
+  band.z_max_m = 1.0;
+  band.light = 0.35;
+  cp::RenderScene scene;
+  scene.addLightRegion(band);
+  auto every_edge = [&](double x, double y) {
+    const auto& c = band.polygon_xy_m;
+    bool inside = false;
+    for (size_t i = 0, j = c.size() - 1; i < c.size(); j = i++)
+      if ((c[i][1] > y) != (c[j][1] > y) && x < c[i][0] + (y - c[i][1]) * (c[j][0] - c[i][0]) / (c[j][1] - c[i][1]))
+        inside = !inside;
+    return inside ? band.light : 1.0;
+  };
+  std::vector<double> ys, xs;
+  for (int k = 0; k <= 400; ++k) ys.push_back(-8.3 + 2.4 * k / 400.0);
+  for (int k = 0; k <= 200; ++k) xs.push_back(-1.6 + 1.6 * k / 200.0);
+  for (const auto& corner : band.polygon_xy_m) {
+    ys.push_back(corner[1]);
+    xs.push_back(corner[0]);
+  }
+  int inside = 0;
+  for (double y : ys)
+    for (double x : xs) {
+      const double light = scene.lightAt({x, y, 0.0});
+      ASSERT_EQ(light, every_edge(x, y)) << "at (" << x << ", " << y << ")";
+      inside += light < 1.0;
+    }
+  EXPECT_GT(inside, 1000);  // the grid does reach into the band
+}
+
 TEST(CameraRendererTest, HiddenObjectIsNotDrawn) {
   const cp::CameraModel model = cp::CameraModel::fromHorizontalFov(160, 120, 1.0);
   const cp::CameraRenderer camera(model);

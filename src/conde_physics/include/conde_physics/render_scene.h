@@ -104,8 +104,16 @@ class RenderScene {
   struct ShadedRegion {
     LightRegion region;
     double x_min_m, x_max_m, y_min_m, y_max_m;  // bounding box of the polygon
+    // The even-odd test looks only at the edges whose y range can hold the point's y: the box's
+    // y range cut into bands of band_height_m, band b's edges (index of the edge's end corner i,
+    // its start being i - 1) are band_edges[band_first[b] .. band_first[b + 1]).
+    double band_height_m = 1.0;
+    int band_count = 1;
+    std::vector<int> band_first;
+    std::vector<int> band_edges;
   };
   std::vector<ShadedRegion> light_regions_;
+  static int lightBand(const ShadedRegion& s, double y_m);  // the band that holds y (clamped)
 };
 
 // The ground and every object of a world file (textures loaded; display panels start with their
