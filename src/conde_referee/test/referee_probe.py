@@ -23,6 +23,7 @@ from conde_msgs.msg import PanelSignal
 from conde_msgs.srv import SetStartPose
 from geometry_msgs.msg import Twist
 from std_msgs.msg import String
+from tf2_msgs.msg import TFMessage
 from visualization_msgs.msg import MarkerArray
 
 from conde_testing.ros_harness import stop_process
@@ -115,15 +116,18 @@ def main():
     rospy.init_node("referee_probe")
     log = open(os.path.join(out_dir, "nodes_%s.log" % engine), "w")
     sim = subprocess.Popen(["rosrun", "conde_sim", "conde_sim_node", "_world_file:=" + paths["world"],
-                            "_physics_engine:=" + engine, "_paused:=true", "_real_time_factor:=0", "_spawn:=conde"],
+                            "_physics_engine:=" + engine, "_paused:=true", "_real_time_factor:=0", "_spawn:=conde",
+                            "_model_poses_rate_hz:=10"],  # as conde_bringup challenge.launch sets it
                            stdout=log, stderr=subprocess.STDOUT)
     referee = subprocess.Popen(["rosrun", "conde_referee", "conde_referee", "_output_dir:=" + out_dir],
                                stdout=log, stderr=subprocess.STDOUT)
     events, reports = [], []
     rospy.Subscriber("/conde_referee/events", String, lambda m: events.append(json.loads(m.data)), queue_size=50)
     rospy.Subscriber("/conde_referee/report", String, lambda m: reports.append(json.loads(m.data)), queue_size=1)
-    markers = []
+    markers, pose_stamps_s = [], []
     rospy.Subscriber("/conde_referee/markers", MarkerArray, markers.append, queue_size=20)
+    rospy.Subscriber("/conde_sim/model_poses", TFMessage,
+                     lambda m: pose_stamps_s.append(m.transforms[0].header.stamp.to_sec()), queue_size=1000)
     panel = rospy.Publisher("/signalling_panel/signal", PanelSignal, queue_size=10, latch=True)
     cmd_pub = rospy.Publisher("/cmd_vel", Twist, queue_size=1)
     try:
@@ -138,7 +142,7 @@ def main():
         stepped.step_until(lambda: markers and any(m.ns == "referee_score" and "end of trial" in m.text
                                                    for m in markers[-1].markers), "the final markers", steps=100)
         result = {"engine": engine, "events": events, "report": reports[-1], "files": sorted(os.listdir(out_dir)),
-                  "referee_alive": referee.poll() is None,
+                  "referee_alive": referee.poll() is None, "pose_stamps_s": pose_stamps_s,
                   "markers": [{"ns": m.ns, "id": m.id, "type": m.type, "text": m.text, "frame": m.header.frame_id,
                                "xy": [round(m.pose.position.x, 3), round(m.pose.position.y, 3)]}
                               for m in markers[-1].markers]}

@@ -67,8 +67,15 @@ def test_a_moved_box_is_followed_from_the_model_poses(master, engine, tmp_path):
                           "moved_box"], env=master, capture_output=True, text=True, timeout=240)
     logs = sorted(tmp_path.glob("nodes_*.log"))
     assert out.returncode == 0, out.stdout[-2000:] + out.stderr[-2000:] + (logs[0].read_text()[-3000:] if logs else "")
-    report = json.loads(out.stdout.strip().splitlines()[-1])["report"]
+    result = json.loads(out.stdout.strip().splitlines()[-1])
+    report = result["report"]
     assert [(e["kind"], e["penalty"]) for e in report["events"]] == [("object_displaced", 0.0), ("trial_end", 0.0)]
+    # The simulator sent the poses at the probe's ~model_poses_rate_hz (10, as challenge.launch): on
+    # the multiples of 0.1 s, the referee's judging instants, and none between.
+    stamps = result["pose_stamps_s"]
+    assert len(stamps) > 10
+    assert all(abs(t * 10 - round(t * 10)) < 1e-6 for t in stamps), stamps[:20]
+    assert all(b - a == pytest.approx(0.1, abs=1e-6) for a, b in zip(stamps, stamps[1:])), stamps[:20]
     assert report["events"][0]["detail"] == "obstacle_1 pushed 0.30 m"
     assert report["objects_displaced_m"] == {"obstacle_1": pytest.approx(0.3, abs=0.01)}
 

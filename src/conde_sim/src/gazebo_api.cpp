@@ -71,8 +71,8 @@ void fromFrame(const cp::Pose& frame_pose, cp::Pose& pose, cp::Twist& twist) {
 }  // namespace
 
 GazeboApi::GazeboApi(SimHost& host, Simulation& sim, const std::string& ns, ros::NodeHandle& service_nh,
-                     double states_rate_hz)
-    : host_(host), sim_(sim), states_timer_(states_rate_hz, sim.stepS()) {
+                     double states_rate_hz, double poses_rate_hz)
+    : host_(host), sim_(sim), states_timer_(states_rate_hz, sim.stepS()), poses_timer_(poses_rate_hz, sim.stepS()) {
   const std::string p = ns + "/";
   services_.push_back(service_nh.advertiseService(p + "get_model_state", &GazeboApi::onGetModelState, this));
   services_.push_back(service_nh.advertiseService(p + "set_model_state", &GazeboApi::onSetModelState, this));
@@ -144,10 +144,12 @@ void GazeboApi::beforeStep() {
 }
 
 void GazeboApi::afterStep() {
-  if (!states_timer_.due(sim_.stepCount())) return;  // first: the cheaper test, every step
-  const bool models = model_states_pub_.getNumSubscribers() > 0;
-  const bool links = link_states_pub_.getNumSubscribers() > 0;
-  const bool poses = model_poses_pub_.getNumSubscribers() > 0;
+  const bool states_due = states_timer_.due(sim_.stepCount());  // first: the cheaper tests, every step
+  const bool poses_due = poses_timer_.due(sim_.stepCount());
+  if (!states_due && !poses_due) return;
+  const bool models = states_due && model_states_pub_.getNumSubscribers() > 0;
+  const bool links = states_due && link_states_pub_.getNumSubscribers() > 0;
+  const bool poses = poses_due && model_poses_pub_.getNumSubscribers() > 0;
   if (!models && !links && !poses) return;
   gazebo_msgs::ModelStates model_states;
   gazebo_msgs::LinkStates link_states;

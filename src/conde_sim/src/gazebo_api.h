@@ -11,8 +11,8 @@
 //   simulated time, only while someone subscribes); set_model_state, set_link_state (input).
 // Beside them, on the node's private namespace: ~model_poses (tf2_msgs/TFMessage), the same
 //   models' poses (world -> model, child_frame_id = model name) stamped with the simulated time of
-//   the step, at the same rate while someone subscribes: model_states has no stamp, so a reader
-//   (the referee) cannot tell which step it shows.
+//   the step, at its own rate (~model_poses_rate_hz, by default the states') while someone
+//   subscribes: model_states has no stamp, so a reader (the referee) cannot tell which step it shows.
 //
 // Semantics as in Gazebo: reference frames "" or "world" are the world, a model name or
 // "model::link" a frame of the simulation; twists are in the reference frame's axes (world
@@ -76,7 +76,9 @@ class GazeboApi : public StepHooks {
  public:
   // Advertises everything under `ns` (e.g. "/gazebo"); services on `service_nh`'s queue.
   // `states_rate_hz`: model_states and link_states per simulated second.
-  GazeboApi(SimHost& host, Simulation& sim, const std::string& ns, ros::NodeHandle& service_nh, double states_rate_hz);
+  // states_rate_hz: model_states and link_states per simulated second; poses_rate_hz: ~model_poses.
+  GazeboApi(SimHost& host, Simulation& sim, const std::string& ns, ros::NodeHandle& service_nh, double states_rate_hz,
+            double poses_rate_hz);
 
   void beforeStep() override;  // body wrenches
   void afterStep() override;   // model_states, link_states
@@ -148,7 +150,7 @@ class GazeboApi : public StepHooks {
   std::vector<ros::ServiceServer> services_;
   ros::Publisher model_states_pub_, link_states_pub_, model_poses_pub_;
   ros::Subscriber model_state_sub_, link_state_sub_;
-  UpdateTimer states_timer_;
+  UpdateTimer states_timer_, poses_timer_;
   std::vector<Wrench> wrenches_;  // loop thread only
   // Static SDF models spawned: their shapes are world objects, not models (loop thread only).
   std::set<std::string> static_models_;

@@ -14,6 +14,7 @@
 //                      (~robots: [] starts with no robot, as gazebo_ros/empty_world.launch)
 //   ~gazebo_namespace  namespace of Gazebo's services and topics (gazebo_api.h)  [/gazebo]
 //   ~gazebo_states_rate_hz  <ns>/model_states and link_states per simulated second  [100]
+//   ~model_poses_rate_hz  ~model_poses (gazebo_api.h) per simulated second  [~gazebo_states_rate_hz]
 //   ~lockstep          wait, after each step, for the answers of the nodes listed in
 //                      ~lockstep_config (lockstep_frames.h); no real-time pacing   [false]
 //   ~lockstep_config   {timeout_s, rules: [{answer, inputs, rate_hz, wait_for_first_answer}]}
@@ -215,6 +216,8 @@ class SimNode : public SimHost {
     pnh_.param("loop_stall_s", loop_stall_s_, 60.0);
     if (!(loop_stall_s_ >= 0)) throw StartupError("parameter ~loop_stall_s must be >= 0 (0 = not watched)");
     if (gazebo_states_rate_hz_ <= 0) throw StartupError("parameter ~gazebo_states_rate_hz must be > 0");
+    pnh_.param("model_poses_rate_hz", model_poses_rate_hz_, gazebo_states_rate_hz_);
+    if (!(model_poses_rate_hz_ > 0)) throw StartupError("parameter ~model_poses_rate_hz must be > 0");
     gazebo_ns_ = ros::names::resolve(gazebo_ns_);
     if (real_time_factor_ < 0) throw StartupError("parameter ~real_time_factor must be >= 0 (0 = as fast as possible)");
     if (clock_rate_hz_ <= 0) throw StartupError("parameter ~clock_rate_hz must be > 0");
@@ -261,7 +264,8 @@ class SimNode : public SimHost {
     services_.push_back(service_nh_.advertiseService("set_start_pose", &SimNode::onSetStartPose, this));
     services_.push_back(service_nh_.advertiseService("step", &SimNode::onStep, this));
     services_.push_back(service_nh_.advertiseService("wait_for_messages", &SimNode::onWaitForMessages, this));
-    gazebo_ = std::make_unique<GazeboApi>(*this, *sim_, gazebo_ns_, service_nh_, gazebo_states_rate_hz_);
+    gazebo_ = std::make_unique<GazeboApi>(*this, *sim_, gazebo_ns_, service_nh_, gazebo_states_rate_hz_,
+                                          model_poses_rate_hz_);
     rebuildLoop();
     service_spinner_ = std::make_unique<ros::AsyncSpinner>(1, &service_queue_);
     service_spinner_->start();
@@ -788,6 +792,7 @@ class SimNode : public SimHost {
   std::unique_ptr<GazeboApi> gazebo_;
   std::string engine_name_, gazebo_ns_;
   double gazebo_states_rate_hz_ = 100.0;
+  double model_poses_rate_hz_ = 100.0;
   double real_time_factor_ = 1.0, clock_rate_hz_ = 1000.0, max_sim_time_s_ = 0.0;
   std::unique_ptr<StepLoop> loop_;
   ClockHook clock_hook_;
