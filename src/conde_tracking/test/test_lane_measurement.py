@@ -9,7 +9,7 @@ import pytest
 
 from conde_tracking.ipm import GroundMap
 from conde_tracking.lane_measurement import (DASHED, LEFT_LANE, RIGHT_LANE, SOLID, UNKNOWN_LANE, LaneMeasurement,
-                                             LaneResult, line_mask, white_mask)
+                                             LaneResult, _darkest_channel, line_mask, white_mask)
 
 import synthetic_views
 
@@ -425,3 +425,11 @@ def test_a_lane_change_across_the_dashed_line_is_followed_frame_by_frame():
         assert abs(r.lateral_offset_m + r.lane_index * r.lane_spacing_m - y_m) < 0.03, y_m
     r = LaneMeasurement(maps).measure(images)
     assert r.lane_index == LEFT_LANE and abs(r.lateral_offset_m + r.lane_spacing_m - y_m) < 0.03
+
+
+def test_darkest_channel_is_the_minimum_over_the_channels():
+    rng = np.random.default_rng(7)
+    img = rng.integers(0, 256, (120, 160, 3), dtype=np.uint8)
+    darkest = _darkest_channel(img)
+    assert darkest.dtype == np.uint8 and darkest.shape == (120, 160)
+    assert np.array_equal(darkest, img.min(axis=2))

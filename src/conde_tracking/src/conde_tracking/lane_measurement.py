@@ -154,7 +154,7 @@ def line_mask(image, config):
     Uniform road (also grey-level noise on it) has no such contrast; the wide background window
     reaches the road beside a wide line seen up close."""
     img = np.asarray(image)
-    grey = img if img.ndim == 2 else img.min(axis=2)
+    grey = img if img.ndim == 2 else _darkest_channel(img)
     grey = np.ascontiguousarray(grey, dtype=np.uint8)
     bright = cv2.dilate(grey, np.ones((config.local_window_px, config.local_window_px), np.uint8))
     # the road's level around: the darkest of the 5 x 5 means, so that single noisy pixels do not count
@@ -162,6 +162,15 @@ def line_mask(image, config):
     dark = cv2.erode(smooth, np.ones((config.background_window_px, config.background_window_px), np.uint8))
     relative = (grey >= config.relative_white * bright) & (bright.astype(np.int16) - dark >= config.min_contrast)
     return (grey >= config.white_threshold) | relative
+
+
+def _darkest_channel(img):
+    """img.min(axis=2), channel by channel: the same values, over ten times faster on an (H, W, 3)
+    image (numpy reduces an axis of stride 3 slowly: 1.7 ms for 160 x 120 here, a seventh of a frame)."""
+    darkest = img[..., 0]
+    for k in range(1, img.shape[2]):
+        darkest = np.minimum(darkest, img[..., k])
+    return darkest
 
 
 def _line_positions(coeffs, x, offset_m):
