@@ -73,7 +73,8 @@ class _Drawings:
         for name in ts.SIGNS:
             img = ts.draw_sign(name)
             family = ts.FAMILY[name]
-            x, y, w, h = cv2.boundingRect(_colour_mask(img, family))
+            red, blue = _colour_masks(img)
+            x, y, w, h = cv2.boundingRect(red if family == "danger" else blue)
             self.templates.setdefault(family, []).append((name, _normalised(img[y:y + h, x:x + w])))
             self.cuts.setdefault(family, []).append((name, img[y:y + h, x:x + w]))
             self.height_fraction[family] = h / float(ts.SIZE_PX)
@@ -126,15 +127,15 @@ def _normalised(patch_rgb, size_px=TEMPLATE_PX):
     return (small / norm).ravel() if norm > 0 else small.ravel()
 
 
-def _colour_mask(image_rgb, family):
+def _colour_masks(image_rgb):
+    """(red mask, blue mask) of the image, 255 where a danger sign's red or a blue sign's blue is
+    (one HSV conversion for both)."""
     hsv = cv2.cvtColor(image_rgb, cv2.COLOR_RGB2HSV)
     h, s, v = hsv[:, :, 0], hsv[:, :, 1], hsv[:, :, 2]
     coloured = (s >= MIN_SATURATION) & (v >= MIN_VALUE)
-    if family == "danger":
-        hue = (h <= 8) | (h >= 170)
-    else:
-        hue = (h >= 95) & (h <= 115)
-    return (coloured & hue).astype(np.uint8) * 255
+    red = coloured & ((h <= 8) | (h >= 170))
+    blue = coloured & (h >= 95) & (h <= 115)
+    return red.astype(np.uint8) * 255, blue.astype(np.uint8) * 255
 
 
 def _shape_families(filled_fraction, red):
@@ -179,8 +180,7 @@ def find_signs(image_rgb: np.ndarray, camera: Optional[Camera] = None,
                min_score: float = MIN_SCORE) -> List[SignDetection]:
     """The signs seen in an RGB image, largest first.  Without a camera the positions are NaN."""
     found = []
-    for red in (True, False):
-        mask = _colour_mask(image_rgb, "danger" if red else "information")
+    for red, mask in zip((True, False), _colour_masks(image_rgb)):
         count, _, stats, _ = cv2.connectedComponentsWithStats(mask, connectivity=8)
         for label in range(1, count):
             x, y, w, h, area = stats[label]
