@@ -188,7 +188,7 @@ void RenderScene::addLightRegion(const LightRegion& region) {
 int RenderScene::lightBand(const ShadedRegion& s, double y_m) {
   const int last = s.band_count - 1;
   const double band = std::floor((y_m - s.y_min_m) / s.band_height_m);
-  return band <= 0.0 ? 0 : band >= last ? last : static_cast<int>(band);
+  return !(band > 0.0) ? 0 : band >= last ? last : static_cast<int>(band);  // NaN: band 0, no cast
 }
 
 double RenderScene::lightAt(const Vec3& p) const {

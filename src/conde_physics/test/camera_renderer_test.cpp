@@ -547,6 +547,7 @@ TEST(CameraRendererTest, LightRegionInsideTestMatchesEveryEdgeTest) {
       inside += light < 1.0;
     }
   EXPECT_GT(inside, 1000);  // the grid does reach into the band
+  EXPECT_EQ(scene.lightAt({std::nan(""), std::nan(""), 0.0}), 1.0);  // no band index from NaN
 }
 
 TEST(CameraRendererTest, HiddenObjectIsNotDrawn) {
