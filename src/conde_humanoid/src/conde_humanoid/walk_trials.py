@@ -8,7 +8,8 @@ import time
 from dataclasses import dataclass
 
 import rospy
-from conde_msgs.srv import StepSimulation, WaitForMessages
+from conde_common.delivery import ReceivedCount
+from conde_msgs.srv import StepSimulation
 from gazebo_msgs.srv import GetLinkState
 
 from conde_humanoid.srv import WalkTo
@@ -48,28 +49,18 @@ def _pose(state):
 
 class WalkTrials:
     def __init__(self, timeout_s=60.0):
-        for name in ('/conde_sim/step', '/conde_sim/wait_for_messages', '/gazebo/get_link_state',
-                     WALK_NODE + '/walk_to'):
+        for name in ('/conde_sim/step', '/gazebo/get_link_state', WALK_NODE + '/walk_to'):
             rospy.wait_for_service(name, timeout=timeout_s)
         self._step = rospy.ServiceProxy('/conde_sim/step', StepSimulation)
         self._link = rospy.ServiceProxy('/gazebo/get_link_state', GetLinkState)
         self._walk = rospy.ServiceProxy(WALK_NODE + '/walk_to', WalkTo)
-        self._delivered = rospy.ServiceProxy('/conde_sim/wait_for_messages', WaitForMessages)
-        self._trajectory_topic = '/%s/command' % rospy.get_param(WALK_NODE + '/controller', 'nao_trajectory_controller')
-        self._timeout_s = timeout_s
+        # nao_walk's trajectories as the simulator's controller receives them (acknowledged delivery)
+        controller = rospy.get_param(WALK_NODE + '/controller', 'nao_trajectory_controller')
+        self._delivered = ReceivedCount('/%s/command' % controller, WALK_NODE, timeout_s=timeout_s)
         self.step_s = 0.001
         self.time_s = self._step(0).sim_time_s
         self._trajectories = 1  # nao_walk's latched posture trajectory
-        self._acknowledge()
-
-    def _acknowledge(self):
-        """Returns once the simulator has received nao_walk's trajectories so far and its controller
-        has them (acknowledged delivery: the next step sees them); RuntimeError naming the topic
-        and the counts after the timeout."""
-        answer = self._delivered(topic=self._trajectory_topic, publisher=WALK_NODE, count=self._trajectories,
-                                 timeout_s=self._timeout_s)
-        if not answer.success:
-            raise RuntimeError('/conde_sim/wait_for_messages: ' + answer.message)
+        self._delivered.wait(self._trajectories)
 
     def step_to(self, time_s):
         steps = int(round((time_s - self.time_s) / self.step_s))
@@ -97,7 +88,7 @@ class WalkTrials:
         if not answer.accepted:
             raise RuntimeError('nao_walk refused the walk: ' + answer.message)
         self._trajectories += 1
-        self._acknowledge()  # its trajectory reaches the controller before the simulation steps on
+        self._delivered.wait(self._trajectories)  # it reaches the controller before the simulation steps on
         return answer
 
     def wait_for_clock(self, timeout_s=30.0):
