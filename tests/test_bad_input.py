@@ -41,6 +41,11 @@ def test_unknown_engine(master):
         "(expected one of: ode, bullet)")
 
 
+def test_model_poses_rate_must_be_positive(master):
+    assert startup_error(master, world_file=FLAT_WORLD, model_poses_rate_hz=0) == (
+        "parameter /conde_sim/model_poses_rate_hz must be > 0 (got 0)")
+
+
 def test_missing_world_file_parameter(master):
     assert startup_error(master) == "parameter /conde_sim/world_file is required (path of a *.world.yaml)"
 

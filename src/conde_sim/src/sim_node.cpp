@@ -217,7 +217,10 @@ class SimNode : public SimHost {
     if (!(loop_stall_s_ >= 0)) throw StartupError("parameter ~loop_stall_s must be >= 0 (0 = not watched)");
     if (gazebo_states_rate_hz_ <= 0) throw StartupError("parameter ~gazebo_states_rate_hz must be > 0");
     pnh_.param("model_poses_rate_hz", model_poses_rate_hz_, gazebo_states_rate_hz_);
-    if (!(model_poses_rate_hz_ > 0)) throw StartupError("parameter ~model_poses_rate_hz must be > 0");
+    if (!(model_poses_rate_hz_ > 0))
+      throw StartupError((std::ostringstream() << "parameter " << pnh_.resolveName("model_poses_rate_hz")
+                                               << " must be > 0 (got " << model_poses_rate_hz_ << ")")
+                             .str());
     gazebo_ns_ = ros::names::resolve(gazebo_ns_);
     if (real_time_factor_ < 0) throw StartupError("parameter ~real_time_factor must be >= 0 (0 = as fast as possible)");
     if (clock_rate_hz_ <= 0) throw StartupError("parameter ~clock_rate_hz must be > 0");
