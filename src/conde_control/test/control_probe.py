@@ -33,6 +33,11 @@ def main():
              "the connections to conde_control")
     now = rospy.Time(10, 0)
     clock_pub.publish(Clock(clock=now))
+    # The node ticks once when the clock jumps to 10 s (a brake command: no reference yet) and then
+    # once per period. Commands are taken by their index, never as "the newest": on a busy machine
+    # one may arrive after the next period's, and the newest would then skip one.
+    wait_for(lambda: len(cmds) >= 1, "the command at the first clock message")
+    taken = 1
 
     log = []
     for phase, steps in (("follow", 60), ("silent", 60)):
@@ -47,11 +52,11 @@ def main():
                 # arrival, and the test checks the braking to the period after the last one: that
                 # one gets far more time (nothing tells the probe that it has arrived).
                 time.sleep(0.5 if i == steps - 1 else 0.005)
-            count = len(cmds)
             now += PERIOD
             clock_pub.publish(Clock(clock=now))
-            wait_for(lambda: len(cmds) > count, "a command after advancing the clock")
-            cmd = cmds[-1]
+            taken += 1
+            wait_for(lambda: len(cmds) >= taken, "the command of the tick at %.3f s" % now.to_sec())
+            cmd = cmds[taken - 1]
             log.append([phase, now.to_sec(), cmd.linear.x, cmd.angular.z])
     print(json.dumps(log))
 
