@@ -106,3 +106,90 @@ def test_progress_marks_follow_the_released_inputs():
             last = mark
     # released up to 0.6 - 0.1 = 0.5 s: one mark per 0.1 s of judged time, each an input's stamp
     assert marks == [0.02, 0.1, 0.2, 0.3, 0.4, 0.5]
+
+
+def test_a_regular_stream_that_falls_behind_holds_the_release():
+    # Odometry every 0.02 s is regular; the object poses (every 0.1 s) run 0.5 s ahead of it, as when
+    # the odometry's connection falls behind on a busy machine. Nothing comes out of order.
+    order = TimeOrder(lag_s=0.1, regular_ranks=(0,))
+    order.push(0.0, 0, "odom 0.00")
+    order.push(0.02, 0, "odom 0.02")
+    for k in range(1, 6):
+        order.push(0.1 * k, 3, "poses %.1f" % (0.1 * k))
+    # odometry's next is due at 0.04: only what is earlier goes
+    assert order.release() == [(0.0, "odom 0.00"), (0.02, "odom 0.02")]
+    order.push(0.04, 0, "odom 0.04")
+    order.push(0.06, 0, "odom 0.06")
+    order.push(0.08, 0, "odom 0.08")
+    assert order.release() == [(0.04, "odom 0.04"), (0.06, "odom 0.06"), (0.08, "odom 0.08")]
+    order.push(0.1, 0, "odom 0.10")
+    # equal stamps: the odometry (rank 0) before the poses (rank 3)
+    assert order.release() == [(0.1, "odom 0.10"), (0.1, "poses 0.1")]
+    assert not order.late(0.12)
+    # Without the regular stream the poses would have been handed on first and odometry come late.
+    loose = TimeOrder(lag_s=0.1)
+    loose.push(0.0, 0, "odom 0.00")
+    for k in range(1, 6):
+        loose.push(0.1 * k, 3, "poses %.1f" % (0.1 * k))
+    loose.release()
+    assert loose.late(0.02)
+
+
+def test_a_regular_stream_that_stopped_holds_nothing():
+    order = TimeOrder(lag_s=0.1, regular_ranks=(0, 2), stopped_after_s=1.0)
+    order.push(0.0, 2, "contacts 0.0")
+    order.push(0.02, 2, "contacts 0.02")  # the contacts end here
+    for k in range(0, 60):
+        order.push(0.02 * k, 0, "odom %d" % k)
+    # odometry at 1.18 s: the contacts are 1.16 s behind, stopped; odometry's next is due at 1.20
+    released = order.release()
+    assert released[-1] == (pytest.approx(1.08), "odom 54")  # the lag (0.1 s) bounds it
+    assert len(order) == 5
+    # within stopped_after_s a silent regular stream holds everything after its next stamp
+    held = TimeOrder(lag_s=0.1, regular_ranks=(0, 2), stopped_after_s=1.0)
+    held.push(0.0, 2, "contacts 0.0")
+    held.push(0.02, 2, "contacts 0.02")
+    for k in range(0, 40):
+        held.push(0.02 * k, 0, "odom %d" % k)
+    assert held.release()[-1] == (pytest.approx(0.02), "contacts 0.02")
+
+
+def test_arrival_order_with_a_lagging_regular_stream_gives_the_same_sequence():
+    # As test_any_arrival_order_gives_the_same_sequence, but a connection may run up to 0.5 s ahead
+    # (five times the lag): with every stream regular the sequence is still the same.
+    streams = {0: [(0.02 * k, 0, "odom%d" % k) for k in range(100)],
+               2: [(0.02 * k, 2, "contacts%d" % k) for k in range(100)],
+               3: [(0.1 * k, 3, "poses%d" % k) for k in range(20)]}
+    results = []
+    for seed in range(20):
+        rng = random.Random(seed)
+        cursors = {k: 0 for k in streams}
+        order, out, late = TimeOrder(lag_s=0.1, regular_ranks=(0, 2, 3)), [], 0
+        while any(cursors[k] < len(s) for k, s in streams.items()):
+            ready = [k for k, s in streams.items() if cursors[k] < len(s)]
+            earliest = min(streams[k][cursors[k]][0] for k in ready)
+            ready = [k for k in ready if streams[k][cursors[k]][0] <= earliest + 0.5]
+            k = rng.choice(ready)
+            late += order.late(streams[k][cursors[k]][0])
+            order.push(*streams[k][cursors[k]])
+            cursors[k] += 1
+            out += order.release()
+        out += order.flush()
+        assert late == 0
+        results.append(out)
+    assert all(r == results[0] for r in results)
+    assert [t for t, _ in results[0]] == sorted(t for t, _ in results[0])
+
+
+def test_a_regular_stream_not_seen_yet_holds_everything_for_a_while():
+    order = TimeOrder(lag_s=0.1, regular_ranks=(0, 2), stopped_after_s=1.0)
+    for k in range(0, 50):  # odometry from 0 to 0.98 s, no contacts yet
+        order.push(0.02 * k, 0, "odom %d" % k)
+    assert order.release() == []
+    order.push(0.5, 2, "contacts 0.5")  # the contacts begin later than the odometry
+    assert order.release()[-1] == (pytest.approx(0.5), "contacts 0.5")
+    # a stream that never begins holds nothing once the newest is stopped_after_s past the first
+    never = TimeOrder(lag_s=0.1, regular_ranks=(0, 2), stopped_after_s=1.0)
+    for k in range(0, 52):  # to 1.02 s
+        never.push(0.02 * k, 0, "odom %d" % k)
+    assert never.release()[-1] == (pytest.approx(0.92), "odom 46")
