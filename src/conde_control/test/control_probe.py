@@ -36,6 +36,13 @@ def main():
     # The node ticks once when the clock jumps to 10 s (a brake command: no reference yet) and then
     # once per period. Commands are taken by their index, never as "the newest": on a busy machine
     # one may arrive after the next period's, and the newest would then skip one.
+    # The node's /clock connection is not among those checked above (the probe's own subscription
+    # counts too): the first clock message is sent again until the node answers it (the same time
+    # again gives no second tick).
+    deadline = time.monotonic() + WAIT_S
+    while not cmds and time.monotonic() < deadline and not rospy.is_shutdown():
+        clock_pub.publish(Clock(clock=now))
+        time.sleep(0.05)
     wait_for(lambda: len(cmds) >= 1, "the command at the first clock message")
     taken = 1
 

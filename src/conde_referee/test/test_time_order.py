@@ -193,3 +193,15 @@ def test_a_regular_stream_not_seen_yet_holds_everything_for_a_while():
     for k in range(0, 52):  # to 1.02 s
         never.push(0.02 * k, 0, "odom %d" % k)
     assert never.release()[-1] == (pytest.approx(0.92), "odom 46")
+
+
+def test_an_early_irregular_input_does_not_end_the_wait_for_a_regular_stream():
+    # A sign report taken at time 0 (unstamped, before any stamp was seen), then odometry from 50 s:
+    # the contacts (regular, not seen yet) still hold the release for stopped_after_s of odometry.
+    order = TimeOrder(lag_s=0.1, regular_ranks=(0, 2), stopped_after_s=1.0)
+    order.push(0.0, 4, "sign")
+    for k in range(0, 10):
+        order.push(50.0 + 0.02 * k, 0, "odom %d" % k)
+    assert order.release() == []
+    order.push(50.1, 2, "contacts 50.1")
+    assert [item for _, item in order.release()][:2] == ["sign", "odom 0"]

@@ -10,9 +10,11 @@ until every regular stream has shown that it has nothing earlier, that is, until
 message is due at (its newest plus its smallest gap so far) is later. A node that falls behind on
 one connection (a busy machine) is then still judged in time order. A regular stream that is more
 than stopped_after_s behind the newest stamp counts as stopped and holds nothing (a stream may end
-before the others); one not seen yet holds everything until the newest stamp is stopped_after_s
-past the first (the streams may begin in any order). A message later than those bounds is still
-out of order: late() tells. At the end of the run flush() hands on what is left.
+before the others); one not seen yet holds everything until the newest stamp of the regular
+streams is stopped_after_s past their first (the streams may begin in any order). Name as regular
+only streams that are subscribed to: one that never comes delays the judging by stopped_after_s.
+A message later than those bounds is still out of order: late() tells. At the end of the run
+flush() hands on what is left.
 
     order = TimeOrder(lag_s=0.1, regular_ranks=(0,))
     order.push(12.34, 0, ("odom", msg))
@@ -37,7 +39,8 @@ class TimeOrder:
         self._heap: List[Tuple[float, int, int, Any]] = []
         self._arrivals = 0
         self.newest_s = -math.inf
-        self.first_s = math.inf  # the earliest stamp pushed
+        self.first_s = math.inf  # the earliest stamp of a regular stream
+        self.newest_regular_s = -math.inf  # the newest stamp of a regular stream
         self.released_until_s = -math.inf  # stamp of the last item handed on
 
     def push(self, stamp_s: float, rank: int, item: Any):
@@ -46,20 +49,22 @@ class TimeOrder:
         self._arrivals += 1
         heapq.heappush(self._heap, (stamp_s, int(rank), self._arrivals, item))
         self.newest_s = max(self.newest_s, stamp_s)
-        self.first_s = min(self.first_s, stamp_s)
         stream = self._regular.get(rank)
         if stream is not None:
+            self.first_s = min(self.first_s, stamp_s)
+            self.newest_regular_s = max(self.newest_regular_s, stamp_s)
             if stamp_s > stream[0] and math.isfinite(stream[0]):
                 stream[1] = min(stream[1], stamp_s - stream[0])
             stream[0] = max(stream[0], stamp_s)
 
     def release(self) -> List[Tuple[float, Any]]:
         """[(stamp_s, item)] of every input at least lag_s older than the newest and earlier than the
-        next message due on every regular stream that has not stopped, in time order."""
+        next message due on every regular stream that has not stopped (none while a regular stream
+        has not been seen, for stopped_after_s), in time order."""
         limit_s = self.newest_s - self.lag_s + 1e-9  # 1e-9: stamps on a grid of steps
         for newest_s, gap_s in self._regular.values():
             if not math.isfinite(newest_s):  # not seen yet
-                if self.newest_s - self.first_s <= self.stopped_after_s:
+                if not self.newest_regular_s - self.first_s > self.stopped_after_s:
                     return []
             elif self.newest_s - newest_s <= self.stopped_after_s:
                 # short of its next message's stamp; up to its newest while its gap is not known
