@@ -4,12 +4,12 @@ between topics, as separate connections deliver them. Through TimeOrder the repo
 every interleaving; judged on arrival, with the object poses timed by the last odometry (how the
 node judged /gazebo/model_states before), it is not: the object_displaced event moves."""
 import functools
-import random
 
 from conde_referee.referee import OBJECT_DISPLACED_M, Referee
 from conde_referee.course import Course
 from conde_referee.rules import load_rules
 from conde_referee.time_order import TimeOrder, judging_due
+from arrival_orders import arrivals
 from referee_paths import EAST_LANE_X, FOOTPRINT
 
 PERIOD_S = 0.1  # the node's OBJECT_PERIOD_S
@@ -33,19 +33,6 @@ def streams(box):
         dx = max(0.0, t - PUSH_AT_S) * 0.6
         poses.append((t, 3, ("objects", ({"obstacle_1": (box.x_m + dx, box.y_m, box.yaw_rad)}, (EAST_LANE_X, -0.33)))))
     return [odom, contacts, poses]
-
-
-def arrivals(topics, seed, skew_s=0.05):
-    """One arrival order: each topic in order, the topics interleaved at random, none more than
-    skew_s of simulated time ahead of the others."""
-    rng, cursors, out = random.Random(seed), [0] * len(topics), []
-    while any(c < len(s) for c, s in zip(cursors, topics)):
-        ready = [i for i, s in enumerate(topics) if cursors[i] < len(s)]
-        earliest = min(topics[i][cursors[i]][0] for i in ready)
-        i = rng.choice([i for i in ready if topics[i][cursors[i]][0] <= earliest + skew_s])
-        out.append(topics[i][cursors[i]])
-        cursors[i] += 1
-    return out
 
 
 def new_referee():

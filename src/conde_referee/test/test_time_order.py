@@ -1,10 +1,20 @@
 """TimeOrder: inputs of several topics handed on in simulated-time order, whatever their arrival."""
 import math
-import random
 
 import pytest
 
+from arrival_orders import arrivals
 from conde_referee.time_order import TimeOrder, judging_due, progress_mark
+
+
+def judged_in_order(order, inputs):
+    """(what the order hands on, in sequence, from the inputs in their arrival order; how many came late)."""
+    out, late = [], 0
+    for stamp, rank, item in inputs:
+        late += order.late(stamp)
+        order.push(stamp, rank, item)
+        out += order.release()
+    return out + order.flush(), late
 
 
 def test_released_in_time_order_once_old_enough():
@@ -30,24 +40,13 @@ def test_equal_stamp_and_rank_keep_their_arrival_order():
 
 def test_any_arrival_order_gives_the_same_sequence():
     # Three topics of one simulated run: each in order on its own connection, interleaved at random.
-    streams = {0: [(0.02 * k, 0, "odom%d" % k) for k in range(50)],
-               1: [(0.02 * k, 1, "contacts%d" % k) for k in range(50)],
-               2: [(0.01 * k, 2, "poses%d" % k) for k in range(100)]}
+    streams = [[(0.02 * k, 0, "odom%d" % k) for k in range(50)],
+               [(0.02 * k, 1, "contacts%d" % k) for k in range(50)],
+               [(0.01 * k, 2, "poses%d" % k) for k in range(100)]]
     results = []
     for seed in range(20):
-        rng = random.Random(seed)
-        cursors = {k: 0 for k in streams}
-        order, out = TimeOrder(lag_s=0.1), []
-        while any(cursors[k] < len(s) for k, s in streams.items()):
-            # a connection may run up to 0.06 s ahead of the others (within the lag)
-            ready = [k for k, s in streams.items() if cursors[k] < len(s)]
-            earliest = min(streams[k][cursors[k]][0] for k in ready)
-            ready = [k for k in ready if streams[k][cursors[k]][0] <= earliest + 0.06]
-            k = rng.choice(ready)
-            order.push(*streams[k][cursors[k]])
-            cursors[k] += 1
-            out += order.release()
-        out += order.flush()
+        # a connection may run up to 0.06 s ahead of the others (within the lag)
+        out, _ = judged_in_order(TimeOrder(lag_s=0.1), arrivals(streams, seed, skew_s=0.06))
         results.append(out)
     assert all(r == results[0] for r in results)
     assert [t for t, _ in results[0]] == sorted(t for t, _ in results[0])
@@ -157,24 +156,12 @@ def test_a_regular_stream_that_stopped_holds_nothing():
 def test_arrival_order_with_a_lagging_regular_stream_gives_the_same_sequence():
     # As test_any_arrival_order_gives_the_same_sequence, but a connection may run up to 0.5 s ahead
     # (five times the lag): with every stream regular the sequence is still the same.
-    streams = {0: [(0.02 * k, 0, "odom%d" % k) for k in range(100)],
-               2: [(0.02 * k, 2, "contacts%d" % k) for k in range(100)],
-               3: [(0.1 * k, 3, "poses%d" % k) for k in range(20)]}
+    streams = [[(0.02 * k, 0, "odom%d" % k) for k in range(100)],
+               [(0.02 * k, 2, "contacts%d" % k) for k in range(100)],
+               [(0.1 * k, 3, "poses%d" % k) for k in range(20)]]
     results = []
     for seed in range(20):
-        rng = random.Random(seed)
-        cursors = {k: 0 for k in streams}
-        order, out, late = TimeOrder(lag_s=0.1, regular_ranks=(0, 2, 3)), [], 0
-        while any(cursors[k] < len(s) for k, s in streams.items()):
-            ready = [k for k, s in streams.items() if cursors[k] < len(s)]
-            earliest = min(streams[k][cursors[k]][0] for k in ready)
-            ready = [k for k in ready if streams[k][cursors[k]][0] <= earliest + 0.5]
-            k = rng.choice(ready)
-            late += order.late(streams[k][cursors[k]][0])
-            order.push(*streams[k][cursors[k]])
-            cursors[k] += 1
-            out += order.release()
-        out += order.flush()
+        out, late = judged_in_order(TimeOrder(lag_s=0.1, regular_ranks=(0, 2, 3)), arrivals(streams, seed, skew_s=0.5))
         assert late == 0
         results.append(out)
     assert all(r == results[0] for r in results)

@@ -40,7 +40,6 @@ class TimeOrder:
         self._arrivals = 0
         self.newest_s = -math.inf
         self.first_s = math.inf  # the earliest stamp of a regular stream
-        self.newest_regular_s = -math.inf  # the newest stamp of a regular stream
         self.released_until_s = -math.inf  # stamp of the last item handed on
 
     def push(self, stamp_s: float, rank: int, item: Any):
@@ -52,7 +51,6 @@ class TimeOrder:
         stream = self._regular.get(rank)
         if stream is not None:
             self.first_s = min(self.first_s, stamp_s)
-            self.newest_regular_s = max(self.newest_regular_s, stamp_s)
             if stamp_s > stream[0] and math.isfinite(stream[0]):
                 stream[1] = min(stream[1], stamp_s - stream[0])
             stream[0] = max(stream[0], stamp_s)
@@ -62,9 +60,10 @@ class TimeOrder:
         next message due on every regular stream that has not stopped (none while a regular stream
         has not been seen, for stopped_after_s), in time order."""
         limit_s = self.newest_s - self.lag_s + 1e-9  # 1e-9: stamps on a grid of steps
+        newest_regular_s = max((newest_s for newest_s, _ in self._regular.values()), default=-math.inf)
         for newest_s, gap_s in self._regular.values():
             if not math.isfinite(newest_s):  # not seen yet
-                if not self.newest_regular_s - self.first_s > self.stopped_after_s:
+                if not newest_regular_s - self.first_s > self.stopped_after_s:
                     return []
             elif self.newest_s - newest_s <= self.stopped_after_s:
                 # short of its next message's stamp; up to its newest while its gap is not known
