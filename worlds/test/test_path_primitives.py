@@ -4,7 +4,7 @@ import math
 import numpy as np
 import pytest
 
-from conde_worlds.path_primitives import Arc, Path, Segment
+from conde_worlds.path_primitives import Arc, Path, Segment, boxes_overlap, points_box
 
 
 def test_segment_from_pose():
@@ -56,3 +56,21 @@ def test_reversed_and_mirrored_paths():
     assert back.point(0.0) == pytest.approx(path.point(path.length))
     assert back.point(back.length) == pytest.approx([0.0, 0.0])
     assert path.mirrored_y().point(path.length) == pytest.approx([2.0, -1.0])
+
+
+@pytest.mark.parametrize("prim", [Segment((1.0, -2.0), (4.0, 2.0)), Segment((0.0, 0.0), (0.0, -3.0)),
+                                  Arc((0.5, 0.5), 2.0, 0.3, 2.5), Arc((-1.0, 2.0), 0.8, 4.0, -4.5)])
+def test_box_holds_every_point_within_the_lateral_reach_of_the_s_range(prim):
+    """box(s0, s1, lateral) is what lets callers skip a primitive: no point that project() puts in
+    the s range and lateral reach may lie outside it, and a point far outside is outside."""
+    rng = np.random.default_rng(5)
+    s0, s1, lateral = -0.2 * prim.length, 0.7 * prim.length, 0.15
+    x0, y0, x1, y1 = prim.box(s0, s1, lateral)
+    pts = rng.uniform(-5.0, 5.0, size=(40000, 2))
+    s, lat = prim.project(pts)
+    inside = (s >= s0) & (s <= s1) & (np.abs(lat) <= lateral)
+    assert inside.sum() > 100  # the check sees points near the primitive
+    reach = pts[inside]
+    assert np.all((reach[:, 0] >= x0) & (reach[:, 0] <= x1) & (reach[:, 1] >= y0) & (reach[:, 1] <= y1))
+    assert not boxes_overlap((x0, y0, x1, y1), (x1 + 0.01, y0, x1 + 1.0, y1))
+    assert boxes_overlap((x0, y0, x1, y1), points_box(reach))

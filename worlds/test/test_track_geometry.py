@@ -233,6 +233,23 @@ def test_on_road_and_areas(track):
     assert not track.in_bay([(3.4, -2.7)], "north")[0]
 
 
+def test_on_road_skipping_far_primitives_decides_as_every_primitive(track):
+    """Road.contains skips the primitives whose box is away from the points: footprint-sized
+    clusters all over the track, many across the road's edges, get the answers of a check that
+    projects on every primitive."""
+    rng = np.random.default_rng(3)
+    half = track.dims.road_half_width_m
+    for _ in range(400):
+        centre = rng.uniform((-4.0, -9.0), (4.0, 9.0))
+        pts = centre + rng.uniform(-0.3, 0.3, size=(60, 2))
+        every = np.zeros(len(pts), dtype=bool)
+        for road in track.roads.values():
+            for prim in road.path.prims:
+                s, lat = prim.project(pts)
+                every |= (s >= -1e-9) & (s <= prim.length + 1e-9) & (np.abs(lat) <= half)
+        assert np.array_equal(track.on_road(pts), every)
+
+
 def test_spawns_in_the_northbound_lane(track):
     for name, (x, y, z, yaw) in tg.SPAWNS.items():
         res = track.locate([[x, y]])

@@ -60,3 +60,26 @@ def test_referee_course_matches_the_rendered_lines(tmp_path, seed):
     mtime = os.path.getmtime(os.path.join(paths["dir"], ground["texture"]))
     write_challenge("D4", "v1", 0, str(tmp_path), track_seed=seed)
     assert os.path.getmtime(os.path.join(paths["dir"], ground["texture"])) == mtime
+
+
+@pytest.mark.parametrize("seed", [0, 4])
+def test_touches_skipping_far_strokes_names_what_every_stroke_names(seed):
+    """Course.touches skips the strokes whose painted box is away from the points: footprints all
+    over the course name the same lines as a check that projects on every stroke."""
+    course = Course.from_layout("D4", track_seed=seed)
+    strokes = course.boundary_lines + course.parking_lines
+    rng = np.random.default_rng(seed)
+    named = 0
+    for _ in range(300):
+        centre = rng.uniform((-4.0, -9.0), (4.0, 9.0))
+        pts = centre + rng.uniform(-0.25, 0.25, size=(80, 2))
+        every = []
+        for stroke in strokes:
+            s, lat = stroke.prim.project(pts)
+            on = (np.abs(lat) <= stroke.width / 2.0) & np.any(
+                [(s >= a) & (s <= b) for a, b in stroke.intervals], axis=0)
+            if on.any():
+                every.append(stroke.name)
+        assert course.touches(pts, strokes) == every
+        named += bool(every)
+    assert named > 30  # many footprints do lie on lines

@@ -5,6 +5,7 @@ Metres and radians in a plane frame (x, y), headings measured from +x counter-cl
 competition track (track_geometry) and conde_racing's racetrack build their lines from these;
 point(), heading() and project() take scalars or arrays of s / points."""
 
+import functools
 import math
 from dataclasses import dataclass
 from typing import List, Sequence, Tuple
@@ -24,6 +25,21 @@ def rotated(p, angle: float, origin) -> Tuple[float, float]:
     """p rotated by angle [rad] (counter-clockwise), then moved by origin."""
     c, s = math.cos(angle), math.sin(angle)
     return (origin[0] + c * p[0] - s * p[1], origin[1] + s * p[0] + c * p[1])
+
+
+# Margin [m] added to every reach box (box()) against rounding in project().
+BOX_MARGIN_M = 1e-6
+
+
+def points_box(points) -> Tuple[float, float, float, float]:
+    """(x_min, y_min, x_max, y_max) of an (N, 2) array of points (N >= 1)."""
+    lo, hi = points.min(axis=0), points.max(axis=0)
+    return float(lo[0]), float(lo[1]), float(hi[0]), float(hi[1])
+
+
+def boxes_overlap(a, b) -> bool:
+    """Whether two (x_min, y_min, x_max, y_max) boxes share a point (edges count)."""
+    return a[0] <= b[2] and b[0] <= a[2] and a[1] <= b[3] and b[1] <= a[3]
 
 
 def plain_float(v, nd=6) -> float:
@@ -75,6 +91,16 @@ class Segment:
         p = as_points(points) - np.asarray(self.p0)
         d = self.direction
         return p @ d, d[0] * p[:, 1] - d[1] * p[:, 0]
+
+    @functools.lru_cache(maxsize=4096)
+    def box(self, s0: float, s1: float, lateral_m: float) -> Tuple[float, float, float, float]:
+        """A box holding every point that project() puts at s0 <= s <= s1 and |lateral| <= lateral_m
+        (the rectangle's corners are within the box of its end points grown by lateral_m)."""
+        ux, uy = (self.p1[0] - self.p0[0]) / self.length, (self.p1[1] - self.p0[1]) / self.length
+        xs = (self.p0[0] + s0 * ux, self.p0[0] + s1 * ux)
+        ys = (self.p0[1] + s0 * uy, self.p0[1] + s1 * uy)
+        grow = lateral_m + BOX_MARGIN_M
+        return min(xs) - grow, min(ys) - grow, max(xs) + grow, max(ys) + grow
 
     def offset(self, d: float) -> "Segment":
         """The parallel segment d to the left (negative d: to the right)."""
@@ -151,6 +177,12 @@ class Arc:
         span = abs(self.sweep)
         rel = np.where(rel > span + (TWO_PI - span) / 2.0, rel - TWO_PI, rel)
         return rel * self.radius, self.sense * (self.radius - dist)
+
+    def box(self, s0: float, s1: float, lateral_m: float) -> Tuple[float, float, float, float]:
+        """A box holding every point that project() puts at s0 <= s <= s1 and |lateral| <= lateral_m:
+        the whole circle's, grown by lateral_m (whatever the s range)."""
+        reach = self.radius + lateral_m + BOX_MARGIN_M
+        return self.centre[0] - reach, self.centre[1] - reach, self.centre[0] + reach, self.centre[1] + reach
 
     def offset(self, d: float) -> "Arc":
         r = self.radius - self.sense * d

@@ -56,7 +56,7 @@ from typing import List, Tuple
 
 import numpy as np
 
-from .path_primitives import TWO_PI, Arc, Path, Segment
+from .path_primitives import TWO_PI, Arc, Path, Segment, boxes_overlap, points_box
 from .path_primitives import as_points as _as_points
 from .path_primitives import plain_float as _f
 from .path_primitives import plain_point as _r
@@ -185,7 +185,12 @@ class Road:
         primitive whose parameter range contains the foot point (open range if strict)."""
         pts = _as_points(points)
         out = np.zeros(len(pts), dtype=bool)
+        if not len(pts):
+            return out
+        near = points_box(pts)
         for prim in self.path.prims:
+            if not boxes_overlap(prim.box(0.0, prim.length, half_width), near):
+                continue  # no point can be within half_width of this primitive
             s, lat = prim.project(pts)
             if strict:
                 in_range = (s > 1e-9) & (s < prim.length - 1e-9)

@@ -3,6 +3,7 @@ resolved layout (conde_worlds): painted lines, road surface, start line and loop
 immobilisation zones before the crosswalk, the parking bays, the objects' footprints and the V1
 signs, all on the challenge's track (its track seed: the nominal or a varied track, conde_worlds
 track_variation). Pure Python (numpy), no ROS. World frame: x east, y north [m]; headings [rad]."""
+import functools
 import math
 from dataclasses import dataclass
 from typing import Dict, List, Optional, Tuple
@@ -11,6 +12,7 @@ import numpy as np
 
 from conde_worlds import challenge_objects as co
 from conde_worlds import track_geometry as tg
+from conde_worlds.path_primitives import boxes_overlap, points_box
 from conde_worlds.challenge_world import layout, objects_of
 from conde_worlds.challenges import load_challenges, parse_seed
 from conde_worlds.track_variation import track_dimensions
@@ -126,7 +128,12 @@ class Course:
         stroke's centre, inside a painted interval). skip(stroke, points) -> mask of points to ignore."""
         pts = np.asarray(points, dtype=float)
         hit = []
+        if not len(pts):
+            return hit
+        near = points_box(pts)
         for stroke in strokes:
+            if not boxes_overlap(painted_box(stroke), near):
+                continue  # no point can be on this stroke
             s, lat = stroke.prim.project(pts)
             on = np.abs(lat) <= stroke.width / 2.0
             if not on.any():
@@ -171,6 +178,16 @@ class Course:
         if self.challenge.startswith("D"):
             bays["parallel"] = co.parallel_bay(self.dims)
         return bays
+
+
+@functools.lru_cache(maxsize=1024)
+def painted_box(stroke) -> Tuple[float, float, float, float]:
+    """A box (x_min, y_min, x_max, y_max) holding every point that Course.touches counts as on the
+    stroke: within half its width of the centre, between its first and last painted s."""
+    if not stroke.intervals:
+        return math.inf, math.inf, -math.inf, -math.inf  # overlaps no box
+    return stroke.prim.box(min(a for a, _ in stroke.intervals), max(b for _, b in stroke.intervals),
+                           stroke.width / 2.0)
 
 
 def inside_box(points, box) -> np.ndarray:

@@ -4,6 +4,7 @@ read), with all joints at zero. Pure Python (xml.etree, numpy), no ROS.
 
 The ground-truth pose (/ground_truth/odom) is the root link's (base_footprint for Conde), so the
 footprint in the world is this rectangle moved by that pose."""
+import functools
 import math
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass
@@ -32,10 +33,17 @@ class Footprint:
 
     def samples(self, x_m, y_m, yaw_rad, spacing_m=0.02) -> np.ndarray:
         """(N, 2) world points on a grid over the rectangle, at most spacing_m apart, edges included."""
+        return _place(self._grid(spacing_m), x_m, y_m, yaw_rad)
+
+    @functools.lru_cache(maxsize=8)
+    def _grid(self, spacing_m) -> np.ndarray:
+        """The (N, 2) grid of samples() in the root link's frame (read-only: it is shared)."""
         nx = max(2, int(math.ceil((self.x_max_m - self.x_min_m) / spacing_m)) + 1)
         ny = max(2, int(math.ceil((self.y_max_m - self.y_min_m) / spacing_m)) + 1)
         gx, gy = np.meshgrid(np.linspace(self.x_min_m, self.x_max_m, nx), np.linspace(self.y_min_m, self.y_max_m, ny))
-        return _place(np.column_stack([gx.ravel(), gy.ravel()]), x_m, y_m, yaw_rad)
+        grid = np.column_stack([gx.ravel(), gy.ravel()])
+        grid.flags.writeable = False
+        return grid
 
 
 def _place(local, x_m, y_m, yaw_rad):
