@@ -14,6 +14,7 @@ scaling (0.6..1.4) and Gaussian noise (sigma up to ~0.03 of full scale) are tole
 the tests are on saturation (chroma relative to the brightest channel), not on absolute values.
 """
 import functools
+import math
 
 import cv2
 import numpy as np
@@ -66,19 +67,35 @@ def classify_panel(image, bgr=False, ground_from_row_fraction=None):
     return classify_blob(mask, colours)
 
 
+def _ceil_lut(numerator: int, denominator: int) -> np.ndarray:
+    """uint8 table: ceil(numerator * max(h, 1) / denominator) for every 8-bit value h."""
+    h = np.maximum(np.arange(256), 1)
+    return (-((-numerator * h) // denominator)).astype(np.uint8)
+
+
+# For 8-bit integers c, b, r and brightest channel h: 2 c >= h, 2 b < h and 5 r >= 3 h are
+# c >= ceil(h / 2), b < ceil(h / 2) and r >= ceil(3 h / 5): one table look-up per pixel.
+_HALF_UP = _ceil_lut(1, 2)
+_THREE_FIFTHS_UP = _ceil_lut(3, 5)
+_MIN_CHROMA_LEVEL = np.uint8(math.ceil(MIN_CHROMA))  # chroma >= MIN_CHROMA for 8-bit chroma
+
+
 def colour_classes(rgb):
     """Per-pixel class: 0 not saturated, 1 red, 2 green, 3 yellow (uint8, H x W).
 
     The tests on ratios to the brightest channel (saturation, blue < 0.5, red and green >= 0.6)
-    are done in integers (2 chroma >= high, 2 blue < high, 5 red >= 3 high), which for 8-bit
-    channels decides exactly as the ratios would, without a floating-point image."""
-    r, g, b = (rgb[:, :, k].astype(np.int16) for k in range(3))
-    high = np.maximum(np.maximum(r, g), b)
-    chroma = high - np.minimum(np.minimum(r, g), b)
-    safe_high = np.maximum(high, 1)
-    saturated = (chroma >= MIN_CHROMA) & (chroma >= MIN_SATURATION * high)
-    candidate = saturated & (2 * b < safe_high)  # not blue
-    is_yellow = candidate & (5 * r >= 3 * safe_high) & (5 * g >= 3 * safe_high)
+    are done in integers (2 chroma >= high, 2 blue < high, 5 red >= 3 high, with high at least 1),
+    which for 8-bit channels decides exactly as the ratios would, without a floating-point image:
+    as comparisons of 8-bit images with tables of the rounded-up thresholds."""
+    rgb = np.ascontiguousarray(rgb)
+    r, g, b = cv2.split(rgb)
+    high = cv2.max(cv2.max(r, g), b)
+    chroma = cv2.subtract(high, cv2.min(cv2.min(r, g), b))
+    half = cv2.LUT(high, _HALF_UP)
+    saturated = (chroma >= _MIN_CHROMA_LEVEL) & (chroma >= half)
+    candidate = saturated & (b < half)  # not blue
+    fifths = cv2.LUT(high, _THREE_FIFTHS_UP)
+    is_yellow = candidate & (r >= fifths) & (g >= fifths)
     classes = np.where(candidate, np.where(r > g, np.uint8(1), np.uint8(2)), np.uint8(0))
     classes[is_yellow] = 3
     return classes
