@@ -4,12 +4,14 @@
 // 1 cm per frame; each camera renders `frames` frames without and with its lens distortion, with
 // the ground pass on eight lanes (AVX2) and on four.
 // Prints Markdown tables: time per frame per camera (wall clock, and this thread's CPU time,
-// which a busy machine disturbs less), and what that means for the three cameras at 30 Hz on one
+// which a busy machine disturbs less) with a digest of the timed frames' pixels (equal digests: the
+// same images, which a change made for speed must keep), and what that means for the three cameras at 30 Hz on one
 // core, and the cost of the depth image. With save_dir, writes the first frame of each camera as PNG
 // (and its depth image as grey PNG, white at 0 m to black at 2 m and for no return).
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <ctime>
@@ -82,7 +84,15 @@ std::vector<WideAngleSpec> majorCameras() {
 struct Timing {
   double mean_ms = 0.0, p95_ms = 0.0;  // wall clock
   double cpu_mean_ms = 0.0;            // this thread's CPU time (less disturbed on a busy machine)
+  std::uint64_t digest = 0;            // of every timed frame's pixels: equal digests, equal images
 };
+
+// FNV-1a over bytes, continuing from `hash` (start with kFnvOffset).
+constexpr std::uint64_t kFnvOffset = 14695981039346656037ull;
+std::uint64_t fnv1a(const std::uint8_t* data, size_t size, std::uint64_t hash) {
+  for (size_t i = 0; i < size; ++i) hash = (hash ^ data[i]) * 1099511628211ull;
+  return hash;
+}
 
 double threadCpuMs() {
   timespec ts{};
@@ -99,16 +109,20 @@ Timing timeFrames(const cp::CameraRenderer& renderer, const cp::RenderScene& sce
     return cp::Pose(start.position + forward, start.orientation) * base_T_optical;
   };
   for (int i = 0; i < 20; ++i) renderer.render(scene, poseAt(i), -1, nullptr, image, depth);  // warm caches
-  const double cpu_start_ms = threadCpuMs();
+  double cpu_ms = 0.0;
+  Timing t;
+  t.digest = kFnvOffset;
   for (int i = 0; i < frames; ++i) {
     const cp::Pose pose = poseAt(i);
+    const double cpu0_ms = threadCpuMs();
     const auto t0 = std::chrono::steady_clock::now();
     renderer.render(scene, pose, -1, nullptr, image, depth);
     const auto t1 = std::chrono::steady_clock::now();
+    cpu_ms += threadCpuMs() - cpu0_ms;
     ms.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
+    t.digest = fnv1a(image.data.data(), image.data.size(), t.digest);  // not timed
   }
-  Timing t;
-  t.cpu_mean_ms = (threadCpuMs() - cpu_start_ms) / frames;
+  t.cpu_mean_ms = cpu_ms / frames;
   for (double m : ms) t.mean_ms += m;
   t.mean_ms /= ms.size();
   std::sort(ms.begin(), ms.end());
@@ -163,8 +177,8 @@ int main(int argc, char** argv) {
         start.orientation.yaw(), frames);
     std::printf(
         "| camera | resolution | distortion | ground pass | mean [ms] | p95 [ms] | CPU mean [ms] | "
-        "frames/s (wall) | frames/s (CPU) |\n");
-    std::printf("|---|---|---|---|---|---|---|---|---|\n");
+        "frames/s (wall) | frames/s (CPU) | image digest |\n");
+    std::printf("|---|---|---|---|---|---|---|---|---|---|\n");
     // Three cameras, one frame each, without and with distortion, the ground pass on eight lanes
     // (AVX2, when the CPU has it) and on four: wall and CPU time.
     const bool have_wide = cp::CameraRenderer::wideVectorsAvailable();
@@ -184,9 +198,10 @@ int main(int argc, char** argv) {
           const Timing t = timeFrames(renderer, scene, start, spec.base_T_camera * camera_T_optical, frames, image);
           set_ms[distorted][variant] += t.mean_ms;
           set_cpu_ms[distorted][variant] += t.cpu_mean_ms;
-          std::printf("| %s | %dx%d | %s | %s | %.3f | %.3f | %.3f | %.0f | %.0f |\n", spec.name.c_str(), spec.width_px,
-                      spec.height_px, distorted ? "on" : "off", lanes(variant), t.mean_ms, t.p95_ms, t.cpu_mean_ms,
-                      1000.0 / t.mean_ms, 1000.0 / t.cpu_mean_ms);
+          std::printf("| %s | %dx%d | %s | %s | %.3f | %.3f | %.3f | %.0f | %.0f | %016llx |\n", spec.name.c_str(),
+                      spec.width_px, spec.height_px, distorted ? "on" : "off", lanes(variant), t.mean_ms, t.p95_ms,
+                      t.cpu_mean_ms, 1000.0 / t.mean_ms, 1000.0 / t.cpu_mean_ms,
+                      static_cast<unsigned long long>(t.digest));
         }
         cp::CameraRenderer::allowWideVectors(true);
         if (!save_dir.empty()) {
