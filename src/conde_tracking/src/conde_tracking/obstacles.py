@@ -136,11 +136,14 @@ class ObstacleDetector:
         for label in range(1, n):
             if stats[label, cv2.CC_STAT_AREA] < c.min_blob_px:
                 continue
-            rows, cols = np.nonzero(labels == label)
-            lowest = np.full(labels.shape[1], -1)
-            np.maximum.at(lowest, cols, rows)  # the blob's lowest row in each column
-            u = np.flatnonzero(lowest >= 0)
-            xy = ground_map.xy_m[lowest[u], u]
+            # the blob's lowest row in each column, within its bounding box (it holds all of the blob)
+            left, top, width, height = (int(stats[label, k]) for k in (cv2.CC_STAT_LEFT, cv2.CC_STAT_TOP,
+                                                                       cv2.CC_STAT_WIDTH, cv2.CC_STAT_HEIGHT))
+            blob = labels[top:top + height, left:left + width] == label
+            in_column = blob.any(axis=0)
+            u = left + np.flatnonzero(in_column)  # the columns holding it, left to right
+            lowest = top + (height - 1) - blob[::-1].argmax(axis=0)[in_column]  # its last row in each
+            xy = ground_map.xy_m[lowest, u]
             xy = xy[np.isfinite(xy[:, 0])]
             if len(xy) == 0:
                 continue
@@ -152,7 +155,7 @@ class ObstacleDetector:
             outline = xy[xy[:, 0] <= near_x + c.outline_depth_m]
             y_min, y_max = float(outline[:, 1].min()), float(outline[:, 1].max())
             far_x = self._far_x(xy, y_min, y_max, road_direction_rad)
-            out.append(Detection(kind, near_x, y_min, y_max, len(rows), far_x))
+            out.append(Detection(kind, near_x, y_min, y_max, int(np.count_nonzero(blob)), far_x))
         return out
 
     def _far_x(self, xy, y_min_m: float, y_max_m: float, road_direction_rad: float) -> float:
