@@ -521,13 +521,14 @@ class LaneMeasurement:
         n_black = max(1, int(round(c.min_black_before_m / c.crosswalk_bin_m)))
         n_stripes = max(1, int(round(c.stripes_m / c.crosswalk_bin_m)))
         is_bar = is_bar.tolist()  # the same flags, cheaper to read one by one
+        n_bins = len(share)
         i = 0
-        while i < len(share):
+        while i < n_bins:
             if not is_bar[i]:
                 i += 1
                 continue
             j = i
-            while j < len(share) and is_bar[j]:
+            while j < n_bins and is_bar[j]:
                 j += 1
             before = share[max(0, i - n_black):i]
             behind = share[j:j + n_stripes]
