@@ -37,6 +37,7 @@ Lane dimensions default to the competition track (worlds/tracks/competition_trac
 lane_offset_m 0.391 = distance from the road's centre line to a lane centre, line_spacing_m
 0.8065 = distance from the road's centre line to an edge line).
 """
+import functools
 import math
 from dataclasses import dataclass, field
 from typing import Optional, Sequence
@@ -45,6 +46,7 @@ import cv2
 import numpy as np
 
 from conde_tracking.ipm import GroundMap
+from conde_tracking.pixel_tables import TableCache, threshold_table
 
 
 @dataclass
@@ -156,17 +158,49 @@ def line_mask(image, config):
     img = np.asarray(image)
     grey = img if img.ndim == 2 else _darkest_channel(img)
     grey = np.ascontiguousarray(grey, dtype=np.uint8)
-    bright = cv2.dilate(grey, np.ones((config.local_window_px, config.local_window_px), np.uint8))
+    bright = cv2.dilate(grey, _square_kernel(config.local_window_px))
     # the road's level around: the darkest of the 5 x 5 means, so that single noisy pixels do not count
     smooth = cv2.blur(grey, (5, 5))
-    dark = cv2.erode(smooth, np.ones((config.background_window_px, config.background_window_px), np.uint8))
-    relative = (grey >= config.relative_white * bright) & (bright.astype(np.int16) - dark >= config.min_contrast)
+    dark = cv2.erode(smooth, _square_kernel(config.background_window_px))
+    tables = _LINE_TABLES.get(config.relative_white, config.min_contrast)
+    if tables is not None:  # the tests below as look-ups of thresholds (pixel_tables): the same results
+        relative = (grey >= cv2.LUT(bright, tables[0])) & (bright >= cv2.LUT(dark, tables[1]))
+    else:
+        relative = (grey >= config.relative_white * bright) & (bright.astype(np.int16) - dark >= config.min_contrast)
     return (grey >= config.white_threshold) | relative
+
+
+@functools.lru_cache(maxsize=16)
+def _square_kernel(size):
+    """np.ones((size, size), np.uint8), made once per size (read only)."""
+    kernel = np.ones((size, size), np.uint8)
+    kernel.setflags(write=False)
+    return kernel
+
+
+def _line_tables(relative_white, min_contrast):
+    """line_mask's tests as thresholds: (least grey per bright, least bright per dark); None when a
+    test is not of that form.  The operands cast as line_mask's (uint8 grey, bright and dark)."""
+    u8 = np.uint8
+    tables = (threshold_table(lambda grey, bright: grey.astype(u8) >= relative_white * bright.astype(u8), True),
+              threshold_table(lambda bright, dark: bright.astype(u8).astype(np.int16) - dark.astype(u8)
+                              >= min_contrast, True))
+    return None if any(t is None for t in tables) else tables
+
+
+_LINE_TABLES = TableCache(_line_tables)
 
 
 def _darkest_channel(img):
     """img.min(axis=2), channel by channel: the same values, over ten times faster on an (H, W, 3)
-    image (numpy reduces an axis of stride 3 slowly: 1.7 ms for 160 x 120 here, a seventh of a frame)."""
+    image (numpy reduces an axis of stride 3 slowly: 1.7 ms for 160 x 120 here, a seventh of a frame).
+    8-bit images of 2 to 4 channels: OpenCV's split and min, the same values again in half the time."""
+    if img.dtype == np.uint8 and img.ndim == 3 and 2 <= img.shape[2] <= 4 and img.size:
+        planes = cv2.split(np.ascontiguousarray(img))
+        darkest = planes[0]
+        for plane in planes[1:]:
+            darkest = cv2.min(darkest, plane)
+        return darkest
     darkest = img[..., 0]
     for k in range(1, img.shape[2]):
         darkest = np.minimum(darkest, img[..., k])
@@ -178,8 +212,50 @@ def _line_positions(coeffs, x, offset_m):
 
     Uses the normal at x: the point at normal distance `offset` from (x, yc) lies at
     x - offset sin(a), yc + offset cos(a); evaluated at x to first order in the slope."""
+    centre, k = _centre_and_normal_factor(coeffs, x)
+    return centre + offset_m * k
+
+
+def _centre_and_normal_factor(coeffs, x):
+    """(centre curve y, sqrt(1 + slope^2)) at x: _line_positions(coeffs, x, offset_m) is
+    centre + offset_m * factor, the same operations in the same order, so that several offsets
+    share them."""
     slope = coeffs[1] + 2.0 * coeffs[2] * x
-    return coeffs[0] + coeffs[1] * x + coeffs[2] * x * x + offset_m * np.sqrt(1.0 + slope * slope)
+    return coeffs[0] + coeffs[1] * x + coeffs[2] * x * x, np.sqrt(1.0 + slope * slope)
+
+
+def _ptp(values):
+    """np.ptp(values) of an array (the same reductions: max - min), without its dispatch."""
+    return values.max() - values.min()
+
+
+def _histogram_of_sorted(sorted_values, edges):
+    """np.histogram(values, edges)[0] of values already sorted ascending: the same counts, the
+    same way (numpy sorts the values and counts them by binary search for an array of edges),
+    without sorting them again."""
+    edges = np.asarray(edges)
+    if edges.ndim != 1 or len(edges) < 2:
+        return np.histogram(sorted_values, edges)[0]
+    return np.diff(np.concatenate((sorted_values.searchsorted(edges[:-1], "left"),
+                                   sorted_values.searchsorted(edges[-1:], "right"))))
+
+
+class _ByX:
+    """Points (N, 2) sorted by x (stably), so that the points within an x range are one slice
+    found by binary search.  Only for what does not depend on the points' order (counts,
+    histograms, extremes, percentiles)."""
+
+    def __init__(self, points):
+        points = np.asarray(points)
+        self.points = points
+        self.order = np.argsort(points[:, 0], kind="stable")
+        self.x = np.ascontiguousarray(points[self.order, 0])
+        self.y = np.ascontiguousarray(points[self.order, 1])
+
+    def between(self, low, high, low_side="left", high_side="right"):
+        """The slice of the sorted points with low <= x <= high (low_side "right": low < x;
+        high_side "left": x < high)."""
+        return slice(int(self.x.searchsorted(low, low_side)), int(self.x.searchsorted(high, high_side)))
 
 
 @dataclass
@@ -218,6 +294,9 @@ class LaneMeasurement:
         self._ground_xy = np.concatenate([gm.xy_m.reshape(-1, 2)[i] for gm, i in
                                           zip(self.ground_maps, self._ground_pixels)]) \
             if self.ground_maps else np.zeros((0, 2))
+        # ... and the same points sorted by x, for the per-frame statistics over x ranges
+        self._ground_by_x = _ByX(self._ground_xy)
+        self._ground_curve_of = None  # (coeffs bytes, centre, normal factor) at _ground_by_x: _curve_at
 
     @staticmethod
     def _search_grid():
@@ -235,7 +314,8 @@ class LaneMeasurement:
         c = self.config
         flags = np.concatenate([line_mask(img, c).reshape(-1)[pixels]
                                 for img, pixels in zip(images, self._ground_pixels)])
-        return self._ground_xy[flags], self._ground_xy, flags
+        # np.compress: the rows of the boolean index, in order, four times faster
+        return np.compress(flags, self._ground_xy, axis=0), self._ground_xy, flags
 
     def _coarse_candidates(self, pts, count):
         """Up to `count` grid models (c0, c1, c2), the best first: those that put most points within
@@ -287,8 +367,28 @@ class LaneMeasurement:
         return self._midline_m - 0.5 * separation_m, self._midline_m + 0.5 * separation_m
 
     def _line_found(self, pts):
+        return self._line_found_x(pts[:, 0])
+
+    def _line_found_x(self, x):
+        """_line_found of points given by their x values."""
         c = self.config
-        return len(pts) >= c.min_line_points and np.ptp(pts[:, 0]) >= c.min_line_extent_m
+        return len(x) >= c.min_line_points and _ptp(x) >= c.min_line_extent_m
+
+    def _sorted_by_x(self, everything) -> "_ByX":
+        """everything (N, 2) sorted by x: computed once for the ground points of the ground maps."""
+        return self._ground_by_x if everything is self._ground_xy else _ByX(everything)
+
+    def _curve_at(self, coeffs, ground: "_ByX", part: slice):
+        """_centre_and_normal_factor(coeffs, ground.x[part]).  For the ground maps' points it is
+        computed at all of them once per fit and sliced (a frame's line styles, line ends and
+        crosswalk search use the same fit): element by element the same values."""
+        if (ground is not self._ground_by_x or not isinstance(coeffs, np.ndarray)
+                or coeffs.dtype != np.float64 or coeffs.shape != (3,)):
+            return _centre_and_normal_factor(coeffs, ground.x[part])
+        key = coeffs.tobytes()
+        if self._ground_curve_of is None or self._ground_curve_of[0] != key:
+            self._ground_curve_of = (key,) + _centre_and_normal_factor(coeffs, ground.x)
+        return self._ground_curve_of[1][part], self._ground_curve_of[2][part]
 
     def fit_lane(self, pts, prior: Optional[np.ndarray] = None):
         """LaneFit from white ground points (N, 2), starting from prior coefficients or, without
@@ -303,7 +403,7 @@ class LaneMeasurement:
         Returns (fit or None, right-line points, left-line points)."""
         c = self.config
         sel = (pts[:, 0] >= c.fit_range_m[0]) & (pts[:, 0] <= c.fit_range_m[1]) & (np.abs(pts[:, 1]) <= c.max_abs_y_m)
-        pts = pts[sel]
+        pts = np.compress(sel, pts, axis=0)  # pts[sel]
         empty = np.zeros((0, 2))
         if len(pts) < c.min_line_points:
             return None, empty, empty
@@ -322,7 +422,8 @@ class LaneMeasurement:
             return None, empty, empty
         if best.separation_fitted:
             self.line_separation_m += c.separation_smoothing * (best.separation_m - self.line_separation_m)
-        return (LaneFit(best.coeffs, best.right_found, best.left_found), pts[best.right], pts[best.left])
+        return (LaneFit(best.coeffs, best.right_found, best.left_found), np.compress(best.right, pts, axis=0),
+                np.compress(best.left, pts, axis=0))
 
     def _best_of(self, pts, starts) -> Optional["_Refined"]:
         """Each start refined; the first one's result unless another's found lines reach over
@@ -345,33 +446,42 @@ class LaneMeasurement:
         """A few rounds of windowed least squares from coeffs, both lines together (and their
         separation, where both are seen long enough); None when no line is found."""
         c = self.config
-        x, y = pts[:, 0], pts[:, 1]
+        x, y = np.ascontiguousarray(pts[:, 0]), np.ascontiguousarray(pts[:, 1])
         right = left = np.zeros(len(pts), bool)
         separation_m, separation_fitted = self.line_separation_m, False
         use = right
         for window in (c.line_window_m, c.line_window_m, 0.75 * c.line_window_m, 0.75 * c.line_window_m):
             right_m, left_m = self.line_offsets(separation_m)
-            right = np.abs(y - _line_positions(coeffs, x, right_m)) < window
-            left = np.abs(y - _line_positions(coeffs, x, left_m)) < window
-            found_r, found_l = self._line_found(pts[right]), self._line_found(pts[left])
+            # _line_positions of both lines, its centre curve and normal factor computed once
+            centre, k_all = _centre_and_normal_factor(coeffs, x)
+            right = np.abs(y - (centre + right_m * k_all)) < window
+            left = np.abs(y - (centre + left_m * k_all)) < window
+            x_right, x_left = x[right], x[left]
+            found_r, found_l = self._line_found_x(x_right), self._line_found_x(x_left)
             use = (right & found_r) | (left & found_l)
             if not use.any():
                 return None
             xu = x[use]
-            slope = coeffs[1] + 2 * coeffs[2] * xu
-            k = np.sqrt(1.0 + slope * slope)
+            k = k_all[use]
             side = np.where(right[use], -0.5, 0.5)  # the line's offset is midline + side * separation
             # one line only, or a short x extent: a parabola is not determined well; keep it straight
-            degree = 2 if (found_r and found_l and np.ptp(xu) > 0.6) else 1
-            A = np.column_stack([np.ones_like(xu), xu, xu * xu][:degree + 1])
+            degree = 2 if (found_r and found_l and _ptp(xu) > 0.6) else 1
+            # columns 1, x (, x^2) and, for the separation, side * k
+            design = np.empty((len(xu), degree + 2))
+            design[:, 0] = 1.0
+            design[:, 1] = xu
+            if degree == 2:
+                design[:, 2] = xu * xu
+            design[:, degree + 1] = side * k
+            A = design[:, :degree + 1]
             # Near points weigh more: the heading is wanted at the robot (x = 0), and a parabola
             # over the whole range bends toward a curve that begins (or ends) further ahead.
             sqrt_w = 1.0 / (1.0 + xu / c.near_weight_length_m)
-            separation_fitted = (found_r and found_l and np.ptp(x[right]) >= c.min_separation_extent_m
-                                 and np.ptp(x[left]) >= c.min_separation_extent_m)
+            separation_fitted = (found_r and found_l and _ptp(x_right) >= c.min_separation_extent_m
+                                 and _ptp(x_left) >= c.min_separation_extent_m)
             if separation_fitted:
                 # the separation is one more unknown: y = centre(x) + (midline + side * separation) k
-                sol = np.linalg.lstsq(np.column_stack([A, side * k]) * sqrt_w[:, None],
+                sol = np.linalg.lstsq(design * sqrt_w[:, None],
                                       (y[use] - self._midline_m * k) * sqrt_w, rcond=None)[0]
                 limit_m = c.max_separation_change * self.configured_separation_m
                 separation_m = min(max(sol[-1], self.configured_separation_m - limit_m),
@@ -393,25 +503,32 @@ class LaneMeasurement:
     def find_crosswalk(self, coeffs, everything, flags):
         """(seen, distance_m to the near edge of the crosswalk's first bar) along the fitted lane."""
         c = self.config
-        x, y = everything[:, 0], everything[:, 1]
-        d = y - (coeffs[0] + coeffs[1] * x + coeffs[2] * x * x)
-        sel = (np.abs(d) < c.crosswalk_half_width_m) & (x >= c.crosswalk_range_m[0]) & (x < c.crosswalk_range_m[1])
+        # the points in the x range only, sorted by x (the counts and the percentile below do not
+        # depend on the points' order)
+        ground = self._sorted_by_x(everything)
+        in_range = ground.between(c.crosswalk_range_m[0], c.crosswalk_range_m[1], "left", "left")
+        x, y = ground.x[in_range], ground.y[in_range]
+        flags = np.asarray(flags)[ground.order[in_range]]
+        d = y - self._curve_at(coeffs, ground, in_range)[0]  # y - (c0 + c1 x + c2 x^2)
+        sel = np.abs(d) < c.crosswalk_half_width_m
         edges = np.arange(c.crosswalk_range_m[0], c.crosswalk_range_m[1] + 1e-9, c.crosswalk_bin_m)
-        total, _ = np.histogram(x[sel], edges)
-        white, _ = np.histogram(x[sel & flags], edges)
+        total = _histogram_of_sorted(x[sel], edges)
+        white = _histogram_of_sorted(x[sel & flags], edges)
         seen_bin = total >= 3
         share = np.where(seen_bin, white / np.maximum(total, 1), np.nan)
         is_bar = share >= c.bar_share
         n_bar = max(1, int(round(c.min_bar_m / c.crosswalk_bin_m)))
         n_black = max(1, int(round(c.min_black_before_m / c.crosswalk_bin_m)))
         n_stripes = max(1, int(round(c.stripes_m / c.crosswalk_bin_m)))
+        is_bar = is_bar.tolist()  # the same flags, cheaper to read one by one
+        n_bins = len(share)
         i = 0
-        while i < len(share):
+        while i < n_bins:
             if not is_bar[i]:
                 i += 1
                 continue
             j = i
-            while j < len(share) and is_bar[j]:
+            while j < n_bins and is_bar[j]:
                 j += 1
             before = share[max(0, i - n_black):i]
             behind = share[j:j + n_stripes]
@@ -439,11 +556,12 @@ class LaneMeasurement:
         if not self._line_found(line_pts):
             return float("nan")
         end_m = float(line_pts[:, 0].max())
-        x = everything[:, 0]
-        beyond = (x > end_m + 0.02) & (x <= end_m + c.end_gap_m)
         if end_m + c.end_gap_m > c.fit_range_m[1]:
             return float("nan")
-        in_band = np.abs(everything[beyond, 1] - _line_positions(coeffs, x[beyond], offset_m)) < c.line_window_m
+        ground = self._sorted_by_x(everything)
+        beyond = ground.between(end_m + 0.02, end_m + c.end_gap_m, "right", "right")  # end + 0.02 < x <= end + gap
+        centre, k = self._curve_at(coeffs, ground, beyond)
+        in_band = np.abs(ground.y[beyond] - (centre + offset_m * k)) < c.line_window_m  # _line_positions
         return end_m if np.count_nonzero(in_band) >= c.min_end_gap_points else float("nan")
 
     def measure(self, images, prior: Optional[np.ndarray] = None) -> LaneResult:
@@ -483,8 +601,8 @@ class LaneMeasurement:
             return float("nan")
         far_m = self.line_offsets(self.line_separation_m)[1] + self.line_separation_m
         x = pts[:, 0]
-        band = ((x >= c.fit_range_m[0]) & (x <= c.fit_range_m[1])
-                & (np.abs(pts[:, 1] - _line_positions(fit.coeffs, x, far_m)) < c.line_window_m))
+        band = (x >= c.fit_range_m[0]) & (x <= c.fit_range_m[1])
+        band[band] = np.abs(pts[band, 1] - _line_positions(fit.coeffs, x[band], far_m)) < c.line_window_m
         return self.line_end(fit.coeffs, far_m, pts[band], everything)
 
     def line_style(self, coeffs, offset_m, line_pts, everything) -> str:
@@ -497,13 +615,14 @@ class LaneMeasurement:
         first_m, last_m = float(line_pts[:, 0].min()), float(line_pts[:, 0].max())
         if last_m - first_m < c.min_style_span_m:
             return UNKNOWN
-        x = everything[:, 0]
-        near = (x >= first_m) & (x <= last_m)
-        core = near.copy()
-        core[near] = np.abs(everything[near, 1] - _line_positions(coeffs, x[near], offset_m)) < c.style_core_m
+        ground = self._sorted_by_x(everything)
+        near = ground.between(first_m, last_m)  # first_m <= x <= last_m, sorted by x
+        x = ground.x[near]
+        centre, k = self._curve_at(coeffs, ground, near)
+        core = np.abs(ground.y[near] - (centre + offset_m * k)) < c.style_core_m  # _line_positions
         edges = np.arange(first_m, last_m + c.style_bin_m, c.style_bin_m)
-        seen = np.histogram(x[core], edges)[0] > 0
-        holding = np.histogram(line_pts[:, 0], edges)[0] > 0
+        seen = _histogram_of_sorted(x[core], edges) > 0
+        holding = _histogram_of_sorted(np.sort(line_pts[:, 0]), edges) > 0
         if seen.sum() * c.style_bin_m < c.min_style_span_m / 2:
             return UNKNOWN
         gap_share = np.count_nonzero(seen & ~holding) / np.count_nonzero(seen)

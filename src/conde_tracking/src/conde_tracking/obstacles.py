@@ -33,6 +33,7 @@ import cv2
 import numpy as np
 
 from conde_tracking.ipm import GroundMap
+from conde_tracking.pixel_tables import TableCache, threshold_table
 
 BOX = "box"
 CONE = "cone"
@@ -80,12 +81,36 @@ class Detection:
         return 0.5 * (self.y_min_m + self.y_max_m)
 
 
+def _colour_tables(config: ObstacleConfig):
+    """colour_masks' tests as thresholds (pixel_tables): (largest max(R, B) of a green pixel per G,
+    largest B of an orange pixel per R, least and largest G of an orange pixel per R); None when a
+    test is not of that form."""
+    c = config
+    lo, hi = c.orange_green_share
+    tables = (threshold_table(lambda m, g: (g >= c.min_level) & (g - m >= c.green_dominance * g), False),
+              threshold_table(lambda b, r: (r >= c.min_level) & (b <= c.orange_blue_share * r), False),
+              threshold_table(lambda g, r: g >= lo * r, True),
+              threshold_table(lambda g, r: g <= hi * r, False))
+    return None if any(t is None for t in tables) else tables
+
+
+_COLOUR_TABLES = TableCache(_colour_tables)
+
+
 def colour_masks(image, config: ObstacleConfig):
     """(green, orange) boolean (H, W) masks of an RGB image."""
     img = np.asarray(image)
     if img.ndim != 3 or img.shape[2] < 3:
         empty = np.zeros(img.shape[:2], bool)
         return empty, empty
+    tables = _COLOUR_TABLES.get(config) if img.dtype == np.uint8 and img.size else None
+    if tables is not None:
+        # the tests below, per pixel the same results, as look-ups of thresholds
+        green_max, blue_max, green_min, orange_green_max = tables
+        r, g, b = cv2.split(np.ascontiguousarray(img[..., :3]))
+        green = cv2.max(r, b) <= cv2.LUT(g, green_max)
+        orange = (b <= cv2.LUT(r, blue_max)) & (g >= cv2.LUT(r, green_min)) & (g <= cv2.LUT(r, orange_green_max))
+        return green, orange
     r, g, b = (img[..., k].astype(np.int16) for k in range(3))
     c = config
     green = (g >= c.min_level) & (g - np.maximum(r, b) >= c.green_dominance * g)
@@ -111,11 +136,14 @@ class ObstacleDetector:
         for label in range(1, n):
             if stats[label, cv2.CC_STAT_AREA] < c.min_blob_px:
                 continue
-            rows, cols = np.nonzero(labels == label)
-            lowest = np.full(labels.shape[1], -1)
-            np.maximum.at(lowest, cols, rows)  # the blob's lowest row in each column
-            u = np.flatnonzero(lowest >= 0)
-            xy = ground_map.xy_m[lowest[u], u]
+            # the blob's lowest row in each column, within its bounding box (it holds all of the blob)
+            left, top, width, height = (int(stats[label, k]) for k in (cv2.CC_STAT_LEFT, cv2.CC_STAT_TOP,
+                                                                       cv2.CC_STAT_WIDTH, cv2.CC_STAT_HEIGHT))
+            blob = labels[top:top + height, left:left + width] == label
+            in_column = blob.any(axis=0)
+            u = left + np.flatnonzero(in_column)  # the columns holding it, left to right
+            lowest = top + (height - 1) - blob[::-1].argmax(axis=0)[in_column]  # its last row in each
+            xy = ground_map.xy_m[lowest, u]
             xy = xy[np.isfinite(xy[:, 0])]
             if len(xy) == 0:
                 continue
@@ -127,7 +155,7 @@ class ObstacleDetector:
             outline = xy[xy[:, 0] <= near_x + c.outline_depth_m]
             y_min, y_max = float(outline[:, 1].min()), float(outline[:, 1].max())
             far_x = self._far_x(xy, y_min, y_max, road_direction_rad)
-            out.append(Detection(kind, near_x, y_min, y_max, len(rows), far_x))
+            out.append(Detection(kind, near_x, y_min, y_max, int(np.count_nonzero(blob)), far_x))
         return out
 
     def _far_x(self, xy, y_min_m: float, y_max_m: float, road_direction_rad: float) -> float:
