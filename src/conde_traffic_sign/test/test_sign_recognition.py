@@ -65,3 +65,26 @@ def test_nothing_in_an_image_without_signs():
     image = rng.integers(0, 255, (240, 320, 3), dtype=np.uint8)
     image[:120] = (200, 200, 200)
     assert find_signs(image) == []
+
+
+@pytest.mark.parametrize("width_px, height_px", [(5, 7), (12, 18), (16, 24), (31, 49)])
+def test_small_box_templates_are_the_drawings_shifted_by_warp_affine(width_px, height_px):
+    """The templates of a small box shift each drawing by windows of its edge-padded copy; they are
+    those of cv2.warpAffine with repeated edges, the plain definition of the shift."""
+    from conde_traffic_sign import sign_recognition as sr
+    expected = {}
+    for family, cuts in sr._drawings().cuts.items():
+        for name, cut in cuts:
+            fine = (4 * width_px, 4 * height_px)
+            finer = cv2.resize(cut, fine, interpolation=cv2.INTER_AREA)
+            for dx in sr.SUBPIXEL_SHIFTS_PX:
+                for dy in sr.SUBPIXEL_SHIFTS_PX:
+                    shift = np.float32([[1, 0, 4 * dx], [0, 1, 4 * dy]])
+                    shifted = cv2.warpAffine(finer, shift, fine, borderMode=cv2.BORDER_REPLICATE)
+                    small = cv2.resize(shifted, (width_px, height_px), interpolation=cv2.INTER_AREA)
+                    expected.setdefault(family, []).append((name, sr._normalised(small, None)))
+    got = sr._templates_at(width_px, height_px)
+    assert sorted(got) == sorted(expected)
+    for family in expected:
+        assert [name for name, _ in got[family]] == [name for name, _ in expected[family]]
+        assert all(np.array_equal(a, b) for (_, a), (_, b) in zip(got[family], expected[family]))

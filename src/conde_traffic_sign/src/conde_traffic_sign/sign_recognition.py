@@ -92,8 +92,11 @@ def _drawings():
     return _DRAWINGS
 
 
-#: shifts of a drawing [px of the box] before it is shrunk to a box under TEMPLATE_PX
+#: shifts of a drawing [px of the box] before it is shrunk to a box under TEMPLATE_PX (quarter
+#: pixels: the drawing is shifted at 4x the box's size by whole pixels)
 SUBPIXEL_SHIFTS_PX = (-0.5, 0.0, 0.5)
+if any(not float(4 * s).is_integer() for s in SUBPIXEL_SHIFTS_PX):
+    raise ValueError("SUBPIXEL_SHIFTS_PX must be multiples of 0.25 px, got %s" % (SUBPIXEL_SHIFTS_PX,))
 
 
 # One size's templates: 108 vectors of w x h x 3 float32, about 0.5 MB for a typical 16 x 24 px box and
@@ -108,10 +111,14 @@ def _templates_at(width_px, height_px):
             # shifted at 4x the box's size, not at the drawing's (faster, the same templates)
             fine = (4 * width_px, 4 * height_px)
             finer = cv2.resize(cut, fine, interpolation=cv2.INTER_AREA)
+            # A shift by whole pixels with the edges repeated: a window of the edge-padded image
+            # (what cv2.warpAffine with BORDER_REPLICATE gives for these shifts, without resampling).
+            pad = int(4 * max(abs(s) for s in SUBPIXEL_SHIFTS_PX))
+            padded = cv2.copyMakeBorder(finer, pad, pad, pad, pad, cv2.BORDER_REPLICATE)
             for dx in SUBPIXEL_SHIFTS_PX:
                 for dy in SUBPIXEL_SHIFTS_PX:
-                    shift = np.float32([[1, 0, 4 * dx], [0, 1, 4 * dy]])
-                    shifted = cv2.warpAffine(finer, shift, fine, borderMode=cv2.BORDER_REPLICATE)
+                    x0, y0 = pad - int(4 * dx), pad - int(4 * dy)
+                    shifted = padded[y0:y0 + fine[1], x0:x0 + fine[0]]
                     small = cv2.resize(shifted, (width_px, height_px), interpolation=cv2.INTER_AREA)
                     templates.setdefault(family, []).append((name, _normalised(small, None)))
     return templates
