@@ -114,6 +114,10 @@ struct ObjectInView {
   double angular_radius_rad = 0.0, cos_angular = 1.0, sin_angular = 0.0;
   bool surrounds_camera = false;  // the camera is inside the bounding sphere: test every tile
   double nearest_m = 0.0;         // distance from the camera to the bounding sphere
+  // Unless surrounds_camera: the sphere's centre in the optical frame [m], its squared distance
+  // [m^2] and its radius grown by a hair against rounding, squared [m^2] (the per-pixel test).
+  Vec3 centre_optical;
+  double centre_sq_m2 = 0.0, reach_sq_m2 = 0.0;
   double local_R_optical[3][3];
   double origin_local[3];  // camera position in the object frame
   Vec3 to_sun_local;
@@ -324,6 +328,16 @@ bool hitObject(const ObjectInView& view, const Vec3& ray_optical, double t_near,
   return false;
 }
 
+// False when the unit ray cannot hit the object nearer than depth_m: it misses the bounding sphere
+// (grown by a hair), or enters it beyond depth_m (+ 1 um against rounding). For a camera outside
+// the sphere; every point of the object is inside it, so this only skips what hitObject rejects.
+inline bool raySphereMayHit(const ObjectInView& view, const Vec3& ray_optical, float depth_m) {
+  const double along_m = ray_optical.dot(view.centre_optical);
+  const double miss_sq_m2 = view.centre_sq_m2 - along_m * along_m;  // centre to the ray's line, squared
+  if (miss_sq_m2 > view.reach_sq_m2) return false;
+  return along_m - std::sqrt(view.reach_sq_m2 - miss_sq_m2) <= static_cast<double>(depth_m) + 1e-6;
+}
+
 // True when some ray of a cone (axis, half angle) may meet the bounding sphere of `view`: the
 // angle between the cone's axis and the sphere's direction is at most half + angular radius.
 inline bool coneMeetsSphere(const Vec3& axis, double half_rad, double cos_half, double sin_half,
@@ -461,6 +475,10 @@ void CameraRenderer::render(const RenderScene& scene, const Pose& world_T_optica
     view.surrounds_camera = distance <= radius;
     view.nearest_m = std::max(0.0, distance - radius);
     if (!view.surrounds_camera) {
+      view.centre_optical = centre;
+      view.centre_sq_m2 = centre.dot(centre);
+      const double reach_m = radius * (1.0 + 1e-9) + 1e-9;
+      view.reach_sq_m2 = reach_m * reach_m;
       view.direction_optical = centre / distance;
       view.sin_angular = radius / distance;
       view.angular_radius_rad = std::asin(view.sin_angular);
@@ -574,6 +592,7 @@ void CameraRenderer::render(const RenderScene& scene, const Pose& world_T_optica
         std::uint8_t* out = image.pixel(tile.u0, tile.v0 + j);
         for (int i = 0; i < tile.width; ++i, out += 3) {
           const int k = j * kTileWidth + i;
+          if (!view.surrounds_camera && !raySphereMayHit(view, ray[i], depth[k])) continue;
           double t = 0.0;
           if (hitObject(view, ray[i], near_m, std::min(far_m, static_cast<double>(depth[k])), t, out))
             depth[k] = static_cast<float>(t);
