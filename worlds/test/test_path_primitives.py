@@ -74,3 +74,10 @@ def test_box_holds_every_point_within_the_lateral_reach_of_the_s_range(prim):
     assert np.all((reach[:, 0] >= x0) & (reach[:, 0] <= x1) & (reach[:, 1] >= y0) & (reach[:, 1] <= y1))
     assert not boxes_overlap((x0, y0, x1, y1), (x1 + 0.01, y0, x1 + 1.0, y1))
     assert boxes_overlap((x0, y0, x1, y1), points_box(reach))
+
+
+def test_zero_length_segment_box_overlaps_nothing():
+    """project() of a zero-length segment is NaN (no point is on it): its box overlaps no box."""
+    box = Segment((1.0, 1.0), (1.0, 1.0)).box(0.0, 0.0, 0.1)
+    assert not boxes_overlap(box, (-10.0, -10.0, 10.0, 10.0))
+    assert points_box(np.array([[np.nan, 1.0], [2.0, 3.0], [0.5, np.inf]])) == (2.0, 3.0, 2.0, 3.0)

@@ -318,3 +318,11 @@ def test_geometry_file_contents():
     assert [b["name"] for b in data["bay_parking"]["bays"]] == ["north", "south"]
     assert data["spawn"]["conde"] == {"xyz": [2.14, -0.33, 0.0], "yaw": 1.5708}
     assert data["texture"]["x_range_m"] == [-3.475, 3.975]
+
+
+def test_on_road_of_points_with_nan_keeps_the_finite_ones(track):
+    """A point with a NaN coordinate is on no road; the others are judged as without it."""
+    x = track.dims.road_half_width_m * 0.0 + 1.778
+    pts = np.array([[x, 0.0], [np.nan, np.nan], [x + 0.1, 1.0], [np.nan, 0.0]])
+    assert track.on_road(pts).tolist() == [True, False, True, False]
+    assert not track.on_road(np.full((3, 2), np.nan)).any()

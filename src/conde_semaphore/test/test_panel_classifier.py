@@ -8,6 +8,7 @@ import cv2
 import numpy as np
 import pytest
 
+from conde_semaphore import panel_classifier as pc
 from conde_semaphore.panel_classifier import SIGNAL_NAMES, Debouncer, classify_panel, colour_classes
 
 IMAGES_DIR = os.path.join(os.path.dirname(os.path.abspath(__file__)), "images")
@@ -152,7 +153,7 @@ def _colour_classes_by_ratios(rgb):
     pixels = rgb.astype(np.float64)
     high = pixels.max(axis=2)
     chroma = high - pixels.min(axis=2)
-    saturated = (chroma >= 60.0) & (chroma >= 0.5 * high)
+    saturated = (chroma >= pc.MIN_CHROMA) & (chroma >= pc.MIN_SATURATION * high)
     safe_high = np.maximum(high, 1.0)
     red, green, blue = (pixels[:, :, k] / safe_high for k in range(3))
     not_blue = blue < 0.5
@@ -162,6 +163,35 @@ def _colour_classes_by_ratios(rgb):
     classes[saturated & not_blue & (green >= red) & ~is_yellow] = 2
     classes[is_yellow] = 3
     return classes
+
+
+def _some_colours():
+    """Every 8-bit red and green with every 15th blue, as 256 x 256 x 3 images."""
+    rg = np.stack(np.meshgrid(np.arange(256), np.arange(256), indexing="ij"), -1).reshape(-1, 2)
+    for blue in range(0, 256, 15):
+        yield np.column_stack([rg, np.full(len(rg), blue)]).astype(np.uint8).reshape(256, 256, 3)
+
+
+@pytest.mark.parametrize("min_chroma, min_saturation", [(0.0, 0.4), (59.5, 0.75), (300.0, 0.5), (60.0, 1.2)])
+def test_colour_classes_follow_the_thresholds(monkeypatch, min_chroma, min_saturation):
+    """The tables follow MIN_CHROMA and MIN_SATURATION as they are when the classes are taken."""
+    monkeypatch.setattr(pc, "MIN_CHROMA", min_chroma)
+    monkeypatch.setattr(pc, "MIN_SATURATION", min_saturation)
+    for image in _some_colours():
+        assert np.array_equal(colour_classes(image), _colour_classes_by_ratios(image))
+
+
+@pytest.mark.parametrize("image", [np.zeros((0, 5, 3), np.uint8), np.full((3, 4, 3), 200.0),
+                                   np.arange(48, dtype=np.uint16).reshape(4, 4, 3) * 1000,
+                                   np.dstack([np.full((2, 2), 250), np.zeros((2, 2)), np.zeros((2, 2)),
+                                              np.full((2, 2), 9)]).astype(np.uint8)],
+                         ids=["empty", "float", "uint16", "rgba"])
+def test_colour_classes_of_other_images_in_int16(image):
+    """Images that are not 8-bit H x W x 3 (or are empty) are classed by the int16 arithmetic."""
+    expected = _colour_classes_by_ratios(image[:, :, :3].astype(np.int16).clip(0, None))
+    if image.dtype == np.uint16:  # beyond 8 bits the int16 arithmetic is what is promised, not the ratios
+        expected = pc._colour_classes_int16(image)
+    assert np.array_equal(colour_classes(image), expected)
 
 
 def test_integer_colour_classes_equal_the_ratio_definition_for_every_colour():

@@ -31,8 +31,18 @@ def rotated(p, angle: float, origin) -> Tuple[float, float]:
 BOX_MARGIN_M = 1e-6
 
 
+# A box that overlaps no box (boxes_overlap).
+NO_BOX = (math.inf, math.inf, -math.inf, -math.inf)
+
+
 def points_box(points) -> Tuple[float, float, float, float]:
-    """(x_min, y_min, x_max, y_max) of an (N, 2) array of points (N >= 1)."""
+    """(x_min, y_min, x_max, y_max) of the finite points of an (N, 2) array (NO_BOX if none: a
+    point with a NaN coordinate is on no primitive)."""
+    finite = np.isfinite(points).all(axis=1)
+    if not finite.all():
+        if not finite.any():
+            return NO_BOX
+        points = points[finite]
     lo, hi = points.min(axis=0), points.max(axis=0)
     return float(lo[0]), float(lo[1]), float(hi[0]), float(hi[1])
 
@@ -95,7 +105,10 @@ class Segment:
     @functools.lru_cache(maxsize=4096)
     def box(self, s0: float, s1: float, lateral_m: float) -> Tuple[float, float, float, float]:
         """A box holding every point that project() puts at s0 <= s <= s1 and |lateral| <= lateral_m
-        (the rectangle's corners are within the box of its end points grown by lateral_m)."""
+        (the rectangle's corners are within the box of its end points grown by lateral_m); NO_BOX for
+        a segment of zero length, whose project() gives NaN."""
+        if self.length == 0.0:
+            return NO_BOX
         ux, uy = (self.p1[0] - self.p0[0]) / self.length, (self.p1[1] - self.p0[1]) / self.length
         xs = (self.p0[0] + s0 * ux, self.p0[0] + s1 * ux)
         ys = (self.p0[1] + s0 * uy, self.p0[1] + s1 * uy)

@@ -12,7 +12,7 @@ import numpy as np
 
 from conde_worlds import challenge_objects as co
 from conde_worlds import track_geometry as tg
-from conde_worlds.path_primitives import boxes_overlap, points_box
+from conde_worlds.path_primitives import NO_BOX, boxes_overlap, points_box
 from conde_worlds.challenge_world import layout, objects_of
 from conde_worlds.challenges import load_challenges, parse_seed
 from conde_worlds.track_variation import track_dimensions
@@ -185,7 +185,7 @@ def painted_box(stroke) -> Tuple[float, float, float, float]:
     """A box (x_min, y_min, x_max, y_max) holding every point that Course.touches counts as on the
     stroke: within half its width of the centre, between its first and last painted s."""
     if not stroke.intervals:
-        return math.inf, math.inf, -math.inf, -math.inf  # overlaps no box
+        return NO_BOX
     return stroke.prim.box(min(a for a, _ in stroke.intervals), max(b for _, b in stroke.intervals),
                            stroke.width / 2.0)
 

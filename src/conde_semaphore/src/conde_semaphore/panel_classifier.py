@@ -73,27 +73,50 @@ def _ceil_lut(numerator: int, denominator: int) -> np.ndarray:
     return (-((-numerator * h) // denominator)).astype(np.uint8)
 
 
-# For 8-bit integers c, b, r and brightest channel h: 2 c >= h, 2 b < h and 5 r >= 3 h are
-# c >= ceil(h / 2), b < ceil(h / 2) and r >= ceil(3 h / 5): one table look-up per pixel.
+# For 8-bit integers b, r and brightest channel h (at least 1): 2 b < h and 5 r >= 3 h are
+# b < ceil(h / 2) and r >= ceil(3 h / 5): one table look-up per pixel.
 _HALF_UP = _ceil_lut(1, 2)
 _THREE_FIFTHS_UP = _ceil_lut(3, 5)
-_MIN_CHROMA_LEVEL = np.uint8(math.ceil(MIN_CHROMA))  # chroma >= MIN_CHROMA for 8-bit chroma
+
+
+@functools.lru_cache(maxsize=8)
+def _saturation_table(min_saturation: float) -> np.ndarray:
+    """int16 table over the 8-bit brightest channel h: the least integer c with c >= min_saturation
+    * h (the product in float64, as the ratio test computes it), kept within -1..256."""
+    least = np.ceil(min_saturation * np.arange(256, dtype=np.int16))
+    least = np.where(np.isnan(least), 256.0, least)  # a NaN ratio: nothing is saturated
+    return np.clip(least, -1, 256).astype(np.int16)
+
+
+def _colour_classes_int16(rgb):
+    """colour_classes in int16 arithmetic: for any image with at least three channels."""
+    r, g, b = (rgb[:, :, k].astype(np.int16) for k in range(3))
+    high = np.maximum(np.maximum(r, g), b)
+    chroma = high - np.minimum(np.minimum(r, g), b)
+    safe_high = np.maximum(high, 1)
+    saturated = (chroma >= MIN_CHROMA) & (chroma >= MIN_SATURATION * high)
+    candidate = saturated & (2 * b < safe_high)  # not blue
+    is_yellow = candidate & (5 * r >= 3 * safe_high) & (5 * g >= 3 * safe_high)
+    classes = np.where(candidate, np.where(r > g, np.uint8(1), np.uint8(2)), np.uint8(0))
+    classes[is_yellow] = 3
+    return classes
 
 
 def colour_classes(rgb):
     """Per-pixel class: 0 not saturated, 1 red, 2 green, 3 yellow (uint8, H x W).
 
-    The tests on ratios to the brightest channel (saturation, blue < 0.5, red and green >= 0.6)
-    are done in integers (2 chroma >= high, 2 blue < high, 5 red >= 3 high, with high at least 1),
+    The tests on ratios to the brightest channel (chroma >= MIN_SATURATION high, blue < 0.5, red
+    and green >= 0.6) are done in integers (2 blue < high, 5 red >= 3 high, with high at least 1),
     which for 8-bit channels decides exactly as the ratios would, without a floating-point image:
-    as comparisons of 8-bit images with tables of the rounded-up thresholds."""
-    rgb = np.ascontiguousarray(rgb)
-    r, g, b = cv2.split(rgb)
+    for a non-empty 8-bit H x W x 3 image as comparisons with tables of the rounded-up thresholds,
+    otherwise in int16 (_colour_classes_int16)."""
+    if rgb.dtype != np.uint8 or rgb.ndim != 3 or rgb.shape[2] != 3 or rgb.size == 0:
+        return _colour_classes_int16(rgb)
+    r, g, b = cv2.split(np.ascontiguousarray(rgb))
     high = cv2.max(cv2.max(r, g), b)
     chroma = cv2.subtract(high, cv2.min(cv2.min(r, g), b))
-    half = cv2.LUT(high, _HALF_UP)
-    saturated = (chroma >= _MIN_CHROMA_LEVEL) & (chroma >= half)
-    candidate = saturated & (b < half)  # not blue
+    saturated = (chroma >= math.ceil(MIN_CHROMA)) & (chroma >= cv2.LUT(high, _saturation_table(MIN_SATURATION)))
+    candidate = saturated & (b < cv2.LUT(high, _HALF_UP))  # not blue
     fifths = cv2.LUT(high, _THREE_FIFTHS_UP)
     is_yellow = candidate & (r >= fifths) & (g >= fifths)
     classes = np.where(candidate, np.where(r > g, np.uint8(1), np.uint8(2)), np.uint8(0))
