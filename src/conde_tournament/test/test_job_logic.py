@@ -163,3 +163,15 @@ def test_run_job_tries_again_after_a_master_start_failure(tmp_path, monkeypatch)
                                                           "roslaunch.attempt2.log", "roslaunch.log"]
     outcomes[:] = ["no_report"] * 3
     assert job_module.run_job(Job(Team("a"), "D1", "", 0, "ode", 0), str(tmp_path), 0.0, 60.0)["attempts"] == 3
+
+
+def test_job_environment_points_at_its_own_master_and_folder_with_unbuffered_python():
+    """A job's roslaunch talks to its own master, keeps ROS_HOME and the logs in the job folder,
+    drops ROS_HOSTNAME (127.0.0.1 is the job's address) and gets unbuffered Python output: without
+    it, where stdout is a file, roslaunch's SUMMARY reached roslaunch.log only after the nodes' lines
+    (the CPU profile's parse phase was then never seen)."""
+    from conde_tournament.job import job_environment
+    env = job_environment({"ROS_HOSTNAME": "somehost", "PATH": "/usr/bin", "PYTHONUNBUFFERED": ""}, 11411, "/tmp/job")
+    assert env["ROS_MASTER_URI"] == "http://127.0.0.1:11411" and env["ROS_IP"] == "127.0.0.1"
+    assert env["ROS_HOME"] == "/tmp/job/ros" and env["ROS_LOG_DIR"] == "/tmp/job/ros/log"
+    assert env["PYTHONUNBUFFERED"] == "1" and env["PATH"] == "/usr/bin" and "ROS_HOSTNAME" not in env

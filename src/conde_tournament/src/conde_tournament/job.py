@@ -67,6 +67,18 @@ class _LogWatch:
         self.tail = seen[-len(self.mark):]
 
 
+def job_environment(environ, port: int, job_dir: str) -> dict:
+    """The environment of a job's roslaunch (pure): its own master on 127.0.0.1:port, ROS_HOME and
+    the logs in the job folder, and Python's output unbuffered, so that roslaunch.log holds each
+    line as it is printed (the phase marks, e.g. roslaunch's SUMMARY, come when they happen, also
+    where stdout is not a terminal)."""
+    env = dict(environ, ROS_MASTER_URI="http://127.0.0.1:%d" % port, ROS_IP="127.0.0.1",
+               ROS_HOME=os.path.join(job_dir, "ros"), ROS_LOG_DIR=os.path.join(job_dir, "ros", "log"),
+               PYTHONUNBUFFERED="1")
+    env.pop("ROS_HOSTNAME", None)
+    return env
+
+
 def timing(started: float, running_at, decided_at, ended: float) -> dict:
     """Where a job's wall time went [s] (pure): start-up (launch until the simulation runs), run
     (until the referee decided, or the job ended), stop (from the decision until every process is
@@ -263,9 +275,7 @@ def _run_job_once(job: Job, job_dir: str, sim_limit_s: float, wall_limit_s: floa
     if problem:
         return failed_result(job, job_dir, problem, status="team_failed")
     port = free_port()
-    env = dict(os.environ, ROS_MASTER_URI="http://127.0.0.1:%d" % port, ROS_IP="127.0.0.1",
-               ROS_HOME=os.path.join(job_dir, "ros"), ROS_LOG_DIR=os.path.join(job_dir, "ros", "log"))
-    env.pop("ROS_HOSTNAME", None)
+    env = job_environment(os.environ, port, job_dir)
     command = launch_command(job, port, job_dir, sim_limit_s, launch_args)
     with open(os.path.join(job_dir, "job.json"), "w") as f:
         json.dump(dict(result, port=port, command=command), f, indent=1)
