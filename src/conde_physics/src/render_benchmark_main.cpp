@@ -4,10 +4,11 @@
 // 1 cm per frame; each camera renders `frames` frames without and with its lens distortion, with
 // the ground pass on eight lanes (AVX2) and on four.
 // Prints Markdown tables: time per frame per camera (wall clock, and this thread's CPU time,
-// which a busy machine disturbs less) with a 64-bit digest (FNV-1a) of the timed frames' pixels (a
-// change made for speed must keep it; only this table has one), and what that means for the three cameras at 30 Hz on one
-// core, and the cost of the depth image. With save_dir, writes the first frame of each camera as PNG
-// (and its depth image as grey PNG, white at 0 m to black at 2 m and for no return).
+// which a busy machine disturbs less) with a 64-bit digest (FNV-1a) of the timed frames' pixels
+// (a change made for speed must keep it; only this table has one), and what that means for the
+// three cameras at 30 Hz on one core, and the cost of the depth image. With save_dir, writes the
+// first frame of each camera as PNG (and its depth image as grey PNG, white at 0 m to black at 2 m
+// and for no return).
 #include <algorithm>
 #include <chrono>
 #include <cmath>
