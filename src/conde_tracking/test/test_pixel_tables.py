@@ -7,7 +7,7 @@ import pytest
 
 from conde_tracking.lane_measurement import LaneConfig, _ByX, _histogram_of_sorted, line_mask
 from conde_tracking.obstacles import ObstacleConfig, colour_masks
-from conde_tracking.pixel_tables import threshold_table
+from conde_common.pixel_tables import threshold_table
 
 
 def random_images(seed, count=20):

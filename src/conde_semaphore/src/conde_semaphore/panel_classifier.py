@@ -20,6 +20,7 @@ import cv2
 import numpy as np
 
 from conde_common.panel_signals import SIGNAL_CODES, SIGNAL_NAMES  # noqa: F401 (re-exported)
+from conde_common.pixel_tables import TableCache, threshold_table
 from conde_signalling_panel_control.panel_images import draw_signal
 
 MIN_CHROMA = 60.0          # max - min channel [0..255]; sky is ~50 at most, dimmed green ~150
@@ -67,25 +68,11 @@ def classify_panel(image, bgr=False, ground_from_row_fraction=None):
     return classify_blob(mask, colours)
 
 
-def _ceil_lut(numerator: int, denominator: int) -> np.ndarray:
-    """uint8 table: ceil(numerator * max(h, 1) / denominator) for every 8-bit value h."""
-    h = np.maximum(np.arange(256), 1)
-    return (-((-numerator * h) // denominator)).astype(np.uint8)
-
-
-# For 8-bit integers b, r and brightest channel h (at least 1): 2 b < h and 5 r >= 3 h are
-# b < ceil(h / 2) and r >= ceil(3 h / 5): one table look-up per pixel.
-_HALF_UP = _ceil_lut(1, 2)
-_THREE_FIFTHS_UP = _ceil_lut(3, 5)
-
-
-@functools.lru_cache(maxsize=8)
-def _saturation_table(min_saturation: float) -> np.ndarray:
-    """int16 table over the 8-bit brightest channel h: the least integer c with c >= min_saturation
-    * h (the product in float64, as the ratio test computes it), kept within -1..256."""
-    least = np.ceil(min_saturation * np.arange(256, dtype=np.int16))
-    least = np.where(np.isnan(least), 256.0, least)  # a NaN ratio: nothing is saturated
-    return np.clip(least, -1, 256).astype(np.int16)
+# The ratio tests of two 8-bit values as tables of thresholds over the brightest channel h
+# (conde_common.pixel_tables: read off the int16 test itself for all 256 x 256 pairs).
+_NOT_BLUE = threshold_table(lambda b, h: 2 * b < np.maximum(h, 1), upward=False)  # b <= t[h]
+_AT_THREE_FIFTHS = threshold_table(lambda r, h: 5 * r >= 3 * np.maximum(h, 1), upward=True)  # r >= t[h]
+_SATURATION = TableCache(lambda ratio: threshold_table(lambda c, h: c >= ratio * h, upward=True))
 
 
 def _colour_classes_int16(rgb):
@@ -110,14 +97,15 @@ def colour_classes(rgb):
     which for 8-bit channels decides exactly as the ratios would, without a floating-point image:
     for a non-empty 8-bit H x W x 3 image as comparisons with tables of the rounded-up thresholds,
     otherwise in int16 (_colour_classes_int16)."""
-    if rgb.dtype != np.uint8 or rgb.ndim != 3 or rgb.shape[2] != 3 or rgb.size == 0:
+    saturation = _SATURATION.get(MIN_SATURATION)
+    if rgb.dtype != np.uint8 or rgb.ndim != 3 or rgb.shape[2] != 3 or rgb.size == 0 or saturation is None:
         return _colour_classes_int16(rgb)
     r, g, b = cv2.split(np.ascontiguousarray(rgb))
     high = cv2.max(cv2.max(r, g), b)
     chroma = cv2.subtract(high, cv2.min(cv2.min(r, g), b))
-    saturated = (chroma >= math.ceil(MIN_CHROMA)) & (chroma >= cv2.LUT(high, _saturation_table(MIN_SATURATION)))
-    candidate = saturated & (b < cv2.LUT(high, _HALF_UP))  # not blue
-    fifths = cv2.LUT(high, _THREE_FIFTHS_UP)
+    saturated = (chroma >= math.ceil(MIN_CHROMA)) & (chroma >= cv2.LUT(high, saturation))
+    candidate = saturated & (b <= cv2.LUT(high, _NOT_BLUE))  # not blue
+    fifths = cv2.LUT(high, _AT_THREE_FIFTHS)
     is_yellow = candidate & (r >= fifths) & (g >= fifths)
     classes = np.where(candidate, np.where(r > g, np.uint8(1), np.uint8(2)), np.uint8(0))
     classes[is_yellow] = 3

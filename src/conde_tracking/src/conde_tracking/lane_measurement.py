@@ -46,7 +46,7 @@ import cv2
 import numpy as np
 
 from conde_tracking.ipm import GroundMap
-from conde_tracking.pixel_tables import TableCache, threshold_table
+from conde_common.pixel_tables import TableCache, threshold_table
 
 
 @dataclass
