@@ -95,7 +95,7 @@ def colour_classes(rgb):
     The tests on ratios to the brightest channel (chroma >= MIN_SATURATION high, blue < 0.5, red
     and green >= 0.6) are done in integers (2 blue < high, 5 red >= 3 high, with high at least 1),
     which for 8-bit channels decides exactly as the ratios would, without a floating-point image:
-    for a non-empty 8-bit H x W x 3 image as comparisons with tables of the rounded-up thresholds,
+    for a non-empty 8-bit H x W x 3 image as comparisons with threshold tables (conde_common.pixel_tables),
     otherwise in int16 (_colour_classes_int16)."""
     saturation = _SATURATION.get(MIN_SATURATION)
     if rgb.dtype != np.uint8 or rgb.ndim != 3 or rgb.shape[2] != 3 or rgb.size == 0 or saturation is None:
