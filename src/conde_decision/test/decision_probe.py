@@ -44,7 +44,7 @@ def main():
     shown = [PanelSignal.NONE]  # the signal on the panel: sent with every measurement, as conde_semaphore
     #                             sends one per camera image, so the node in lock-step knows one is owed
 
-    def lane_step(t):
+    def lane_step(t, clock_late=False):
         signal = PanelSignal(signal=shown[0], confidence=1.0 if shown[0] != PanelSignal.NONE else 0.0)
         signal.header.stamp = t
         msg = LaneMeasurement()
@@ -54,10 +54,13 @@ def main():
         msg.heading_error_rad = 0.02
         msg.confidence = 1.0
         count = len(refs)
-        set_clock(t)
+        if not clock_late:
+            set_clock(t)
         signal_pub.publish(signal)
         lane_pub.publish(msg)
         wait_for(lambda: len(refs) > count, "a control reference")
+        if clock_late:
+            set_clock(t)
 
     step = rospy.Duration(0, 33333333)
     for _ in range(9):  # no signal yet: wait at the start
@@ -71,7 +74,9 @@ def main():
     now += step
     lane_step(now)
     now += step
-    lane_step(now)
+    # The clock of this frame reaches the node only after its measurement (on a busy machine the
+    # /clock connection can lag): the change of state must still carry the measurement's stamp.
+    lane_step(now, clock_late=True)
     wait_for(lambda: len(states) > count, "the state after the go signal")
     for _ in range(29):
         now += step

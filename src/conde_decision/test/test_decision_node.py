@@ -60,8 +60,9 @@ def test_lane_and_signal_in_reference_and_state_out(core):
     assert speeds[start] == pytest.approx(1 / 30.0, abs=1e-6)
     assert speeds[start + 14:] == [pytest.approx(0.5)] * 16
 
-    # The state: at start, on the change (with the event, the signal and the measurement's time),
-    # then at 1 Hz.
+    # The state: at start, on the change (with the event, the signal and the time of the measurement
+    # that applied it, although that frame's clock reached the node after the measurement), then at
+    # 1 Hz.
     assert states[0][1:] == ["wait_for_go", "", 0]
     change = [s for s in states if s[1] == "follow_lane"]
     assert change[0][1:] == ["follow_lane", "signal_forward", 3]
