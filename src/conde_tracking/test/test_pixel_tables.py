@@ -80,3 +80,13 @@ def test_sorted_points_histograms_and_ranges():
         if len(edges) > 1:
             assert np.array_equal(_histogram_of_sorted(by_x.x, edges), np.histogram(x, edges)[0])
             assert np.array_equal(_histogram_of_sorted(np.sort(x[:10]), edges), np.histogram(x[:10], edges)[0])
+
+
+def test_histogram_of_sorted_refuses_decreasing_edges_as_numpy_does():
+    values = np.array([0.1, 0.2, 0.3])
+    with pytest.raises(ValueError, match="monotonically"):
+        np.histogram(values, [0.0, 0.5, 0.25])
+    with pytest.raises(ValueError, match="monotonically"):
+        _histogram_of_sorted(values, [0.0, 0.5, 0.25])
+    repeated = [0.0, 0.2, 0.2, 0.5]  # non-decreasing: an empty bin, as np.histogram allows
+    assert np.array_equal(_histogram_of_sorted(values, repeated), np.histogram(values, repeated)[0])

@@ -232,9 +232,10 @@ def _ptp(values):
 def _histogram_of_sorted(sorted_values, edges):
     """np.histogram(values, edges)[0] of values already sorted ascending: the same counts, the
     same way (numpy sorts the values and counts them by binary search for an array of edges),
-    without sorting them again."""
+    without sorting them again. Edges that np.histogram refuses (not one increasing row of at least
+    two) go to np.histogram, which raises its own error."""
     edges = np.asarray(edges)
-    if edges.ndim != 1 or len(edges) < 2:
+    if edges.ndim != 1 or len(edges) < 2 or np.any(edges[1:] < edges[:-1]):
         return np.histogram(sorted_values, edges)[0]
     return np.diff(np.concatenate((sorted_values.searchsorted(edges[:-1], "left"),
                                    sorted_values.searchsorted(edges[-1:], "right"))))
