@@ -81,12 +81,15 @@ def main():
     for _ in range(29):
         now += step
         lane_step(now)
-    # The state again at 1 Hz of ROS time: 3.5 s of clock without any input.
+    # The state again at 1 Hz of ROS time: 3.5 s of clock without any input, sent in bursts of half
+    # a second, so that the node's clock has often moved past a whole second by the time its
+    # repeating thread runs (the repeats must still carry the whole seconds).
     count = len(states)
-    for _ in range(35):
+    for i in range(35):
         now += rospy.Duration(0, 100000000)
         set_clock(now)
-        time.sleep(0.01)
+        if i % 5 == 4:
+            time.sleep(0.05)
     wait_for(lambda: len(states) >= count + 3, "the periodic state messages")
 
     print(json.dumps({
