@@ -6,7 +6,10 @@ TickSchedule (pure) gives the deadlines of rospy.Rate(rate_hz) started at time 0
 simulator's lock-step bookkeeping assumes (conde_sim/lockstep_frames.h). rospy.Rate itself does not
 do: it reads the clock twice per sleep, so a /clock message between the two reads moves its
 deadline. Ticker (ROS) waits for those deadlines on /clock; wait_for_time waits for any condition.
+message_owed and OwedWait: a node that joins streams waits (bounded) for an input still owed.
 """
+
+import time
 
 import rospy
 
@@ -94,3 +97,64 @@ def message_owed(stamps_ns, up_to_ns: int) -> bool:
         return False
     smallest_gap_ns = min(b - a for a, b in zip(stamps_ns, stamps_ns[1:]))
     return stamps_ns[-1] + max(smallest_gap_ns, 1) <= up_to_ns
+
+
+class OwedWait:
+    """The bounded wait of a node that joins streams in lock-step: while an input that the simulator
+    already has is still owed (message_owed: the node's receiving thread has not run yet), wait on
+    the node's condition, at most wait_s of wall time. A wait that reaches that bound means the
+    machine held the sender or this node back longer than wait_s, and this frame may then differ from
+    run to run: each such give-up is counted, warned about (the first at once, then at most once per
+    WARN_PERIOD_S of wall time, with the count), and the count is logged at shutdown:
+
+        "<node>: lock-step: <N> of <M> waits for owed <what> gave up after <wait_s> s of wall time"
+
+    wait_s 0 (not lock-step) waits for nothing and counts nothing."""
+
+    WARN_PERIOD_S = 10.0  # [s, wall]
+
+    def __init__(self, node_name: str, what: str, wait_s: float, warn=None, info=None, is_shutdown=None):
+        """warn(line), info(line), is_shutdown(): default rospy's (info also at shutdown)."""
+        if not wait_s >= 0:
+            raise ValueError("wait_s must be >= 0, got %r" % (wait_s,))
+        self.node_name, self.what, self.wait_s = node_name, what, float(wait_s)
+        self.waits = 0      # frames that found an input owed
+        self.gave_up = 0    # ... and gave up at wait_s
+        self._warned_s = None
+        if info is None:
+            info = rospy.loginfo
+            if self.wait_s > 0:
+                rospy.on_shutdown(lambda: info(self.summary()))
+        self._warn = warn or rospy.logwarn
+        self._info = info
+        self._is_shutdown = is_shutdown or rospy.is_shutdown
+
+    def wait(self, condition, owed) -> bool:
+        """Waits on `condition` (held by the caller; notified when an input comes) while owed() holds;
+        False when it gave up at wait_s, True otherwise (nothing owed, or the shutdown)."""
+        if self.wait_s <= 0 or not owed():
+            return True
+        self.waits += 1
+        give_up_s = time.monotonic() + self.wait_s
+        while owed():
+            if self._is_shutdown():
+                return True
+            left_s = give_up_s - time.monotonic()
+            if left_s <= 0:
+                self._gave_up()
+                return False
+            condition.wait(min(0.005, left_s))
+        return True
+
+    def _gave_up(self) -> None:
+        self.gave_up += 1
+        now_s = time.monotonic()
+        if self._warned_s is None or now_s - self._warned_s >= self.WARN_PERIOD_S:
+            self._warned_s = now_s
+            self._warn("%s: lock-step: an owed %s had not come after %g s of wall time (%d such waits so far): "
+                       "this frame may differ from run to run (the machine is too busy for this wait)"
+                       % (self.node_name, self.what, self.wait_s, self.gave_up))
+
+    def summary(self) -> str:
+        return "%s: lock-step: %d of %d waits for owed %s gave up after %g s of wall time" % (
+            self.node_name, self.gave_up, self.waits, self.what, self.wait_s)
