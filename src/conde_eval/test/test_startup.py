@@ -98,3 +98,18 @@ def test_an_input_nobody_publishes_or_listens_to_holds_no_start():
     # a node that subscribes to it while nobody publishes it yet still holds the start
     listened = (with_node[0], subscribers + [["/rear_camera/image_raw", ["/signs"]]], services)
     assert startup.lockstep_links_missing(config, SIM, listened, bus) == ["/rear_camera/image_raw: no publisher yet"]
+
+
+def test_static_transforms_are_out_once_every_tf_static_publisher_has_sent():
+    state = ([["/tf_static", ["/robot_state_publisher", "/map_static", "/conde_sim"]], ["/clock", ["/conde_sim"]]],
+             [], [])
+    assert not startup.static_transforms_out(state, set(), "/conde_sim")
+    assert not startup.static_transforms_out(state, {"/map_static"}, "/conde_sim")  # the robot's not yet
+    # the simulator advertises /tf_static even when it has no optical frame to send: not waited for
+    assert startup.static_transforms_out(state, {"/map_static", "/robot_state_publisher"}, "/conde_sim")
+
+
+def test_static_transforms_are_not_out_without_a_publisher():
+    # nobody publishes /tf_static (yet): the pre-roll goes on to its ~preroll_s
+    assert not startup.static_transforms_out(([["/clock", ["/conde_sim"]]], [], []), {"/someone"}, "/conde_sim")
+    assert not startup.static_transforms_out(([["/tf_static", ["/conde_sim"]]], [], []), set(), "/conde_sim")

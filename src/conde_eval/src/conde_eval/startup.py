@@ -44,6 +44,17 @@ def graph_of(expected_nodes, system_state):
     return {n: frozenset(topics_of.get(n, ())) for n in expected_nodes}
 
 
+def static_transforms_out(system_state, senders, sim_name, topic="/tf_static"):
+    """True once at least one node other than the simulator (sim_name) publishes `topic` and each of
+    them has sent a message (senders: the caller ids whose message has come; /tf_static is latched,
+    so a message sent before the subscription still comes). The lock-step pre-roll steps until
+    then: robot_state_publisher's fixed transforms come from a one-shot timer on simulated time. The
+    simulator is left out: it sends its cameras' optical frames when it loads them, before any
+    step, and advertises the topic even when it has none to send."""
+    publishers = {t: set(nodes) for t, nodes in system_state[0]}.get(topic, set()) - {sim_name}
+    return bool(publishers) and publishers <= set(senders)
+
+
 def lockstep_links_missing(config, sim_name, system_state, bus_info):
     """What the simulator (node sim_name) still lacks before a lock-step run can start the same way
     every time: for each rule of the lock-step config ({rules: [{answer, inputs}]}, names relative to
