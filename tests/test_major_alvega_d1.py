@@ -14,7 +14,7 @@ import time
 
 import pytest
 
-from conde_testing.ros_harness import Roscore, stop_process
+from conde_testing.ros_harness import Roscore, run_digest, stop_process
 
 SIM_LIMIT_S = 60  # [s] of simulated time
 MIN_DRIVEN_M = 25.0  # [m] 0.5 m/s from 3 s on, less the turns' and the start's slower stretches
@@ -56,7 +56,7 @@ def run_and_check(env, tmp_path, engine):
     log_text = log_path.read_text()
     report = read_report(out_dir / "referee.json")
     assert report is not None, "no referee report:\n" + log_text[-4000:]
-    details = (out_dir / "referee.md").read_text()
+    details = (out_dir / "referee.md").read_text() + "\n" + run_digest(log_text)
     assert report["penalty_total"] == 0 and not report["disqualified"], details
     path = report["path_t_x_y"]
     driven_m = sum(math.hypot(b[1] - a[1], b[2] - a[2]) for a, b in zip(path, path[1:]))

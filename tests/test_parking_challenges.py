@@ -13,7 +13,7 @@ import subprocess
 import time
 
 import pytest
-from conde_testing.ros_harness import free_port, stop_process
+from conde_testing.ros_harness import free_port, run_digest, stop_process
 
 ENGINES = ["ode", "bullet"]
 #: (challenge, variant, the place the referee must find it in)
@@ -56,4 +56,4 @@ def test_parking_challenge_passes_without_penalty(tmp_path, challenge, variant, 
     print("%s %s %s: end %s, parked %s, penalties %g, events %s" % (
         challenge, variant, engine, report["end"], report["parked"], report["penalty_total"], events))
     assert report["end"] == "parked" and report["parked"] == bay, (events, log[-3000:])
-    assert report["penalty_total"] == 0.0 and not report["disqualified"], events
+    assert report["penalty_total"] == 0.0 and not report["disqualified"], (events, run_digest(log))

@@ -9,7 +9,7 @@ import json
 import subprocess
 import time
 
-from conde_testing.ros_harness import stop_process
+from conde_testing.ros_harness import run_digest, stop_process
 
 # Seed 3 had one line touch in the south loop's second lap (a right turn's arc ended 13 cm inside the
 # new lane, parallel to it, and the follower's swing back put the robot's rear over the corner line);
@@ -62,7 +62,7 @@ def test_d1_on_a_varied_track_without_penalty(master, tmp_path):
                                               [f"track_seed:={TRACK_SEED}", "physics_engine:=ode"], 260)
     summary = (out_dir / "challenge.yaml").read_text()
     assert f"track_seed: {TRACK_SEED}" in summary
-    details = (out_dir / "referee.md").read_text()
+    details = (out_dir / "referee.md").read_text() + "\n" + run_digest(log_text)
     assert report["laps"] == 2 and report["end"] == "end of trial", details
     assert report["penalty_total"] == 0, details
     for turn in ("merge_right", "fork_right"):  # the junctions' right turns, ended from the cameras
@@ -74,7 +74,7 @@ def test_d3_bullet_lane_change_on_a_varied_track_without_penalty(master, tmp_pat
         master, tmp_path, "D3", [f"track_seed:={D3_SEED}", f"placement_seed:={D3_SEED}", "physics_engine:=bullet"],
         D3_SIM_LIMIT_S)
     assert f"track_seed: {D3_SEED}" in (out_dir / "challenge.yaml").read_text()
-    details = (out_dir / "referee.md").read_text()
+    details = (out_dir / "referee.md").read_text() + "\n" + run_digest(log_text)
     assert report["penalty_total"] == 0, details
     for transition in ("follow_lane --obstacle_ahead--> avoid_change_lane",
                        "avoid_pass --obstacle_passed--> avoid_return", "avoid_return --lane_returned--> follow_lane"):

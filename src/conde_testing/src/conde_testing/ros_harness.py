@@ -341,3 +341,18 @@ def xacro_finding(package_dir):
     except ImportError:  # pragma: no cover
         pass
     return xacro
+
+
+#: Lines of a run's roslaunch log that tell what a failed referee-judged run did and whether the
+#: machine kept it deterministic: the decision's transitions (with their simulated time), the
+#: simulator's lock-step totals and the nodes' bounded waits that gave up (conde_common.sim_clock).
+DIGEST_MARKERS = ("-->", "conde_sim: lock-step: ", " frames waited for answers", "waits for owed",
+                  "had not come after", "timed out", "ERROR", "Traceback")
+
+
+def run_digest(log_text, max_lines=80):
+    """The lines of a run's log that DIGEST_MARKERS name (the last max_lines of them), without the
+    lock-step rule listing of the start-up, for a failed run's assertion message."""
+    lines = [line for line in log_text.splitlines()
+             if any(m in line for m in DIGEST_MARKERS) and " answers " not in line]
+    return "run digest (transitions, lock-step totals, given-up waits):\n" + "\n".join(lines[-max_lines:])
