@@ -4,11 +4,13 @@ Runs every (team, challenge, variant, seed, engine, repeat) of the tournament fi
 lock-step job (conde_tournament.job), on this machine (as many jobs at once as there are cores
 per cpus_per_job, or --jobs) or on a Ray cluster (--ray), and writes the leaderboard:
 DIR/leaderboard.md, DIR/leaderboard.csv, DIR/index.html; each job's files in DIR/jobs/<job>/.
-Finished jobs are kept: run the same command again to resume an interrupted tournament.
-Exit status: 0 when every job has a result (whatever the teams scored), 1 when some job could not
-be run, 2 when the tournament file or the arguments cannot be used.
+Finished jobs are kept: run the same command again to resume an interrupted tournament (Ctrl-C or
+SIGTERM: the running jobs are stopped, without a result, and the leaderboard of the finished ones is
+written). Exit status: 0 when every job has a result (whatever the teams scored), 1 when some job
+could not be run or the run was interrupted, 2 when the tournament file or the arguments cannot be used.
 """
 import argparse
+import contextlib
 import os
 import sys
 
@@ -45,6 +47,16 @@ def reexec_with_ray_venv(argv):
 
 
 def main(argv=None):
+    """The command (run): SIGTERM is taken as Ctrl-C while it runs (pools.sigterm_interrupts)."""
+    with pools.sigterm_interrupts():
+        try:
+            return _main(argv)
+        except KeyboardInterrupt:  # outside the jobs' loop (e.g. while loading or writing)
+            print("\nconde_tournament: interrupted", file=sys.stderr, flush=True)
+            return 130
+
+
+def _main(argv):
     argv = sys.argv[1:] if argv is None else argv
     args = parse_args(argv)
     try:
@@ -80,14 +92,23 @@ def main(argv=None):
     if not args.no_progress and todo:
         from tqdm import tqdm
         progress = tqdm(total=len(jobs), initial=len(results), unit="job", dynamic_ncols=True)
-    for result in finished:
-        results[result["job_id"]] = result
-        line = "%s: %s (%s)" % (result["job_id"], result["status"], result["reason"])
+    interrupted = False
+    try:
+        with contextlib.closing(finished):  # closed early: the running jobs are stopped
+            for result in finished:
+                results[result["job_id"]] = result
+                line = "%s: %s (%s)" % (result["job_id"], result["status"], result["reason"])
+                if progress is not None:
+                    progress.write(line)
+                    progress.update(1)
+                else:
+                    print(line, flush=True)
+    except KeyboardInterrupt:
+        interrupted = True
         if progress is not None:
-            progress.write(line)
-            progress.update(1)
-        else:
-            print(line, flush=True)
+            progress.close()
+        print("\nconde_tournament: interrupted; %d of %d jobs have a result in %s (run the same command to resume)"
+              % (len(results), len(jobs), jobs_dir), flush=True)
     if progress is not None:
         progress.close()
     ordered = [results[job.job_id] for job in jobs if job.job_id in results]
@@ -96,7 +117,7 @@ def main(argv=None):
         print("%2d. %-20s score %9.3f  penalties %g  runs %d  without score %d"
               % (team["rank"], team["team"], team["score"], team["penalties"], team["runs"], team["failed"]))
     print("conde_tournament: leaderboard %s, %s, %s" % (paths["md"], paths["csv"], paths["html"]), flush=True)
-    return 0 if len(ordered) == len(jobs) else 1
+    return 0 if len(ordered) == len(jobs) and not interrupted else 1
 
 
 if __name__ == "__main__":

@@ -5,7 +5,9 @@ master, lock-step, referee; the long challenges started first), with a progress 
 then prints the table, where the wall time went (start-up, run, stop per challenge), with --profile
 where the CPU time went, and writes the summary page. Exit status: 0
 when the referee judged every challenge (whatever the robot did), 1 when some run has no referee
-report, 2 on bad options."""
+report or the run was interrupted (Ctrl-C, SIGTERM: the running challenges are stopped, the finished
+ones keep their folders, no table or summary), 2 on bad options."""
+import contextlib
 import os
 import resource
 import shutil
@@ -14,7 +16,7 @@ import time
 
 from conde_tournament import competition, cpu_profile
 from conde_tournament.job import run_job
-from conde_tournament.pools import run_each
+from conde_tournament.pools import run_each, sigterm_interrupts
 from conde_tournament.progress import Progress
 from conde_tournament.tournament_file import Job, Team
 
@@ -68,11 +70,18 @@ def run(options: competition.Options) -> int:
     by_name = {}
     try:
         order = start_order(options.challenges, challenge_time_limits_s())
-        for name, row in run_each(run_challenge, order, options.jobs, on_start=progress.start):
-            by_name[name] = row
-            progress.done("%-3s %s  time %s s  penalties %g  score %.1f  (%.0f s wall, %.0f s in all)"
-                          % (name, row["result"], "-" if row["time_s"] is None else "%.1f" % row["time_s"],
-                             row["penalties"], row["score"], row["wall_s"], time.monotonic() - started))
+        with contextlib.closing(run_each(run_challenge, order, options.jobs, on_start=progress.start)) as finished:
+            for name, row in finished:
+                by_name[name] = row
+                progress.done("%-3s %s  time %s s  penalties %g  score %.1f  (%.0f s wall, %.0f s in all)"
+                              % (name, row["result"], "-" if row["time_s"] is None else "%.1f" % row["time_s"],
+                                 row["penalties"], row["score"], row["wall_s"], time.monotonic() - started))
+    except KeyboardInterrupt:
+        progress.close()
+        print("\ncompetition: interrupted after %.0f s; %d of %d challenges finished, their folders are in %s "
+              "(no table or summary written)"
+              % (time.monotonic() - started, len(by_name), len(options.challenges), out_dir), flush=True)
+        return 1
     finally:
         progress.close()
     rows = [by_name[name] for name in options.challenges]
@@ -91,13 +100,20 @@ def run(options: competition.Options) -> int:
 
 
 def command_main(parse_options, run_options, name: str, argv=None) -> int:
-    """A command's main: options parsed (a bad one: "<name>: <message>" on stderr, exit 2), then run."""
-    try:
-        options = parse_options(sys.argv[1:] if argv is None else argv)
-    except competition.OptionError as error:
-        print("%s: %s" % (name, error), file=sys.stderr)
-        return 2
-    return run_options(options)
+    """A command's main: options parsed (a bad one: "<name>: <message>" on stderr, exit 2), then run.
+    SIGTERM is taken as Ctrl-C while it runs (pools.sigterm_interrupts); an interruption that
+    run_options does not report itself ends it with "<name>: interrupted" on stderr, exit 130."""
+    with sigterm_interrupts():
+        try:
+            try:
+                options = parse_options(sys.argv[1:] if argv is None else argv)
+            except competition.OptionError as error:
+                print("%s: %s" % (name, error), file=sys.stderr)
+                return 2
+            return run_options(options)
+        except KeyboardInterrupt:
+            print("\n%s: interrupted" % name, file=sys.stderr, flush=True)
+            return 130
 
 
 def main(argv=None) -> int:

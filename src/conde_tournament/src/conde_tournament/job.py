@@ -9,6 +9,10 @@ Files of a job folder:
     challenge/      generated world and the referee's referee.{json,md,png}
     ros/log/        ROS logs
     result.json     the outcome (written last: its presence marks the job finished; resume skips it)
+
+An interruption (STOP set, by conde_tournament.pools when its consumer stops early) ends every
+running job of the process at once: its roslaunch group is stopped as at any end, no result.json is
+written and run_job raises JobInterrupted, so a resumed campaign runs the job again.
 """
 import json
 import os
@@ -16,6 +20,7 @@ import shlex
 import signal
 import socket
 import subprocess
+import threading
 import time
 
 from conde_common.files import replaced_whole
@@ -43,6 +48,14 @@ RUNNING_MARK = b"every node is up; the simulation runs"
 # found). Start-ups measured 24-51 s on a quiet machine, up to 258 s at load 43.
 STARTUP_LIMIT_S = 420.0
 START_STALLED = "start_stalled"
+# Set to stop every running job of this process at once (an interruption): each job's poll loop
+# leaves within its 0.2 s period, its roslaunch group and leftovers are stopped as at any end, and
+# run_job raises JobInterrupted instead of returning a result. Cleared by pools.run_each as it starts.
+STOP = threading.Event()
+
+
+class JobInterrupted(Exception):
+    """A job ended by STOP: it has no result (none is written, so a resumed campaign runs it again)."""
 
 
 class _LogWatch:
@@ -228,10 +241,10 @@ def _stop(process, grace_s: float):
 
 
 def _wait_for_file(path: str, timeout_s: float, poll_s: float = 0.05):
-    """Until `path` exists (the referee writes each file whole: conde_common.files), or timeout_s
-    has passed."""
+    """Until `path` exists (the referee writes each file whole: conde_common.files), timeout_s has
+    passed, or STOP is set."""
     deadline = time.monotonic() + timeout_s
-    while not os.path.exists(path) and time.monotonic() < deadline:
+    while not os.path.exists(path) and time.monotonic() < deadline and not STOP.is_set():
         time.sleep(poll_s)
 
 
@@ -250,8 +263,11 @@ def run_job(job: Job, job_dir: str, sim_limit_s: float, wall_limit_s: float, lau
     """Runs one job into job_dir and returns its result (also written to job_dir/result.json);
     a job whose master did not come up in time, or whose simulation did not start running within
     STARTUP_LIMIT_S, is started again (up to MASTER_START_ATTEMPTS times; result "attempts").
-    launch_args: more team_run.launch arguments (launch_command)."""
+    launch_args: more team_run.launch arguments (launch_command). JobInterrupted when STOP is set
+    (no attempt is started then, and a running one is stopped): no result is written."""
     for attempt in range(1, MASTER_START_ATTEMPTS + 1):
+        if STOP.is_set():
+            raise JobInterrupted(job.job_id)
         result = _run_job_once(job, job_dir, sim_limit_s, wall_limit_s, launch_args)
         try:
             with open(os.path.join(job_dir, "roslaunch.log"), errors="replace") as f:
@@ -291,6 +307,7 @@ def _run_job_once(job: Job, job_dir: str, sim_limit_s: float, wall_limit_s: floa
     parsed = _LogWatch(log_path, cpu_profile.PARSED_MARK)
     cpu = cpu_profile.JobCpu(lambda: job_processes(job_dir))
     stalled = False  # the simulation did not start running within STARTUP_LIMIT_S
+    interrupted = False  # STOP was set while the job ran
     with open(log_path, "w") as log:
         process = subprocess.Popen(command, stdout=log, stderr=subprocess.STDOUT, env=env, cwd=job_dir,
                                    start_new_session=True, preexec_fn=_default_signals)
@@ -309,6 +326,10 @@ def _run_job_once(job: Job, job_dir: str, sim_limit_s: float, wall_limit_s: floa
                     # The referee ended the run (end of trial, parked, disqualified, time limit);
                     # its path plot is written last.
                     _wait_for_file(plot_path, timeout_s=30.0)
+                    interrupted = STOP.is_set() and not os.path.exists(plot_path)
+                    break
+                if STOP.is_set():
+                    interrupted = True
                     break
                 if time.monotonic() - started > wall_limit_s:
                     over_wall_limit = True
@@ -328,6 +349,8 @@ def _run_job_once(job: Job, job_dir: str, sim_limit_s: float, wall_limit_s: floa
             _stop(process, grace_s=15.0)
             _kill_leftovers(job_dir)
             cpu.finish(getattr(process, "cpu_s", None))
+    if interrupted:
+        raise JobInterrupted(job.job_id)
     with open(log_path, "rb") as f:
         dead = launch_log.dead_nodes(f.read(log_bytes if log_bytes is not None else -1).decode(errors="replace"))
     report = None

@@ -4,15 +4,22 @@ Both hand back each job's result as it finishes. Locally a job writes into its f
 output directory. On Ray a job runs in a temporary folder on whichever node Ray picks and its task
 returns the result and the folder (tar.gz), which the driver unpacks into the output directory:
 the nodes need the workspace at the same path and no shared file system.
+
+Locally, a consumer that stops early (Ctrl-C, or SIGTERM through sigterm_interrupts) sets job.STOP:
+the running jobs stop their roslaunch groups within seconds and leave no result; the jobs not
+started are dropped.
 """
+import contextlib
 import io
 import os
 import shutil
+import signal
 import tarfile
 import tempfile
+import threading
 from concurrent.futures import ThreadPoolExecutor, as_completed
 
-from conde_tournament.job import failed_result, run_job
+from conde_tournament.job import STOP, failed_result, run_job
 
 # The Ray release that scripts/install_dependencies.sh tournament installs (it names the same
 # version; test_ray_version.py checks), in a virtualenv that sees Debian's Python packages.
@@ -28,30 +35,61 @@ def ray_venv_python() -> str:
 
 
 def run_local(jobs, out_dir, sim_limit_s, wall_limit_s, workers):
-    """Yields each job's result as it finishes, `workers` jobs at a time on this machine."""
-    with ThreadPoolExecutor(max_workers=workers) as pool:
-        futures = [pool.submit(run_job, job, os.path.join(out_dir, job.job_id), sim_limit_s, wall_limit_s)
-                   for job in jobs]
-        for future in as_completed(futures):
-            yield future.result()
+    """Yields each job's result as it finishes, `workers` jobs at a time on this machine (run_each:
+    stopped early, the running jobs are stopped and the others dropped)."""
+    def one(job):
+        return run_job(job, os.path.join(out_dir, job.job_id), sim_limit_s, wall_limit_s)
+
+    with contextlib.closing(run_each(one, jobs, workers)) as finished:
+        for _, result in finished:
+            yield result
 
 
 def run_each(run, items, workers, on_start=None):
     """Yields (item, run(item)) as each finishes, `workers` at a time on this machine, started in
     the order of `items`; on_start(item) is called as each one starts (from its worker thread).
-    Stopped early (an interruption), the items not started are dropped and the running ones end."""
+    Stopped early (the generator closed, or an exception such as KeyboardInterrupt unwinding through
+    it) while items still run: job.STOP is set, so that running jobs end within seconds (a `run` that
+    is no job may wait on it too), the items not started are dropped, and it returns once the running
+    ones have ended; what they raise then (job.JobInterrupted) is not raised again. STOP is cleared as
+    it starts; an ordinary end leaves it clear."""
     def call(item):
         if on_start is not None:
             on_start(item)
         return run(item)
 
+    STOP.clear()
     pool = ThreadPoolExecutor(max_workers=workers)
+    futures = {}  # filled one by one: an interruption while submitting still sees the ones submitted
     try:
-        futures = {pool.submit(call, item): item for item in items}
+        for item in items:
+            futures[pool.submit(call, item)] = item
         for future in as_completed(futures):
             yield futures[future], future.result()
     finally:
+        if not all(future.done() for future in futures):
+            STOP.set()
         pool.shutdown(wait=True, cancel_futures=True)
+
+
+@contextlib.contextmanager
+def sigterm_interrupts():
+    """Within the block, SIGTERM raises KeyboardInterrupt in the main thread, as Ctrl-C does: the
+    command reports the interruption, keeps the finished results and stops the running jobs (their
+    roslaunch groups are sessions of their own: with the default SIGTERM they would outlive it). The
+    previous handler is restored after the block. Outside the main thread it does nothing."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+
+    def interrupt(signum, frame):
+        raise KeyboardInterrupt("SIGTERM")
+
+    previous = signal.signal(signal.SIGTERM, interrupt)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, previous if previous is not None else signal.SIG_DFL)
 
 
 def run_job_packed(job, sim_limit_s, wall_limit_s):

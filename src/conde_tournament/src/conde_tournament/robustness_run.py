@@ -3,7 +3,9 @@ OUT/runs.jsonl, `--jobs` at a time, each an isolated tournament job (conde_tourn
 reference Conde stack on the challenge's world with `track_seed:=T placement_seed:=P robot:=R`; each finished
 run is appended to runs.jsonl at once (an interrupted campaign resumes), its job folder kept in
 OUT/jobs/<key>/. Prints the table per challenge and engine and writes OUT/robustness.md. Exit
-status: 0 when every run of the campaign has a record, 1 otherwise, 2 on bad options."""
+status: 0 when every run of the campaign has a record, 1 otherwise (e.g. interrupted: Ctrl-C or
+SIGTERM stop the running jobs, which are run again on resume), 2 on bad options."""
+import contextlib
 import os
 import shutil
 import time
@@ -38,12 +40,13 @@ def run(options: robustness.Options) -> int:
         return robustness.run_record(run_, result, LAPS_REQUIRED, total_signs)
 
     try:
-        for run_, record in run_each(one, todo, options.jobs, on_start=lambda r: progress.start(r.key)):
-            robustness.append_record(results_path, record)
-            records[run_.key] = record
-            progress.done("%s: %s, penalties %g (%.0f s wall, %.0f s in all)"
-                          % (run_.key, record["result"], record["penalties"], record["wall_s"],
-                             time.monotonic() - started))
+        with contextlib.closing(run_each(one, todo, options.jobs, on_start=lambda r: progress.start(r.key))) as done:
+            for run_, record in done:
+                robustness.append_record(results_path, record)
+                records[run_.key] = record
+                progress.done("%s: %s, penalties %g (%.0f s wall, %.0f s in all)"
+                              % (run_.key, record["result"], record["penalties"], record["wall_s"],
+                                 time.monotonic() - started))
     except KeyboardInterrupt:
         print("\nrobustness: interrupted; the finished runs are in %s (run the same command to resume)"
               % results_path, flush=True)
