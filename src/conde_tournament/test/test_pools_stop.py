@@ -110,6 +110,40 @@ def test_a_running_job_is_stopped_and_leaves_no_result(tmp_path, monkeypatch):
         thread.join()
 
 
+def test_an_interrupted_job_that_ignores_sigint_is_killed_after_the_short_grace(tmp_path, monkeypatch):
+    """A node slow to end on SIGINT (here: it ignores it) keeps an interrupted job for
+    INTERRUPTED_GRACE_S, not for the 15 s an ordinary end grants."""
+    def command(job, port, job_dir, sim_limit_s, launch_args=()):
+        return ["bash", "-c", "trap '' INT; echo launched; exec sleep %g" % STOP_WAIT_S]
+    monkeypatch.setattr(job_module, "launch_command", command)
+    job_dir = str(tmp_path / "job")
+    outcome = {}
+
+    def run():
+        try:
+            job_module.run_job(Job(Team("a"), "P1", "", 0, "ode", 0), job_dir, 0.0, 600.0)
+        except job_module.JobInterrupted as error:
+            outcome["interrupted"] = error
+    job_module.STOP.clear()
+    thread = threading.Thread(target=run)
+    thread.start()
+    try:
+        deadline = time.monotonic() + 10.0
+        while not job_module.job_processes(job_dir) and time.monotonic() < deadline:
+            time.sleep(0.05)
+        assert job_module.job_processes(job_dir), "the job did not start"
+        t0 = time.monotonic()
+        job_module.STOP.set()
+        thread.join(STOP_WAIT_S + 5.0)
+        took_s = time.monotonic() - t0
+        assert job_module.INTERRUPTED_GRACE_S <= took_s < 10.0, took_s
+        assert "interrupted" in outcome
+        assert job_module.job_processes(job_dir) == []
+    finally:
+        job_module.STOP.clear()
+        thread.join()
+
+
 def test_run_job_starts_no_other_attempt_once_stopped(tmp_path, monkeypatch):
     calls = []
 

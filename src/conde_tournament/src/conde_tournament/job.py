@@ -52,6 +52,10 @@ START_STALLED = "start_stalled"
 # leaves within its 0.2 s period, its roslaunch group and leftovers are stopped as at any end, and
 # run_job raises JobInterrupted instead of returning a result. Cleared by pools.run_each as it starts.
 STOP = threading.Event()
+# How long an interrupted job's nodes get to end on SIGINT before SIGKILL: it keeps no result, so
+# nothing is lost, and the person who pressed Ctrl-C is not kept waiting for a slow shutdown (a
+# referee stopped early in a run was seen still working after 15 s on a loaded machine).
+INTERRUPTED_GRACE_S = 3.0
 
 
 class JobInterrupted(Exception):
@@ -346,7 +350,7 @@ def _run_job_once(job: Job, job_dir: str, sim_limit_s: float, wall_limit_s: floa
                     os.kill(pid, signal.SIGCONT)
                 except ProcessLookupError:
                     pass
-            _stop(process, grace_s=15.0)
+            _stop(process, grace_s=INTERRUPTED_GRACE_S if interrupted else 15.0)
             _kill_leftovers(job_dir)
             cpu.finish(getattr(process, "cpu_s", None))
     if interrupted:
