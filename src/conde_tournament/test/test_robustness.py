@@ -155,3 +155,30 @@ def test_a_run_the_referee_did_not_judge_is_left_out_of_the_rates_and_run_again(
     options = parse_options(["--challenges", "D1", "--track-seeds", "2", "--placement-seeds", "0", "--engines", "ode"])
     md = robustness.report_markdown(options, runs, records)
     assert "1 of 2 runs done" in md and "| D1 | ode | 1 | 1 | 100 | 1 | 100 | 0.00 | 100.0 | 1 |" in md
+
+
+def test_report_runs_nothing_and_counts_what_is_recorded(tmp_path, monkeypatch, capsys):
+    from conde_tournament import robustness_run
+
+    def no_run(*args, **kwargs):
+        raise AssertionError("--report started a run")
+    monkeypatch.setattr(robustness_run, "run_job", no_run)
+    out = str(tmp_path / "campaign")
+    argv = ["--challenges", "P1", "--engines", "ode", "--track-seeds", "2", "--placement-seeds", "2", "--paired",
+            "--out", out, "--report"]
+    assert parse_options(argv).report_only
+    assert robustness_run.main(argv) == 2  # no campaign there yet: named, and nothing is created
+    assert "no campaign in %s" % out in capsys.readouterr().err
+    assert not (tmp_path / "campaign").exists()
+    (tmp_path / "campaign").mkdir()
+    path = str(tmp_path / "campaign" / robustness.RESULTS_FILE)
+    robustness.append_record(path, robustness.run_record(Run("P1", "ode", 1, 1), result(report(
+        challenge="P1", kind="parking", parked="parallel", end="parked", penalty_total=0.0)), 2, 12))
+    assert robustness_run.main(argv) == 1  # one of the two runs has no record
+    printed = capsys.readouterr().out
+    assert "2 runs, 1 of them recorded" in printed
+    row = [line for line in printed.splitlines() if line.startswith("P1 ")]
+    assert len(row) == 1 and row[0].split()[2:4] == ["1", "1"], printed  # runs 1, passed 1
+    with open(str(tmp_path / "campaign" / robustness.REPORT_FILE)) as f:
+        assert "1 of 2 runs done" in f.read()
+    assert robustness.load_records(path).keys() == {"P1_ode_track1_place1"}

@@ -56,6 +56,7 @@ class Options:
     out_dir: str = "results/robustness"
     wall_limit_s: float = 900.0
     robot: str = "conde"
+    report_only: bool = False  # --report: the table and report of what OUT/runs.jsonl holds, no run
 
     def runs(self) -> List[Run]:
         """Every run of the campaign in a stable order: seed pair by seed pair, each over every
@@ -119,6 +120,9 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument("--wall-limit", default="900", metavar="S", help="wall-clock limit of one run [s]")
     parser.add_argument("--robot", default="conde",
                         help="the robot driving the stack: conde (default) or major_alvega")
+    parser.add_argument("--report", action="store_true",
+                        help="run nothing: print the table of the runs recorded in OUT and write OUT's report "
+                        "(the campaign's other options name the runs it counts)")
     return parser
 
 
@@ -136,7 +140,8 @@ def parse_options(argv) -> Options:
                           % (len(tracks), len(placements)))
     jobs = jobs_count(args.jobs)
     wall_limit_s = positive_seconds(args.wall_limit, "--wall-limit")
-    return Options(challenges, engines, tracks, placements, args.paired, jobs, args.out, wall_limit_s, args.robot)
+    return Options(challenges, engines, tracks, placements, args.paired, jobs, args.out, wall_limit_s, args.robot,
+                   args.report)
 
 
 # --- results ---------------------------------------------------------------------------------------

@@ -2,12 +2,14 @@
 OUT/runs.jsonl, `--jobs` at a time, each an isolated tournament job (conde_tournament.job) of the
 reference Conde stack on the challenge's world with `track_seed:=T placement_seed:=P robot:=R`; each finished
 run is appended to runs.jsonl at once (an interrupted campaign resumes), its job folder kept in
-OUT/jobs/<key>/. Prints the table per challenge and engine and writes OUT/robustness.md. Exit
+OUT/jobs/<key>/. Prints the table per challenge and engine and writes OUT/robustness.md (--report:
+only that, of the runs already recorded, while a campaign runs or after it was stopped). Exit
 status: 0 when every run of the campaign has a record, 1 otherwise (e.g. interrupted: Ctrl-C or
 SIGTERM stop the running jobs, which are run again on resume), 2 on bad options."""
 import contextlib
 import os
 import shutil
+import sys
 import time
 
 from conde_tournament import robustness
@@ -20,11 +22,19 @@ from conde_tournament.tournament_file import Job, Team
 
 def run(options: robustness.Options) -> int:
     out_dir = os.path.abspath(options.out_dir)
-    os.makedirs(os.path.join(out_dir, "jobs"), exist_ok=True)
     results_path = os.path.join(out_dir, robustness.RESULTS_FILE)
+    if options.report_only and not os.path.exists(results_path):
+        print("robustness: --report: no campaign in %s (%s not found)" % (out_dir, results_path), file=sys.stderr)
+        return 2
+    os.makedirs(os.path.join(out_dir, "jobs"), exist_ok=True)
     runs = options.runs()
     records = robustness.load_records(results_path)
     todo = robustness.pending(runs, records)
+    if options.report_only:
+        print("robustness: %d runs, %d of them recorded in %s (--report: none is run)"
+              % (len(runs), len(runs) - len(todo), results_path), flush=True)
+        print(robustness.table_text(robustness.table_rows(runs, records)), end="")
+        return _write_report(out_dir, options, runs, records, todo)
     print("robustness: %d runs (%d done before, %d to run, %d at a time); results %s"
           % (len(runs), len(runs) - len(todo), len(todo), options.jobs, results_path), flush=True)
     team, total_signs = Team("reference"), signs_total()
@@ -54,11 +64,17 @@ def run(options: robustness.Options) -> int:
         progress.close()
     print()
     print(robustness.table_text(robustness.table_rows(runs, records)), end="")
+    print("robustness: %.0f s wall" % (time.monotonic() - started), flush=True)
+    return _write_report(out_dir, options, runs, records, robustness.pending(runs, records))
+
+
+def _write_report(out_dir, options, runs, records, pending) -> int:
+    """Writes OUT/robustness.md; the exit status: 0 when every run has a record, else 1."""
     report_path = os.path.join(out_dir, robustness.REPORT_FILE)
     with open(report_path, "w") as f:
         f.write(robustness.report_markdown(options, runs, records))
-    print("robustness: %.0f s wall; report %s" % (time.monotonic() - started, report_path), flush=True)
-    return 0 if not robustness.pending(runs, records) else 1
+    print("robustness: report %s" % report_path, flush=True)
+    return 0 if not pending else 1
 
 
 def main(argv=None) -> int:
