@@ -38,7 +38,8 @@ def test_launch_command_switches_off_what_the_team_replaces():
     command = launch_command(Job(team, "D1", "v1", 4, "bullet", 0), 12345, "/out/job", 30.0)
     assert command[:2] == ["bash", "-c"]
     text = command[2]
-    assert text.startswith("roslaunch -p 12345 conde_tournament team_run.launch challenge:=D1 variant:=v1 seed:=4 ")
+    assert text.startswith("roslaunch -p 12345 --sigint-timeout=60 conde_tournament team_run.launch challenge:=D1 "
+                           "variant:=v1 seed:=4 ")
     for arg in ("physics_engine:=bullet", "max_sim_time:=30", "output_dir:=/out/job/challenge", "tracking:=false",
                 "control:=false", "team_launch:=/t/a.launch"):
         assert " " + arg in text

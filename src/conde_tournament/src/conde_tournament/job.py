@@ -52,6 +52,15 @@ START_STALLED = "start_stalled"
 # leaves within its 0.2 s period, its roslaunch group and leftovers are stopped as at any end, and
 # run_job raises JobInterrupted instead of returning a result. Cleared by pools.run_each as it starts.
 STOP = threading.Event()
+# How long the job waits for the referee's path plot once its report is there [s]. The referee
+# draws it in 3-5 s on this machine, more on a busy one; the job's result does not depend on it.
+PLOT_WAIT_S = 60.0
+# How long roslaunch lets a node end on SIGINT when it shuts the job down itself (the simulator
+# stopped at limits.sim_s) before SIGTERM and SIGKILL; its default, 15 s, is shorter than the
+# referee needs on a busy machine to write its report and draw the plot as it shuts down (seen: a
+# tournament job's plot lost at a load of about 12 on 2 cores). A job stopped by this module is
+# bounded by its own grace (_stop), not by this.
+ROSLAUNCH_SIGINT_TIMEOUT_S = PLOT_WAIT_S
 # How long an interrupted job's nodes get to end on SIGINT before SIGKILL: it keeps no result, so
 # nothing is lost, and the person who pressed Ctrl-C is not kept waiting for a slow shutdown (a
 # referee stopped early in a run was seen still working after 15 s on a loaded machine).
@@ -114,9 +123,11 @@ def free_port() -> int:
 
 
 def launch_command(job: Job, port: int, job_dir: str, sim_limit_s: float, launch_args=()):
-    """The shell command of the job: the team's overlay (if any) sourced, then roslaunch.
-    launch_args: more team_run.launch arguments ("name:=value"), e.g. track_seed:=3 rviz:=true."""
-    args = ["roslaunch", "-p", str(port), "conde_tournament", "team_run.launch",
+    """The shell command of the job: the team's overlay (if any) sourced, then roslaunch (with
+    ROSLAUNCH_SIGINT_TIMEOUT_S). launch_args: more team_run.launch arguments ("name:=value"), e.g.
+    track_seed:=3 rviz:=true."""
+    args = ["roslaunch", "-p", str(port), "--sigint-timeout=%g" % ROSLAUNCH_SIGINT_TIMEOUT_S,
+            "conde_tournament", "team_run.launch",
             "challenge:=" + job.challenge, "variant:=" + job.variant, "seed:=%d" % job.seed,
             "physics_engine:=" + job.engine, "max_sim_time:=%g" % sim_limit_s,
             "output_dir:=" + os.path.join(job_dir, "challenge")]
@@ -329,7 +340,7 @@ def _run_job_once(job: Job, job_dir: str, sim_limit_s: float, wall_limit_s: floa
                     cpu.mark("run", decided_at)
                     # The referee ended the run (end of trial, parked, disqualified, time limit);
                     # its path plot is written last.
-                    _wait_for_file(plot_path, timeout_s=30.0)
+                    _wait_for_file(plot_path, timeout_s=PLOT_WAIT_S)
                     interrupted = STOP.is_set() and not os.path.exists(plot_path)
                     break
                 if STOP.is_set():
