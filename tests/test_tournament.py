@@ -3,11 +3,13 @@ Conde stack, a weak team whose control drives straight, a team whose launch file
 D1 with two seeds, ODE, 15 s of simulated time) run on this machine and on a two-node Ray cluster
 that the test starts on loopback; the same leaderboard both times, the weak team below the
 reference, the missing team's jobs failed with the reason and nobody else's. A job whose simulator
-is killed (SIGKILL) is reported with that reason while the other job finishes. A malformed
+is killed (SIGKILL) is reported with that reason while the other job finishes. A Ray run stopped
+by SIGTERM stops its jobs on the cluster (no node left running). A malformed
 tournament file stops the run with an error naming the file and the key.
 About 5 minutes on a busy 2-core machine (the Ray part needs scripts/install_dependencies.sh
 tournament: Ray in its virtualenv; the test says so and fails without it)."""
 import csv
+import glob
 import json
 import os
 import shutil
@@ -19,6 +21,7 @@ import time
 import pytest
 
 from conde_testing.ros_harness import WORKSPACE, free_port, wait_until, workspace_env
+from conde_tournament.job import job_processes
 
 FIXTURES = os.path.join(WORKSPACE, "tests", "fixtures", "tournament")
 TIMEOUT_S = 900
@@ -178,10 +181,63 @@ def test_ray_run_gives_the_same_leaderboard(env, local_run, tmp_path):
             assert os.path.isfile(os.path.join(out_dir, "jobs", job_id, "challenge", "referee.png")), job_id
 
 
+def alive(pid):
+    """Whether the process runs (a zombie does not)."""
+    try:
+        with open("/proc/%d/stat" % pid) as f:
+            return f.read().rsplit(")", 1)[1].split()[0] != "Z"
+    except OSError:
+        return False
+
+
+def test_interrupted_ray_run_stops_its_jobs_on_the_cluster(env, tmp_path):
+    """SIGTERM to a Ray run while both jobs run on the cluster: the driver cancels the tasks, each
+    task stops its job's roslaunch group, and no node of the jobs is left running on the nodes (they
+    run in sessions of their own, which a killed Ray worker would leave behind)."""
+    if not os.access(RayCluster.python(), os.X_OK):
+        pytest.fail("no Ray virtualenv at %s: run scripts/install_dependencies.sh tournament" % RayCluster.python())
+    tournament = tmp_path / "long.yaml"
+    tournament.write_text("name: interrupted\nteams: [{name: reference}]\nchallenges: [{name: D1, seeds: [0, 1]}]\n"
+                          "limits: {sim_s: 0, wall_s: 600}\n")
+    cluster = RayCluster(env, str(tmp_path))
+    log_path = tmp_path / "run.log"
+    process = None
+    try:
+        with open(log_path, "w") as log:
+            process = subprocess.Popen(["rosrun", "conde_tournament", "run", str(tournament), "--output",
+                                        str(tmp_path / "out"), "--no-progress", "--ray", cluster.address],
+                                       env=cluster.env, stdout=log, stderr=subprocess.STDOUT, text=True)
+        job_ids = ["reference__D1_v1_seed%d__ode__r0" % seed for seed in (0, 1)]
+
+        def job_dirs():  # each task runs its job in a temporary folder of its node
+            return [d for job_id in job_ids for d in glob.glob("/tmp/conde_tournament_*/" + job_id)]
+
+        def both_simulators_up():
+            if process.poll() is not None:
+                raise AssertionError("the run ended (exit %s):\n%s"
+                                     % (process.returncode, log_path.read_text()[-4000:]))
+            dirs = job_dirs()
+            return len(dirs) == 2 and all(simulator_of(d) is not None for d in dirs)
+
+        wait_until(both_simulators_up, "both jobs' simulators on the cluster", timeout_s=400, poll_s=0.5)
+        pids = [pid for d in job_dirs() for pid in job_processes(d)]
+        assert len(pids) >= 8, pids  # master, simulator, the stack's nodes, of two jobs
+        process.send_signal(signal.SIGTERM)
+        process.wait(timeout=180)
+        out = log_path.read_text()
+        assert process.returncode == 1, out[-4000:]
+        assert "conde_tournament: interrupted; 0 of 2 jobs have a result" in out, out[-4000:]
+        left = [pid for pid in pids if alive(pid)]
+        assert left == [], "processes of the interrupted jobs still run: %s" % left
+        assert job_dirs() == []  # the tasks removed their folders
+    finally:
+        if process is not None and process.poll() is None:
+            process.kill()
+        cluster.close()
+
+
 def simulator_of(job_dir):
     """The pid of the job's conde_sim node, or None."""
-    from conde_tournament.job import job_processes
-
     for pid in job_processes(str(job_dir)):
         try:
             with open("/proc/%d/cmdline" % pid, "rb") as f:

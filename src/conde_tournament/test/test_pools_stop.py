@@ -2,6 +2,7 @@
 (no ROS: the jobs here are `sleep` and `true` in place of roslaunch)."""
 import json
 import os
+import shlex
 import signal
 import subprocess
 import sys
@@ -15,6 +16,14 @@ from conde_tournament import pools
 from conde_tournament.tournament_file import Job, Team
 
 STOP_WAIT_S = 30.0  # how long a running item waits for the stop: far above what the tests allow
+
+
+@pytest.fixture(autouse=True)
+def stop_clear():
+    """Each test starts, and leaves the next one, with job.STOP clear."""
+    job_module.STOP.clear()
+    yield
+    job_module.STOP.clear()
 
 
 def waiting_run(seen, first_done=None):
@@ -42,6 +51,7 @@ def test_run_each_closed_early_stops_the_running_items_at_once():
     t0 = time.monotonic()
     finished.close()
     assert time.monotonic() - t0 < 5.0
+    assert not job_module.STOP.is_set()  # cleared once the workers ended: a later job in this process runs
     assert seen[1] and seen[2]
     assert seen == {item: True for item in started if item != 0}  # 3 ran (a worker was free) or was dropped
 
@@ -144,6 +154,45 @@ def test_an_interrupted_job_that_ignores_sigint_is_killed_after_the_short_grace(
         thread.join()
 
 
+def test_a_job_judged_before_the_interruption_keeps_its_result(tmp_path, monkeypatch):
+    """The referee's report is there, its plot not yet, when the command is interrupted: the job
+    does not wait for the plot and keeps its result (a resumed campaign does not run it again)."""
+    report = {"challenge": "P1", "kind": "parking", "score": 60.0, "penalty_total": 0.0, "disqualified": False,
+              "end": "parked", "laps": 0, "parked": "parallel", "signs_right": 0, "driving_time_s": 20.0,
+              "events": []}
+
+    def command(job, port, job_dir, sim_limit_s, launch_args=()):
+        return ["bash", "-c", "mkdir -p challenge && echo %s > challenge/referee.json && echo launched && exec sleep %g"
+                % (shlex.quote(json.dumps(report)), STOP_WAIT_S)]
+    monkeypatch.setattr(job_module, "launch_command", command)
+    job_dir = str(tmp_path / "job")
+    outcome = {}
+
+    def run():
+        try:
+            outcome["result"] = job_module.run_job(Job(Team("a"), "P1", "", 0, "ode", 0), job_dir, 0.0, 600.0)
+        except job_module.JobInterrupted as error:
+            outcome["interrupted"] = error
+    thread = threading.Thread(target=run)
+    thread.start()
+    try:
+        deadline = time.monotonic() + 10.0
+        while not os.path.exists(os.path.join(job_dir, "challenge", "referee.json")) and time.monotonic() < deadline:
+            time.sleep(0.05)
+        time.sleep(0.5)  # the job has seen the report and waits for the plot
+        t0 = time.monotonic()
+        job_module.STOP.set()
+        thread.join(STOP_WAIT_S + 5.0)
+        assert time.monotonic() - t0 < 10.0
+        assert "interrupted" not in outcome, outcome
+        assert outcome["result"]["report"]["end"] == "parked"
+        assert job_module.load_result(job_dir)["report"]["score"] == 60.0
+        assert job_module.job_processes(job_dir) == []
+    finally:
+        job_module.STOP.clear()
+        thread.join()
+
+
 def test_run_job_starts_no_other_attempt_once_stopped(tmp_path, monkeypatch):
     calls = []
 
@@ -197,9 +246,10 @@ def commands(out):
     }
 
 
-@pytest.mark.parametrize("command", ["robustness", "competition", "run"])
-def test_sigterm_stops_the_command_like_ctrl_c(tmp_path, command):
-    """SIGTERM to the command once one job has finished and another runs: it stops the running one
+@pytest.mark.parametrize("command, sig", [("robustness", signal.SIGTERM), ("competition", signal.SIGTERM),
+                                          ("run", signal.SIGTERM), ("robustness", signal.SIGHUP)])
+def test_sigterm_stops_the_command_like_ctrl_c(tmp_path, command, sig):
+    """SIGTERM (or SIGHUP) to the command once one job has finished and another runs: it stops the running one
     within seconds (no process of it left), keeps the finished one, says it was interrupted (no
     traceback) and exits 1."""
     out = str(tmp_path)
@@ -223,7 +273,7 @@ def test_sigterm_stops_the_command_like_ctrl_c(tmp_path, command):
             pytest.fail("the jobs did not start: %s" % (job_dirs(out),))
         time.sleep(0.5)  # the consumer has taken P1's result
         t0 = time.monotonic()
-        process.send_signal(signal.SIGTERM)
+        process.send_signal(sig)
         stdout, stderr = process.communicate(timeout=STOP_WAIT_S)
         assert time.monotonic() - t0 < 10.0
         assert process.returncode == 1, (stdout, stderr)

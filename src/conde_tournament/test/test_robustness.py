@@ -182,3 +182,27 @@ def test_report_runs_nothing_and_counts_what_is_recorded(tmp_path, monkeypatch, 
     with open(str(tmp_path / "campaign" / robustness.REPORT_FILE)) as f:
         assert "1 of 2 runs done" in f.read()
     assert robustness.load_records(path).keys() == {"P1_ode_track1_place1"}
+
+
+def test_a_job_that_finished_unrecorded_is_not_run_again(tmp_path, monkeypatch):
+    """Interrupted after a job wrote its result.json but before runs.jsonl had its line: the resumed
+    campaign records that result instead of running the job again."""
+    from conde_tournament import job as job_module
+    from conde_tournament import robustness_run
+
+    def no_run(*args, **kwargs):
+        raise AssertionError("the finished job was run again")
+    monkeypatch.setattr(robustness_run, "run_job", no_run)
+    out = tmp_path / "campaign"
+    job_dir = out / "jobs" / "P1_ode_track1_place1"
+    job_dir.mkdir(parents=True)
+    (job_dir / job_module.RESULT_FILE).write_text(json.dumps(result(report(
+        challenge="P1", kind="parking", parked="parallel", end="parked", penalty_total=5.0, events=[
+            {"kind": "cone_touch", "penalty": 5.0}]))))
+    argv = ["--challenges", "P1", "--engines", "ode", "--track-seeds", "1", "--placement-seeds", "1", "--paired",
+            "--out", str(out)]
+    assert robustness_run.main(argv) == 0
+    records = robustness.load_records(str(out / robustness.RESULTS_FILE))
+    assert records["P1_ode_track1_place1"]["penalties"] == 5.0
+    assert records["P1_ode_track1_place1"]["penalty_events"] == ["cone_touch"]
+    assert (job_dir / job_module.RESULT_FILE).exists()  # its folder kept

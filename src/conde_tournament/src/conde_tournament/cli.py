@@ -47,8 +47,8 @@ def reexec_with_ray_venv(argv):
 
 
 def main(argv=None):
-    """The command (run): SIGTERM is taken as Ctrl-C while it runs (pools.sigterm_interrupts)."""
-    with pools.sigterm_interrupts():
+    """The command (run): SIGTERM and SIGHUP are taken as Ctrl-C while it runs (pools.interrupting_signals)."""
+    with pools.interrupting_signals():
         try:
             return _main(argv)
         except KeyboardInterrupt:  # outside the jobs' loop (e.g. while loading or writing)
@@ -107,6 +107,11 @@ def _main(argv):
         interrupted = True
         if progress is not None:
             progress.close()
+        for job in todo:  # the jobs that ended while the running ones were being stopped
+            if job.job_id not in results:
+                result = load_result(os.path.join(jobs_dir, job.job_id))
+                if result is not None:
+                    results[job.job_id] = result
         print("\nconde_tournament: interrupted; %d of %d jobs have a result in %s (run the same command to resume)"
               % (len(results), len(jobs), jobs_dir), flush=True)
     if progress is not None:

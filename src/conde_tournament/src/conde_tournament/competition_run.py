@@ -16,7 +16,7 @@ import time
 
 from conde_tournament import competition, cpu_profile
 from conde_tournament.job import run_job
-from conde_tournament.pools import run_each, sigterm_interrupts
+from conde_tournament.pools import run_each, interrupting_signals
 from conde_tournament.progress import Progress
 from conde_tournament.tournament_file import Job, Team
 
@@ -101,9 +101,9 @@ def run(options: competition.Options) -> int:
 
 def command_main(parse_options, run_options, name: str, argv=None) -> int:
     """A command's main: options parsed (a bad one: "<name>: <message>" on stderr, exit 2), then run.
-    SIGTERM is taken as Ctrl-C while it runs (pools.sigterm_interrupts); an interruption that
+    SIGTERM and SIGHUP are taken as Ctrl-C while it runs (pools.interrupting_signals); an interruption that
     run_options does not report itself ends it with "<name>: interrupted" on stderr, exit 130."""
-    with sigterm_interrupts():
+    with interrupting_signals():
         try:
             try:
                 options = parse_options(sys.argv[1:] if argv is None else argv)

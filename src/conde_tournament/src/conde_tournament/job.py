@@ -12,7 +12,8 @@ Files of a job folder:
 
 An interruption (STOP set, by conde_tournament.pools when its consumer stops early) ends every
 running job of the process at once: its roslaunch group is stopped as at any end, no result.json is
-written and run_job raises JobInterrupted, so a resumed campaign runs the job again.
+written and run_job raises JobInterrupted, so a resumed campaign runs the job again. A job whose
+referee had already written its report keeps its result (without waiting for the path plot).
 """
 import json
 import os
@@ -61,9 +62,10 @@ PLOT_WAIT_S = 60.0
 # tournament job's plot lost at a load of about 12 on 2 cores). A job stopped by this module is
 # bounded by its own grace (_stop), not by this.
 ROSLAUNCH_SIGINT_TIMEOUT_S = PLOT_WAIT_S
-# How long an interrupted job's nodes get to end on SIGINT before SIGKILL: it keeps no result, so
-# nothing is lost, and the person who pressed Ctrl-C is not kept waiting for a slow shutdown (a
-# referee stopped early in a run was seen still working after 15 s on a loaded machine).
+# How long an interrupted job's nodes get to end on SIGINT before SIGKILL: the referee's report is
+# written already or the job keeps no result, so nothing is lost, and the person who pressed
+# Ctrl-C is not kept waiting for a slow shutdown (a referee stopped early in a run was seen still
+# working after 15 s on a loaded machine).
 INTERRUPTED_GRACE_S = 3.0
 
 
@@ -339,9 +341,9 @@ def _run_job_once(job: Job, job_dir: str, sim_limit_s: float, wall_limit_s: floa
                     frozen = _signal_simulator(job_dir, signal.SIGSTOP)
                     cpu.mark("run", decided_at)
                     # The referee ended the run (end of trial, parked, disqualified, time limit);
-                    # its path plot is written last.
+                    # its path plot is written last. Interrupted (STOP) from here on, the job keeps
+                    # its result without waiting for the plot (_wait_for_file returns at once).
                     _wait_for_file(plot_path, timeout_s=PLOT_WAIT_S)
-                    interrupted = STOP.is_set() and not os.path.exists(plot_path)
                     break
                 if STOP.is_set():
                     interrupted = True
@@ -361,7 +363,7 @@ def _run_job_once(job: Job, job_dir: str, sim_limit_s: float, wall_limit_s: floa
                     os.kill(pid, signal.SIGCONT)
                 except ProcessLookupError:
                     pass
-            _stop(process, grace_s=INTERRUPTED_GRACE_S if interrupted else 15.0)
+            _stop(process, grace_s=INTERRUPTED_GRACE_S if STOP.is_set() else 15.0)
             _kill_leftovers(job_dir)
             cpu.finish(getattr(process, "cpu_s", None))
     if interrupted:

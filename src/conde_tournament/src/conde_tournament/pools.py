@@ -5,7 +5,7 @@ output directory. On Ray a job runs in a temporary folder on whichever node Ray 
 returns the result and the folder (tar.gz), which the driver unpacks into the output directory:
 the nodes need the workspace at the same path and no shared file system.
 
-Locally, a consumer that stops early (Ctrl-C, or SIGTERM through sigterm_interrupts) sets job.STOP:
+Locally, a consumer that stops early (Ctrl-C, or SIGTERM or SIGHUP through interrupting_signals) sets job.STOP:
 the running jobs stop their roslaunch groups within seconds and leave no result; the jobs not
 started are dropped.
 """
@@ -27,6 +27,11 @@ RAY_VERSION = "2.60.0"
 # A task whose worker process or node died is run again this often; an exception is not retried
 # (run_job returns the team's failures as results, it does not raise them).
 RAY_MAX_RETRIES = 2
+
+
+# How long an interrupted Ray run waits for its cancelled tasks to stop their jobs [s]: a job's
+# stop takes up to 15 s of SIGINT grace and 10 s after SIGKILL.
+RAY_CANCEL_WAIT_S = 40.0
 
 
 def ray_venv_python() -> str:
@@ -52,7 +57,7 @@ def run_each(run, items, workers, on_start=None):
     it) while items still run: job.STOP is set, so that running jobs end within seconds (a `run` that
     is no job may wait on it too), the items not started are dropped, and it returns once the running
     ones have ended; what they raise then (job.JobInterrupted) is not raised again. STOP is cleared as
-    it starts; an ordinary end leaves it clear."""
+    it starts and again once its workers have ended."""
     def call(item):
         if on_start is not None:
             on_start(item)
@@ -70,30 +75,41 @@ def run_each(run, items, workers, on_start=None):
         if not all(future.done() for future in futures):
             STOP.set()
         pool.shutdown(wait=True, cancel_futures=True)
+        STOP.clear()  # every worker has ended: a later run_each or run_job in this process runs
+
+
+INTERRUPTING_SIGNALS = (signal.SIGTERM, signal.SIGHUP)
 
 
 @contextlib.contextmanager
-def sigterm_interrupts():
-    """Within the block, SIGTERM raises KeyboardInterrupt in the main thread, as Ctrl-C does: the
-    command reports the interruption, keeps the finished results and stops the running jobs (their
-    roslaunch groups are sessions of their own: with the default SIGTERM they would outlive it). The
-    previous handler is restored after the block. Outside the main thread it does nothing."""
+def interrupting_signals():
+    """Within the block, SIGTERM and SIGHUP (the terminal closed, the ssh session lost) raise
+    KeyboardInterrupt in the main thread, as Ctrl-C does: the command reports the interruption, keeps
+    the finished results and stops the running jobs (their roslaunch groups are sessions of their
+    own: with the default action they would outlive it). The previous handlers are restored after
+    the block. Outside the main thread it does nothing."""
     if threading.current_thread() is not threading.main_thread():
         yield
         return
 
     def interrupt(signum, frame):
-        raise KeyboardInterrupt("SIGTERM")
+        raise KeyboardInterrupt(signal.Signals(signum).name)
 
-    previous = signal.signal(signal.SIGTERM, interrupt)
+    previous = {sig: signal.signal(sig, interrupt) for sig in INTERRUPTING_SIGNALS}
     try:
         yield
     finally:
-        signal.signal(signal.SIGTERM, previous if previous is not None else signal.SIG_DFL)
+        for sig, handler in previous.items():
+            signal.signal(sig, handler if handler is not None else signal.SIG_DFL)
 
 
 def run_job_packed(job, sim_limit_s, wall_limit_s):
     """Runs `job` in a temporary folder; returns (result, the folder as tar.gz bytes)."""
+    # ray.cancel interrupts a running task with SIGINT (KeyboardInterrupt): a worker whose cluster
+    # was started with SIGINT ignored (from nohup or a shell's background job) would not see it,
+    # and its job would run on after the driver stopped.
+    if threading.current_thread() is threading.main_thread():
+        signal.signal(signal.SIGINT, signal.default_int_handler)
     work = tempfile.mkdtemp(prefix="conde_tournament_")
     try:
         job_dir = os.path.join(work, job.job_id)
@@ -111,7 +127,15 @@ def run_ray(jobs, out_dir, sim_limit_s, wall_limit_s, cpus_per_job, address):
     """Yields each job's result as it finishes, one Ray task per job with `cpus_per_job` CPUs."""
     import ray
 
+    handlers = {sig: signal.getsignal(sig) for sig in INTERRUPTING_SIGNALS}
     ray.init(address=address, log_to_driver=False)
+    # ray.init installs its own SIGTERM handler (it aborts the driver, which leaves the jobs running
+    # on the cluster); the command's own handlers (interrupting_signals) are put back.
+    if threading.current_thread() is threading.main_thread():
+        for sig, handler in handlers.items():
+            if handler is not None:
+                signal.signal(sig, handler)
+    pending = []
     try:
         task = ray.remote(num_cpus=cpus_per_job, max_retries=RAY_MAX_RETRIES, retry_exceptions=False)(run_job_packed)
         job_of = {task.remote(job, sim_limit_s, wall_limit_s): job for job in jobs}
@@ -134,4 +158,16 @@ def run_ray(jobs, out_dir, sim_limit_s, wall_limit_s, cpus_per_job, address):
                 tar.extractall(out_dir)
             yield result
     finally:
+        if pending:  # stopped early (Ctrl-C, SIGTERM): the running tasks stop their jobs, the others are dropped
+            _cancel_ray_tasks(ray, pending)
         ray.shutdown()
+
+
+def _cancel_ray_tasks(ray, refs):
+    """Cancels Ray tasks and waits until they have ended (at most RAY_CANCEL_WAIT_S). A running task
+    gets KeyboardInterrupt (ray.cancel without force), so its job stops its roslaunch group as at
+    any end (job._stop, _kill_leftovers): the nodes run in sessions of their own, which a killed
+    Ray worker would leave behind."""
+    for ref in refs:
+        ray.cancel(ref)
+    ray.wait(refs, num_returns=len(refs), timeout=RAY_CANCEL_WAIT_S)

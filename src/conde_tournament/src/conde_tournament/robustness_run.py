@@ -14,7 +14,7 @@ import time
 
 from conde_tournament import robustness
 from conde_tournament.competition_run import LAPS_REQUIRED, command_main, signs_total
-from conde_tournament.job import run_job
+from conde_tournament.job import load_result, run_job
 from conde_tournament.pools import run_each
 from conde_tournament.progress import Progress
 from conde_tournament.tournament_file import Job, Team
@@ -43,10 +43,14 @@ def run(options: robustness.Options) -> int:
 
     def one(run_: robustness.Run):
         job_dir = os.path.join(out_dir, "jobs", run_.key)
-        shutil.rmtree(job_dir, ignore_errors=True)  # what an interrupted attempt left
-        result = run_job(Job(team, run_.challenge, "", 0, run_.engine, 0), job_dir, 0.0, options.wall_limit_s,
-                         ["track_seed:=%d" % run_.track_seed, "placement_seed:=%d" % run_.placement_seed,
-                          "robot:=" + run_.robot])
+        # A job that finished as the campaign was interrupted, before runs.jsonl had its line, keeps
+        # its result; what an interrupted job left (no result.json) is removed and run again.
+        result = load_result(job_dir)
+        if result is None:
+            shutil.rmtree(job_dir, ignore_errors=True)
+            result = run_job(Job(team, run_.challenge, "", 0, run_.engine, 0), job_dir, 0.0, options.wall_limit_s,
+                             ["track_seed:=%d" % run_.track_seed, "placement_seed:=%d" % run_.placement_seed,
+                              "robot:=" + run_.robot])
         return robustness.run_record(run_, result, LAPS_REQUIRED, total_signs)
 
     try:
