@@ -90,9 +90,10 @@ def sleeping_launch(seconds):
     return command
 
 
-def test_a_running_job_is_stopped_and_leaves_no_result(tmp_path, monkeypatch):
-    monkeypatch.setattr(job_module, "launch_command", sleeping_launch(STOP_WAIT_S))
-    job_dir = str(tmp_path / "job")
+def stop_a_running_job(job_dir, ready=None, settle_s=0.0):
+    """Runs a P1 job (its launch command patched by the caller) in a thread; once ready() (default:
+    the job's processes run) and settle_s later, sets job.STOP and waits for run_job to end.
+    Returns ({"result": ...} or {"interrupted": JobInterrupted}, seconds from STOP to the end)."""
     outcome = {}
 
     def run():
@@ -100,24 +101,32 @@ def test_a_running_job_is_stopped_and_leaves_no_result(tmp_path, monkeypatch):
             outcome["result"] = job_module.run_job(Job(Team("a"), "P1", "", 0, "ode", 0), job_dir, 0.0, 600.0)
         except job_module.JobInterrupted as error:
             outcome["interrupted"] = error
-    job_module.STOP.clear()
+    ready = ready or (lambda: job_module.job_processes(job_dir))
     thread = threading.Thread(target=run)
     thread.start()
     try:
         deadline = time.monotonic() + 10.0
-        while not job_module.job_processes(job_dir) and time.monotonic() < deadline:
+        while not ready() and time.monotonic() < deadline:
             time.sleep(0.05)
-        assert job_module.job_processes(job_dir), "the job did not start"
+        assert ready(), "the job did not start"
+        time.sleep(settle_s)
         t0 = time.monotonic()
         job_module.STOP.set()
         thread.join(STOP_WAIT_S + 5.0)
-        assert time.monotonic() - t0 < 5.0
-        assert "interrupted" in outcome
-        assert job_module.job_processes(job_dir) == []  # its process group is gone
-        assert job_module.load_result(job_dir) is None
+        return outcome, time.monotonic() - t0
     finally:
-        job_module.STOP.clear()
+        job_module.STOP.set()  # whatever failed above: the job ends, the thread with it
         thread.join()
+
+
+def test_a_running_job_is_stopped_and_leaves_no_result(tmp_path, monkeypatch):
+    monkeypatch.setattr(job_module, "launch_command", sleeping_launch(STOP_WAIT_S))
+    job_dir = str(tmp_path / "job")
+    outcome, took_s = stop_a_running_job(job_dir)
+    assert took_s < 5.0
+    assert "interrupted" in outcome
+    assert job_module.job_processes(job_dir) == []  # its process group is gone
+    assert job_module.load_result(job_dir) is None
 
 
 def test_an_interrupted_job_that_ignores_sigint_is_killed_after_the_short_grace(tmp_path, monkeypatch):
@@ -127,31 +136,10 @@ def test_an_interrupted_job_that_ignores_sigint_is_killed_after_the_short_grace(
         return ["bash", "-c", "trap '' INT; echo launched; exec sleep %g" % STOP_WAIT_S]
     monkeypatch.setattr(job_module, "launch_command", command)
     job_dir = str(tmp_path / "job")
-    outcome = {}
-
-    def run():
-        try:
-            job_module.run_job(Job(Team("a"), "P1", "", 0, "ode", 0), job_dir, 0.0, 600.0)
-        except job_module.JobInterrupted as error:
-            outcome["interrupted"] = error
-    job_module.STOP.clear()
-    thread = threading.Thread(target=run)
-    thread.start()
-    try:
-        deadline = time.monotonic() + 10.0
-        while not job_module.job_processes(job_dir) and time.monotonic() < deadline:
-            time.sleep(0.05)
-        assert job_module.job_processes(job_dir), "the job did not start"
-        t0 = time.monotonic()
-        job_module.STOP.set()
-        thread.join(STOP_WAIT_S + 5.0)
-        took_s = time.monotonic() - t0
-        assert job_module.INTERRUPTED_GRACE_S <= took_s < 10.0, took_s
-        assert "interrupted" in outcome
-        assert job_module.job_processes(job_dir) == []
-    finally:
-        job_module.STOP.clear()
-        thread.join()
+    outcome, took_s = stop_a_running_job(job_dir)
+    assert job_module.INTERRUPTED_GRACE_S <= took_s < 10.0, took_s
+    assert "interrupted" in outcome
+    assert job_module.job_processes(job_dir) == []
 
 
 def test_a_job_judged_before_the_interruption_keeps_its_result(tmp_path, monkeypatch):
@@ -166,31 +154,14 @@ def test_a_job_judged_before_the_interruption_keeps_its_result(tmp_path, monkeyp
                 % (shlex.quote(json.dumps(report)), STOP_WAIT_S)]
     monkeypatch.setattr(job_module, "launch_command", command)
     job_dir = str(tmp_path / "job")
-    outcome = {}
-
-    def run():
-        try:
-            outcome["result"] = job_module.run_job(Job(Team("a"), "P1", "", 0, "ode", 0), job_dir, 0.0, 600.0)
-        except job_module.JobInterrupted as error:
-            outcome["interrupted"] = error
-    thread = threading.Thread(target=run)
-    thread.start()
-    try:
-        deadline = time.monotonic() + 10.0
-        while not os.path.exists(os.path.join(job_dir, "challenge", "referee.json")) and time.monotonic() < deadline:
-            time.sleep(0.05)
-        time.sleep(0.5)  # the job has seen the report and waits for the plot
-        t0 = time.monotonic()
-        job_module.STOP.set()
-        thread.join(STOP_WAIT_S + 5.0)
-        assert time.monotonic() - t0 < 10.0
-        assert "interrupted" not in outcome, outcome
-        assert outcome["result"]["report"]["end"] == "parked"
-        assert job_module.load_result(job_dir)["report"]["score"] == 60.0
-        assert job_module.job_processes(job_dir) == []
-    finally:
-        job_module.STOP.clear()
-        thread.join()
+    # settle_s: the job has seen the report and waits for the plot
+    outcome, took_s = stop_a_running_job(
+        job_dir, ready=lambda: os.path.exists(os.path.join(job_dir, "challenge", "referee.json")), settle_s=0.5)
+    assert took_s < 10.0
+    assert "interrupted" not in outcome, outcome
+    assert outcome["result"]["report"]["end"] == "parked"
+    assert job_module.load_result(job_dir)["report"]["score"] == 60.0
+    assert job_module.job_processes(job_dir) == []
 
 
 def test_run_job_starts_no_other_attempt_once_stopped(tmp_path, monkeypatch):

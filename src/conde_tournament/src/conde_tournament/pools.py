@@ -5,10 +5,10 @@ output directory. On Ray a job runs in a temporary folder on whichever node Ray 
 returns the result and the folder (tar.gz), which the driver unpacks into the output directory:
 the nodes need the workspace at the same path and no shared file system.
 
-Locally, a consumer that stops early (Ctrl-C, or SIGTERM or SIGHUP through interrupting_signals) sets job.STOP:
-the running jobs stop their roslaunch groups within seconds and leave no result; the jobs not
-started are dropped.
-"""
+Locally, a consumer that stops early (Ctrl-C, or SIGTERM or SIGHUP through interrupting_signals)
+sets job.STOP: the running jobs stop their roslaunch groups within seconds and leave no result
+(those the referee had judged keep theirs); the jobs not started are dropped. On Ray the driver
+cancels its tasks (_cancel_ray_tasks)."""
 import contextlib
 import io
 import os
