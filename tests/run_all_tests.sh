@@ -2,7 +2,7 @@
 # Every test of the workspace from a clean clone: installs what is missing, builds, runs the
 # linters, then through catkin (catkin_make run_tests) the C++ unit tests (gtest), the ROS wiring tests
 # (rostest, real roscore on loopback) and every package's Python tests (pytest), and ends with one
-# line "N passed, N failed".
+# line "N passed, N failed, N skipped".
 #
 # usage: tests/run_all_tests.sh [--unit]
 #   --unit (or CONDE_TEST_TIER=unit): the unit tier only: the gtests and the pure-Python pytest
