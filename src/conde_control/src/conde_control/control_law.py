@@ -26,9 +26,9 @@ that stands still does not turn on measurement noise.
 
 Limits, in this order: the wanted speed is clipped to +-max_linear_mps and approached at
 max_linear_accel_mps2; omega is computed from that limited speed, clipped to +-max_angular_radps
-and approached at max_angular_accel_radps2.  What the model ignores: lane curvature (a curve of
-curvature k leaves a steady offset of about k / offset_gain_per_m2 toward its outside) and wheel
-slip.
+and approached at max_angular_accel_radps2.  What the model ignores: wheel slip, and the lane's
+curvature while following a lane (path_curvature 0 there: a curve of curvature k leaves a steady
+offset of about k / offset_gain_per_m2 toward its outside).
 """
 
 import math
