@@ -174,11 +174,8 @@ def test_run_job_starts_no_other_attempt_once_stopped(tmp_path, monkeypatch):
         job_module.STOP.set()  # stopped while the first attempt stalled
         return {"status": job_module.START_STALLED, "report": None}
     monkeypatch.setattr(job_module, "_run_job_once", once)
-    try:
-        with pytest.raises(job_module.JobInterrupted):
-            job_module.run_job(Job(Team("a"), "D1", "", 0, "ode", 0), str(tmp_path), 0.0, 600.0)
-    finally:
-        job_module.STOP.clear()
+    with pytest.raises(job_module.JobInterrupted):  # (the autouse fixture clears STOP afterwards)
+        job_module.run_job(Job(Team("a"), "D1", "", 0, "ode", 0), str(tmp_path), 0.0, 600.0)
     assert len(calls) == 1
     assert job_module.load_result(str(tmp_path)) is None
 
