@@ -226,6 +226,24 @@ def test_images_are_built_for_the_simulator_and_the_editor(images):
         assert value == "true", f"{IMAGE}:{stage}: SIMULATOR={value!r} (the install space's env hook)"
 
 
+def test_run_image_loads_the_challenge_and_a_calibrated_robot_from_the_install_space(images):
+    # docs/docker.md: any roslaunch works in the image. These load from /opt/conde_sim alone: a
+    # challenge (team_run.launch includes challenge.launch) and sim.launch's calibration, whose
+    # helper is installed to the package's lib folder. --dump-params runs the launch files' commands
+    # (generate_challenge, xacro) without starting a node.
+    script = ("printf 'wheel_radius_left_m: 0.0517\\nwheel_radius_right_m: 0.0493\\nwheel_separation_m: 0.3\\n' "
+              "> /tmp/calibration.yaml"
+              " && roslaunch --dump-params conde_bringup sim.launch calibration:=/tmp/calibration.yaml"
+              " && roslaunch --dump-params conde_tournament team_run.launch challenge:=P1 output_dir:=/tmp/p1")
+    proc = podman("run", "--rm", "--network=none", f"{IMAGE}:run", "bash", "-c", script, check=False)
+    output = proc.stdout + proc.stderr
+    assert proc.returncode == 0, \
+        f"{IMAGE}:run could not load the launch files (exit {proc.returncode}):\n{output[-4000:]}"
+    assert 'radius=\\"0.0517\\"' in proc.stdout and 'radius=\\"0.0493\\"' in proc.stdout, \
+        f"the calibrated wheel radii are not in robot_description:\n{output[-4000:]}"
+    assert re.search(r"^/challenge/name: P1$", proc.stdout, re.M), output[-4000:]
+
+
 def test_dockerfile_has_no_hadolint_errors():
     hadolint = shutil.which("hadolint")
     if hadolint is None:

@@ -32,10 +32,6 @@ MAX_STANDING_DRIFT_M = 0.05
 #: and is past the crosswalk within this [s, sim].
 MAX_START_DELAY_S = 5.0
 MAX_CROSSING_DELAY_S = 15.0
-#: Pace of the simulation: slow enough that the Python nodes keep up on a busy 2-core machine.
-#: (At 1.5, with the machine's load at 11-15, the nodes fell behind and the robot missed one of
-#: its blind junction turns in 3 of 12 runs.)
-REAL_TIME_FACTOR = 1.0
 
 
 def read_run(bag_path):
@@ -65,7 +61,7 @@ def first_after(changes, t_s, value):
 def test_stop_before_the_crosswalk_and_go_on(engine, tmp_path):
     schedule = os.path.join(rospkg.RosPack().get_path("conde_eval"), "schedules", "stop_and_go.yaml")
     run = subprocess.run(["rosrun", "conde_eval", "autonomous_run", "--engine", engine, "--schedule", schedule,
-                          "--laps", "1", "--real-time-factor", str(REAL_TIME_FACTOR), "--sim-time-limit", "180",
+                          "--laps", "1", "--sim-time-limit", "180",
                           "--output-dir", str(tmp_path)], capture_output=True, text=True, timeout=1800)
     out = run.stdout + run.stderr
     assert run.returncode == 0 and "RESULT: PASS" in out, out[-4000:]
