@@ -1041,6 +1041,50 @@ def test_a_box_passed_while_the_tracker_measures_the_lane_on_the_left_counts_tha
     assert abs(road.own_offset_m) < 0.05
 
 
+
+def test_after_the_return_the_follower_keeps_the_own_lane_while_the_tracker_stays_on_the_left_one():
+    """D3, track seed 11 (north loop, both engines): the tracker relocked onto the lane on the left
+    during the change and kept it through the way back (lane_index 1, offset one spacing right of
+    it). After lane_returned its offset is taken in the own lane's frame (the doubt of
+    ForkNavigator.doubt_tracked_lane): taken as measured, the follower steered a lane's width left."""
+    road = make()
+    road.follow_reference = road.steer_on_output = road.report_lane_index = True
+    reach(road, "follow_lane")
+    road.obstacles.append(Obstacle("box", road.s + 3.0, -0.3, 0.3))
+    road.until("lane_changed")
+    road.tracked_lane = 1  # from here on the tracker keeps the lines of the lane on the left
+    out = road.until("lane_returned")
+    assert road.logic.state == "follow_lane"
+    assert road.logic.forks.tracker_may_be_on_the_other_lane()
+    assert out.lateral_offset_m == pytest.approx(road.own_offset_m, abs=0.02)  # the own lane's frame at once
+    offsets = [road.own_offset_m]
+    for _ in range(int(4.0 / DT_S)):
+        out = road.step()
+        offsets.append(road.own_offset_m)
+        assert out.lateral_offset_m == pytest.approx(road.own_offset_m, abs=0.02)
+    assert max(abs(o) for o in offsets) < 0.1, max(offsets, key=abs)
+    assert road.logic.state == "follow_lane"
+
+
+def test_a_return_with_the_tracker_on_the_own_lane_ends_the_doubt_once_the_loop_is_over():
+    """The usual return: the tracker relocks onto the own lane (lane_index 0) and the robot drives on
+    its centre; the doubt ends as after a fork crossed straight: the loop over, the own lane measured."""
+    road = make()
+    road.follow_reference = road.steer_on_output = road.report_lane_index = True
+    reach(road, "follow_lane")
+    road.obstacles.append(Obstacle("box", road.s + 3.0, -0.3, 0.3))
+    road.until("lane_returned")
+    assert road.logic.forks.loop is not None  # the box stood in the loop after the fork
+    while road.logic.forks.loop is not None:
+        road.step()
+        assert abs(road.own_offset_m) < 0.05
+        assert road.t < 600.0
+    loop_end_s = road.s
+    while road.logic.forks.tracker_may_be_on_the_other_lane():  # (the merge's arc is driven blind)
+        road.step()
+        assert road.s - loop_end_s < 3.0, road.logic.state
+    assert abs(road.own_offset_m) < 0.05
+
 # --- the north loop's end with the robot off the road's direction at the fork (D2, lap 2) ------------
 
 @pytest.mark.parametrize("error_deg", [6.0, 10.0, -10.0])

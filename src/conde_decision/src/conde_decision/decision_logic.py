@@ -509,6 +509,10 @@ class DecisionLogic:
                                     tracked_shift_m=frame.shift_m)
         for event in avoid.events:
             self._fire(event)
+        if "lane_returned" in avoid.events:  # the tracker may still measure the lane on the left
+            self.forks.doubt_tracked_lane()
+            frame = self._lane_frame(lane, lane_ok)
+            measured_offset_m = frame.own_offset_m
         delayed, note = self.delayed.due(self.road.travelled_m, self._takes)
         if note:
             self.notes.append(note)

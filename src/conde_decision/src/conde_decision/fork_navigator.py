@@ -192,6 +192,14 @@ class ForkNavigator:
         spacing."""
         return self.tracked_lane_unsure
 
+    def doubt_tracked_lane(self) -> None:
+        """After a lane change and back (avoidance.py, lane_returned): conde_tracking may still measure
+        the lane on the left, its fit kept on the lines it followed there (D3, track seed 11, the north
+        loop's west side, both engines: lane_index 1 at -0.80 m after the return; taken as the own lane's
+        offset, the follower turned the robot round into the box it had passed).  The same doubt as after
+        a right fork crossed straight, ended the same way (on_lane_measured)."""
+        self.tracked_lane_unsure = True
+
     def on_lane_measured(self, offset_m: float, both_lines: bool, own_lane_m: float, lane_index: int = -1) -> None:
         """A lane measurement's offset [m] (as measured) and lane_index (conde_tracking's: 1 = the
         lane on the left): once the loop is over, one with both lines within own_lane_m of the lane's
