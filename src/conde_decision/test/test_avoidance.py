@@ -313,6 +313,63 @@ def test_a_fit_off_the_odometrys_heading_is_not_taken_while_changing_lanes():
     assert worst_offset_m > 0.3 and worst_heading_rad > 1.0 and rejected == 0
 
 
+def _heading_errors_on_the_way_back(config, name, t0_s, t1_s):
+    """Replays fixtures/<name> through the avoidance up to t1_s [s]; the errors [rad] against ground
+    truth of the heading the control is given (the measured one, or the dead-reckoned one where the
+    measurement is not taken) from t0_s [s] on."""
+    errors_rad, yaw_rad, avoidance = [], None, Avoidance(config)
+    for row in recorded_sequence.load(name):
+        if row["kind"] != "lane" or row["t_s"] > t1_s:
+            continue
+        lane = recorded_sequence.lane_of(row)
+        yaw_rad = row["yaw_rad"] if yaw_rad is None else yaw_rad + math.remainder(row["yaw_rad"] - yaw_rad, 2 * math.pi)
+        lane_ok = (math.isfinite(lane.lateral_offset_m) and math.isfinite(lane.heading_error_rad)
+                   and lane.confidence >= 0.3)
+        out = avoidance.step(lane.lateral_offset_m, lane_ok, row["odom_path_m"], row["command_lane"], (),
+                             lane.heading_error_rad, lane.confidence >= 1.0, lane.lane_index, lane.lane_spacing_m,
+                             yaw_rad)
+        heading_rad = out.heading_error_rad if out.lane_rejected else lane.heading_error_rad if lane_ok else math.nan
+        if row["t_s"] >= t0_s and math.isfinite(heading_rad):
+            errors_rad.append(abs(heading_rad - row["truth_heading_rad"]))
+    return errors_rad
+
+
+def test_a_run_of_drifting_fits_does_not_carry_the_lanes_direction_along():
+    """Recorded (D3, ODE, track and placement seed 11, lap 2; fixtures/d3_ode_track11_north_loop_return_sequence.csv,
+    make_avoidance_sequence.py run.bag 107.0 119.5 -0.317047 5.298448 2.483866: the north loop's outer
+    lane): on the way back, crossing the dashed line in the curve, the tracker read -0.64, -0.79, -0.90,
+    -1.07 ... -1.25 rad in 0.1 m, ground truth about -0.5.  Each was within the gate of the one before,
+    so each was taken and moved the lane's direction, and the gate with it: the good fits after them
+    (-0.26 rad) were then rejected, the control was given -1.2 rad and turned the robot round.  The lane's
+    direction now follows the fits by at most lane_turn_per_m per m driven."""
+    name = "d3_ode_track11_north_loop_return_sequence.csv"
+    errors_rad = _heading_errors_on_the_way_back(C, name, 113.0, 114.45)
+    assert len(errors_rad) > 40 and sum(e > 0.3 for e in errors_rad) <= 4
+    unbounded = _heading_errors_on_the_way_back(AvoidanceConfig(lane_turn_per_m=1000.0), name, 113.0, 114.45)
+    assert sum(e > 0.3 for e in unbounded) >= 10 and max(unbounded) > 0.7
+
+
+def test_the_lanes_direction_follows_the_fits_taken_at_a_bounded_rate():
+    a = Avoidance()
+    a.step(0.0, True, 0.0, "other", heading_error_rad=0.0, yaw_rad=0.0)  # the lane along the odometry's 0
+    travelled_m, frame_m = 0.0, 0.02
+    for k in range(1, 8):  # fits drifting by 0.15 rad per frame, the robot's heading unchanged
+        travelled_m += frame_m
+        out = a.step(0.0, True, travelled_m, "other", heading_error_rad=-0.15 * k, yaw_rad=0.0)
+    # the lane's direction moved at most lane_turn_per_m per m (three fits taken, 0.04 rad each); the
+    # fits that drifted on are not taken
+    assert out.lane_rejected
+    assert a.lane_yaw_rad == pytest.approx(3 * C.lane_turn_per_m * frame_m)
+    # after a stretch without a fit taken, the next one is taken whole (the gate widened as much)
+    a.step(0.0, True, travelled_m + 1.0, "other", heading_error_rad=-0.8, yaw_rad=0.0)
+    assert a.lane_yaw_rad == pytest.approx(0.8)
+    # outside a lane change the direction is the last fit's
+    b = Avoidance()
+    b.step(0.0, True, 0.0, "own", heading_error_rad=0.0, yaw_rad=0.0)
+    b.step(0.0, True, 0.02, "own", heading_error_rad=-0.6, yaw_rad=0.0)
+    assert b.lane_yaw_rad == pytest.approx(0.6)
+
+
 def test_the_heading_gate_widens_with_the_distance_driven_since_the_last_fit_taken():
     a = Avoidance()
     a.step(0.0, True, 0.0, "other", heading_error_rad=0.1, yaw_rad=0.0)  # lane direction -0.1 by odometry

@@ -50,7 +50,11 @@ edge at the floor, lateral extent at their base from the tracked lane's centre l
   heading given to the control is the dead-reckoned one (heading_error_rad).  At 60-70 deg off the
   lane the tracker fits lines that are not the lane's (D3, Bullet, track seed 2: -0.45 rad read
   at -1.1 by ground truth, then +0.43 at -1.23, with lane_index 0 on the lane's centre line, 0.31 m
-  off): taken, they turned the robot round on the road.
+  off): taken, they turned the robot round on the road.  The lane's direction by odometry follows the
+  measurements taken by at most lane_turn_per_m per m driven since the one taken before: a run of fits
+  each within the gate of the last but drifting together (D3, track seed 11, lap 2, crossing the
+  dashed line in the north loop: -0.64 to -1.25 rad in 0.1 m, ground truth about -0.5) no longer
+  carries the gate and the dead-reckoned heading along with it.
 * Events: obstacle_ahead (a blocker's near edge ahead, within edge_seen_from_m..avoid_trigger_m),
   lane_changed (lane other, the reference is on the other lane and the robot within
   settle_tolerance_m of it), obstacle_passed (lane other, every blocker seen is avoid_clearance_m
@@ -114,6 +118,11 @@ class AvoidanceConfig:
     # ... plus this per m driven since then [rad/m] (the lane's turn under the robot: 1 / 0.97 m, the
     # tightest curve, a fork's arc)
     heading_gate_per_m: float = 1.0
+    # While active, the lane's direction by odometry follows the measurements taken by at most this per m
+    # driven since the one before [rad/m] (twice the tightest curve's turn): a run of fits each within the gate
+    # of the one before, but drifting (D3, track seed 11, lap 2, the north loop: -0.64, -0.79, -0.90, -1.07,
+    # -1.25 rad in 0.1 m, ground truth -0.48), no longer carries the gate and the dead-reckoned heading along
+    lane_turn_per_m: float = 2.0
     # Conde's rear corners: this far behind base_footprint [m] ...
     rear_corner_back_m: float = 0.443
     # ... and this far to each side of it [m] (its body 0.373 m wide)
@@ -215,9 +224,10 @@ class Avoidance:
             self.changed = True
         if self.active and lane_ok and not self._plausible(heading_error_rad, yaw_rad, travelled_m):
             lane_ok, out.lane_rejected = False, True
+        since_taken_m = max(0.0, travelled_m - self._taken_m)
         if lane_ok:
             self._taken_m = travelled_m
-        heading_rad = self._heading(lane_ok, heading_error_rad, yaw_rad)
+        heading_rad = self._heading(lane_ok, heading_error_rad, yaw_rad, since_taken_m)
         out.heading_error_rad = float("nan") if heading_rad is None else heading_rad
         if self.active:
             if self.own_offset_m is None:
@@ -303,12 +313,19 @@ class Avoidance:
         allowed_rad = c.heading_gate_rad + c.heading_gate_per_m * max(0.0, travelled_m - self._taken_m)
         return abs(heading_error_rad - (yaw_rad - self.lane_yaw_rad)) <= allowed_rad
 
-    def _heading(self, lane_ok: bool, heading_error_rad: float, yaw_rad: Optional[float]) -> Optional[float]:
+    def _heading(self, lane_ok: bool, heading_error_rad: float, yaw_rad: Optional[float],
+                 since_taken_m: float) -> Optional[float]:
         """The heading error to dead-reckon with [rad]: the measured one when the lane is usable (the
-        lane's direction by odometry kept), else that direction's difference to the odometry's
-        heading; None when neither is known."""
+        lane's direction by odometry kept: while active, moved toward the measured one by at most
+        lane_turn_per_m per m driven since the last measurement taken, since_taken_m), else that
+        direction's difference to the odometry's heading; None when neither is known."""
         if lane_ok and math.isfinite(heading_error_rad):
-            self.lane_yaw_rad = road_direction_rad(yaw_rad, heading_error_rad)
+            measured_rad = road_direction_rad(yaw_rad, heading_error_rad)
+            if self.active and measured_rad is not None and self.lane_yaw_rad is not None:
+                turn_rad = self.config.lane_turn_per_m * since_taken_m
+                self.lane_yaw_rad += min(max(measured_rad - self.lane_yaw_rad, -turn_rad), turn_rad)
+            else:
+                self.lane_yaw_rad = measured_rad
             return heading_error_rad
         if yaw_rad is None or self.lane_yaw_rad is None:
             return None
