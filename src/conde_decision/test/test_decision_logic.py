@@ -1041,7 +1041,6 @@ def test_a_box_passed_while_the_tracker_measures_the_lane_on_the_left_counts_tha
     assert abs(road.own_offset_m) < 0.05
 
 
-
 def test_after_the_return_the_follower_keeps_the_own_lane_while_the_tracker_stays_on_the_left_one():
     """D3, track seed 11 (north loop, both engines): the tracker relocked onto the lane on the left
     during the change and kept it through the way back (lane_index 1, offset one spacing right of
@@ -1084,6 +1083,7 @@ def test_a_return_with_the_tracker_on_the_own_lane_ends_the_doubt_once_the_loop_
         road.step()
         assert road.s - loop_end_s < 3.0, road.logic.state
     assert abs(road.own_offset_m) < 0.05
+
 
 # --- the north loop's end with the robot off the road's direction at the fork (D2, lap 2) ------------
 
