@@ -86,14 +86,20 @@ def assert_branch_bias(refs, distances, peak_m, turn_m):
     assert abs(refs[-1]) < 0.05 * abs(peak_m)
 
 
-def assert_blind_arc(outputs, state, curvature_per_m):
+def assert_blind_arc(outputs, state, curvature_per_m, tracked=CONFIG.arcs_by_odometry):
     """Every output of a junction's turn: cruise speed, the arc's curvature, and the lane
-    measurement replaced by its (zero) references, so that only the arc steers."""
+    measurement replaced: by its (zero) references, so that only the arc steers, or, tracked by
+    odometry (arcs_by_odometry, the default), by the robot's offset and heading error against the arc
+    (the road model drives the arc it is given: within 2 cm and 0.05 rad)."""
     assert outputs
     for o in outputs:
         assert o.state == state and o.linear_velocity_mps == pytest.approx(CRUISE)
         assert o.path_curvature_per_m == pytest.approx(curvature_per_m)
-        assert o.lateral_offset_m == o.lateral_offset_ref_m == 0.0 and o.heading_error_rad == o.heading_ref_rad == 0.0
+        assert o.lateral_offset_ref_m == 0.0 and o.heading_ref_rad == 0.0
+        if tracked:
+            assert abs(o.lateral_offset_m) < 0.02 and abs(o.heading_error_rad) < 0.05
+        else:
+            assert o.lateral_offset_m == 0.0 and o.heading_error_rad == 0.0
         assert not o.lane_lost
 
 

@@ -185,7 +185,7 @@ class DecisionConfig:
     # the junctions' arcs tracked by odometry (arc_track.py): a path on the floor from where the turn
     # begins, along the road's direction seen before it, steered back onto like a lane; false: the
     # arc's curvature alone (feed-forward).  Major Alvega: true (its steering lags the arc's start)
-    arcs_by_odometry: bool = False
+    arcs_by_odometry: bool = True
     min_line_end_m: float = 0.1  # line ends nearer than this are no measurement (an unset field is 0) [m]
     lane_aligned_rad: float = 0.1  # lane_aligned: heading within this of (or past) the follower's approach [rad]
     # ... confirmed (arc_end.py): not before this part of the arc's sweep is turned
