@@ -184,7 +184,8 @@ class DecisionConfig:
     corner_lead_m: float = 0.05  # the turn begins this far before the corner: the robot follows its commands late [m]
     # the junctions' arcs tracked by odometry (arc_track.py): a path on the floor from where the turn
     # begins, along the road's direction seen before it, steered back onto like a lane; false: the
-    # arc's curvature alone (feed-forward).  Major Alvega: true (its steering lags the arc's start)
+    # arc's curvature alone (feed-forward), begun along the robot's heading.  Major Alvega's steering lags
+    # the arc's start; Conde began its right turns about 0.1 rad inward and ended them 4-15 cm inside
     arcs_by_odometry: bool = True
     min_line_end_m: float = 0.1  # line ends nearer than this are no measurement (an unset field is 0) [m]
     lane_aligned_rad: float = 0.1  # lane_aligned: heading within this of (or past) the follower's approach [rad]
