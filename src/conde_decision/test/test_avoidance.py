@@ -5,10 +5,12 @@ import math
 import pytest
 
 import recorded_sequence
+from conde_decision.decision_logic import DecisionConfig
 from conde_decision.avoidance import (Avoidance, AvoidanceConfig, EventDelay, Obstacle, rear_swing_heading_rad,
                                       return_remaining_m)
 
 C = AvoidanceConfig()
+MIN_LANE_CONFIDENCE = DecisionConfig().min_lane_confidence  # the decision's usable lane
 # the plain ramp (no footprint, no limit on its direction's growth): for the tests of the ramp's and the
 # landing's mechanics with steps of tens of cm (the gentle start: test_the_lane_change_starts_gently_*)
 PLAIN = AvoidanceConfig(heading_ref_rate_per_m=1e9, rear_corner_back_m=1e-9, rear_corner_side_m=1e-9)
@@ -271,28 +273,36 @@ def test_the_way_back_ends_heading_along_the_lane_without_overshoot():
     assert abrupt_overshoot_m > 0.06
 
 
-def _replay_recorded_change(config):
-    """fixtures/d3_bullet_track2_north_loop_avoidance_sequence.csv (D3, Bullet, track and placement
-    seed 2, lap 1: the lane change round the north loop's box and the start of the way back, written
-    by fixtures/make_avoidance_sequence.py) through the avoidance as the decision feeds it; returns the
-    largest error [m, rad] against ground truth of the own lane's offset and of the heading error the
-    control is given, and how many measurements were not taken."""
-    worst_offset_m = worst_heading_rad = 0.0
-    rejected, yaw_rad = 0, None
-    avoidance = Avoidance(config)
-    for row in recorded_sequence.load("d3_bullet_track2_north_loop_avoidance_sequence.csv"):
-        if row["kind"] != "lane":
+def _replay(config, name, t1_s=math.inf):
+    """Feeds the lane rows of fixtures/<name> (written by fixtures/make_avoidance_sequence.py) up to
+    t1_s [s] through an avoidance of that config as the decision does; yields (row, AvoidanceStep,
+    the heading error given to the control [rad]: the measured one, or the dead-reckoned one where the
+    measurement is not taken; nan without either)."""
+    yaw_rad, avoidance = None, Avoidance(config)
+    for row in recorded_sequence.load(name):
+        if row["kind"] != "lane" or row["t_s"] > t1_s:
             continue
         lane = recorded_sequence.lane_of(row)
         # the decision's odometry heading is unwrapped
         yaw_rad = row["yaw_rad"] if yaw_rad is None else yaw_rad + math.remainder(row["yaw_rad"] - yaw_rad, 2 * math.pi)
         lane_ok = (math.isfinite(lane.lateral_offset_m) and math.isfinite(lane.heading_error_rad)
-                   and lane.confidence >= 0.3)
+                   and lane.confidence >= MIN_LANE_CONFIDENCE)
         out = avoidance.step(lane.lateral_offset_m, lane_ok, row["odom_path_m"], row["command_lane"], (),
                              lane.heading_error_rad, lane.confidence >= 1.0, lane.lane_index, lane.lane_spacing_m,
                              yaw_rad)
-        rejected += out.lane_rejected
         heading_rad = out.heading_error_rad if out.lane_rejected else lane.heading_error_rad if lane_ok else math.nan
+        yield row, out, heading_rad
+
+
+def _replay_recorded_change(config):
+    """fixtures/d3_bullet_track2_north_loop_avoidance_sequence.csv (D3, Bullet, track and placement
+    seed 2, lap 1: the lane change round the north loop's box and the start of the way back): the
+    largest error [m, rad] against ground truth of the own lane's offset and of the heading error the
+    control is given, and how many measurements were not taken."""
+    worst_offset_m = worst_heading_rad = 0.0
+    rejected = 0
+    for row, out, heading_rad in _replay(config, "d3_bullet_track2_north_loop_avoidance_sequence.csv"):
+        rejected += out.lane_rejected
         if math.isfinite(out.own_lane_offset_m):
             worst_offset_m = max(worst_offset_m, abs(out.own_lane_offset_m - row["truth_offset_m"]))
         if math.isfinite(heading_rad):
@@ -314,24 +324,10 @@ def test_a_fit_off_the_odometrys_heading_is_not_taken_while_changing_lanes():
 
 
 def _heading_errors_on_the_way_back(config, name, t0_s, t1_s):
-    """Replays fixtures/<name> through the avoidance up to t1_s [s]; the errors [rad] against ground
-    truth of the heading the control is given (the measured one, or the dead-reckoned one where the
-    measurement is not taken) from t0_s [s] on."""
-    errors_rad, yaw_rad, avoidance = [], None, Avoidance(config)
-    for row in recorded_sequence.load(name):
-        if row["kind"] != "lane" or row["t_s"] > t1_s:
-            continue
-        lane = recorded_sequence.lane_of(row)
-        yaw_rad = row["yaw_rad"] if yaw_rad is None else yaw_rad + math.remainder(row["yaw_rad"] - yaw_rad, 2 * math.pi)
-        lane_ok = (math.isfinite(lane.lateral_offset_m) and math.isfinite(lane.heading_error_rad)
-                   and lane.confidence >= 0.3)
-        out = avoidance.step(lane.lateral_offset_m, lane_ok, row["odom_path_m"], row["command_lane"], (),
-                             lane.heading_error_rad, lane.confidence >= 1.0, lane.lane_index, lane.lane_spacing_m,
-                             yaw_rad)
-        heading_rad = out.heading_error_rad if out.lane_rejected else lane.heading_error_rad if lane_ok else math.nan
-        if row["t_s"] >= t0_s and math.isfinite(heading_rad):
-            errors_rad.append(abs(heading_rad - row["truth_heading_rad"]))
-    return errors_rad
+    """The errors [rad] against ground truth of the heading the control is given, from t0_s to t1_s [s]
+    of fixtures/<name>."""
+    return [abs(heading_rad - row["truth_heading_rad"]) for row, _, heading_rad in _replay(config, name, t1_s)
+            if row["t_s"] >= t0_s and math.isfinite(heading_rad)]
 
 
 def test_a_run_of_drifting_fits_does_not_carry_the_lanes_direction_along():
@@ -341,11 +337,11 @@ def test_a_run_of_drifting_fits_does_not_carry_the_lanes_direction_along():
     -1.07 ... -1.25 rad in 0.1 m, ground truth about -0.5.  Each was within the gate of the one before,
     so each was taken and moved the lane's direction, and the gate with it: the good fits after them
     (-0.26 rad) were then rejected, the control was given -1.2 rad and turned the robot round.  The lane's
-    direction now follows the fits by at most lane_turn_per_m per m driven."""
+    direction now follows the fits by at most lane_turn_rad_per_m per m driven."""
     name = "d3_ode_track11_north_loop_return_sequence.csv"
     errors_rad = _heading_errors_on_the_way_back(C, name, 113.0, 114.45)
-    assert len(errors_rad) > 40 and sum(e > 0.3 for e in errors_rad) <= 4
-    unbounded = _heading_errors_on_the_way_back(AvoidanceConfig(lane_turn_per_m=1000.0), name, 113.0, 114.45)
+    assert len(errors_rad) > 40 and sum(e > 0.3 for e in errors_rad) <= 4 and max(errors_rad) < 0.6
+    unbounded = _heading_errors_on_the_way_back(AvoidanceConfig(lane_turn_rad_per_m=1000.0), name, 113.0, 114.45)
     assert sum(e > 0.3 for e in unbounded) >= 10 and max(unbounded) > 0.7
 
 
@@ -356,11 +352,12 @@ def test_the_lanes_direction_follows_the_fits_taken_at_a_bounded_rate():
     for k in range(1, 8):  # fits drifting by 0.15 rad per frame, the robot's heading unchanged
         travelled_m += frame_m
         out = a.step(0.0, True, travelled_m, "other", heading_error_rad=-0.15 * k, yaw_rad=0.0)
-    # the lane's direction moved at most lane_turn_per_m per m (three fits taken, 0.04 rad each); the
+    # the lane's direction moved at most lane_turn_rad_per_m per m (three fits taken, 0.04 rad each); the
     # fits that drifted on are not taken
     assert out.lane_rejected
-    assert a.lane_yaw_rad == pytest.approx(3 * C.lane_turn_per_m * frame_m)
-    # after a stretch without a fit taken, the next one is taken whole (the gate widened as much)
+    assert a.lane_yaw_rad == pytest.approx(3 * C.lane_turn_rad_per_m * frame_m)
+    # after a stretch without a fit taken, the next one is taken whole (over 1.08 m the gate has widened by
+    # 1.08 rad and the direction may move by 2.16 rad)
     a.step(0.0, True, travelled_m + 1.0, "other", heading_error_rad=-0.8, yaw_rad=0.0)
     assert a.lane_yaw_rad == pytest.approx(0.8)
     # outside a lane change the direction is the last fit's

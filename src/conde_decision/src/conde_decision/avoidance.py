@@ -51,7 +51,7 @@ edge at the floor, lateral extent at their base from the tracked lane's centre l
   lane the tracker fits lines that are not the lane's (D3, Bullet, track seed 2: -0.45 rad read
   at -1.1 by ground truth, then +0.43 at -1.23, with lane_index 0 on the lane's centre line, 0.31 m
   off): taken, they turned the robot round on the road.  The lane's direction by odometry follows the
-  measurements taken by at most lane_turn_per_m per m driven since the one taken before: a run of fits
+  measurements taken by at most lane_turn_rad_per_m per m driven since the one taken before: a run of fits
   each within the gate of the last but drifting together (D3, track seed 11, lap 2, crossing the
   dashed line in the north loop: -0.64 to -1.25 rad in 0.1 m, ground truth about -0.5) no longer
   carries the gate and the dead-reckoned heading along with it.
@@ -119,10 +119,11 @@ class AvoidanceConfig:
     # tightest curve, a fork's arc)
     heading_gate_per_m: float = 1.0
     # While active, the lane's direction by odometry follows the measurements taken by at most this per m
-    # driven since the one before [rad/m] (twice the tightest curve's turn): a run of fits each within the gate
+    # driven since the one before [rad/m] (twice the tightest lane a lane change meets, 1 / 0.97 m: the junctions'
+    # 0.609 m arcs wait for its end, DELAYED_EVENTS): a run of fits each within the gate
     # of the one before, but drifting (D3, track seed 11, lap 2, the north loop: -0.64, -0.79, -0.90, -1.07,
     # -1.25 rad in 0.1 m, ground truth -0.48), no longer carries the gate and the dead-reckoned heading along
-    lane_turn_per_m: float = 2.0
+    lane_turn_rad_per_m: float = 2.0
     # Conde's rear corners: this far behind base_footprint [m] ...
     rear_corner_back_m: float = 0.443
     # ... and this far to each side of it [m] (its body 0.373 m wide)
@@ -317,12 +318,13 @@ class Avoidance:
                  since_taken_m: float) -> Optional[float]:
         """The heading error to dead-reckon with [rad]: the measured one when the lane is usable (the
         lane's direction by odometry kept: while active, moved toward the measured one by at most
-        lane_turn_per_m per m driven since the last measurement taken, since_taken_m), else that
-        direction's difference to the odometry's heading; None when neither is known."""
+        lane_turn_rad_per_m per m driven since the last measurement taken, since_taken_m; without odometry
+        it is None and the next one is taken whole), else that direction's difference to the
+        odometry's heading; None when neither is known."""
         if lane_ok and math.isfinite(heading_error_rad):
             measured_rad = road_direction_rad(yaw_rad, heading_error_rad)
             if self.active and measured_rad is not None and self.lane_yaw_rad is not None:
-                turn_rad = self.config.lane_turn_per_m * since_taken_m
+                turn_rad = self.config.lane_turn_rad_per_m * since_taken_m
                 self.lane_yaw_rad += min(max(measured_rad - self.lane_yaw_rad, -turn_rad), turn_rad)
             else:
                 self.lane_yaw_rad = measured_rad
