@@ -1080,12 +1080,14 @@ def test_a_return_with_the_tracker_on_the_own_lane_ends_the_doubt_once_the_loop_
     road.obstacles.append(Obstacle("box", road.s + 3.0, -0.3, 0.3))
     road.until("lane_returned")
     assert road.logic.forks.loop is not None  # the box stood in the loop after the fork
+    assert road.logic.forks.tracker_may_be_on_the_other_lane()  # the return raised the doubt ...
     while road.logic.forks.loop is not None:
         road.step()
+        assert road.logic.forks.tracker_may_be_on_the_other_lane()  # ... kept while the loop lasts
         assert abs(road.own_offset_m) < 0.05
         assert road.t < 600.0
     loop_end_s = road.s
-    while road.logic.forks.tracker_may_be_on_the_other_lane():  # (the merge's arc is driven blind)
+    while road.logic.forks.tracker_may_be_on_the_other_lane():  # (the merge's arc is driven without the lane)
         road.step()
         assert road.s - loop_end_s < 3.0, road.logic.state
     assert abs(road.own_offset_m) < 0.05
