@@ -223,9 +223,9 @@ class Avoidance:
         other = lane_command == "other"
         if other:
             self.changed = True
-        if self.active and lane_ok and not self._plausible(heading_error_rad, yaw_rad, travelled_m):
+        since_taken_m = max(0.0, travelled_m - self._taken_m)  # driven since the last measurement taken [m]
+        if self.active and lane_ok and not self._plausible(heading_error_rad, yaw_rad, since_taken_m):
             lane_ok, out.lane_rejected = False, True
-        since_taken_m = max(0.0, travelled_m - self._taken_m)
         if lane_ok:
             self._taken_m = travelled_m
         heading_rad = self._heading(lane_ok, heading_error_rad, yaw_rad, since_taken_m)
@@ -305,13 +305,13 @@ class Avoidance:
         out.active = self.active
         return out
 
-    def _plausible(self, heading_error_rad: float, yaw_rad: Optional[float], travelled_m: float) -> bool:
+    def _plausible(self, heading_error_rad: float, yaw_rad: Optional[float], since_taken_m: float) -> bool:
         """Whether a usable measurement's heading error is near the one dead-reckoned by odometry since
         the last measurement taken (true when that is not known)."""
         if yaw_rad is None or self.lane_yaw_rad is None:
             return True
         c = self.config
-        allowed_rad = c.heading_gate_rad + c.heading_gate_per_m * max(0.0, travelled_m - self._taken_m)
+        allowed_rad = c.heading_gate_rad + c.heading_gate_per_m * since_taken_m
         return abs(heading_error_rad - (yaw_rad - self.lane_yaw_rad)) <= allowed_rad
 
     def _heading(self, lane_ok: bool, heading_error_rad: float, yaw_rad: Optional[float],
