@@ -1047,15 +1047,21 @@ def test_a_box_passed_while_the_tracker_measures_the_lane_on_the_left_counts_tha
     assert abs(road.own_offset_m) < 0.05
 
 
+def _following_with_a_box_ahead():
+    """A road model following the lane in closed loop (lane_index reported), a box 3 m ahead in the own lane."""
+    road = make()
+    road.follow_reference = road.steer_on_output = road.report_lane_index = True
+    reach(road, "follow_lane")
+    road.obstacles.append(Obstacle("box", road.s + 3.0, -0.3, 0.3))
+    return road
+
+
 def test_after_the_return_the_follower_keeps_the_own_lane_while_the_tracker_stays_on_the_left_one():
     """D3, track seed 11 (north loop, both engines): the tracker relocked onto the lane on the left
     during the change and kept it through the way back (lane_index 1, offset one spacing right of
     it). After lane_returned its offset is taken in the own lane's frame (the doubt of
     ForkNavigator.doubt_tracked_lane): taken as measured, the follower steered a lane's width left."""
-    road = make()
-    road.follow_reference = road.steer_on_output = road.report_lane_index = True
-    reach(road, "follow_lane")
-    road.obstacles.append(Obstacle("box", road.s + 3.0, -0.3, 0.3))
+    road = _following_with_a_box_ahead()
     road.until("lane_changed")
     road.tracked_lane = 1  # from here on the tracker keeps the lines of the lane on the left
     out = road.until("lane_returned")
@@ -1074,10 +1080,7 @@ def test_after_the_return_the_follower_keeps_the_own_lane_while_the_tracker_stay
 def test_a_return_with_the_tracker_on_the_own_lane_ends_the_doubt_once_the_loop_is_over():
     """The usual return: the tracker relocks onto the own lane (lane_index 0) and the robot drives on
     its centre; the doubt ends as after a fork crossed straight: the loop over, the own lane measured."""
-    road = make()
-    road.follow_reference = road.steer_on_output = road.report_lane_index = True
-    reach(road, "follow_lane")
-    road.obstacles.append(Obstacle("box", road.s + 3.0, -0.3, 0.3))
+    road = _following_with_a_box_ahead()
     road.until("lane_returned")
     assert road.logic.forks.loop is not None  # the box stood in the loop after the fork
     assert road.logic.forks.tracker_may_be_on_the_other_lane()  # the return raised the doubt ...
