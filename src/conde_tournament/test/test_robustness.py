@@ -1,5 +1,6 @@
 """The robustness benchmark's options, runs, results file (resume) and table (no ROS run here)."""
 import json
+import subprocess
 
 import pytest
 
@@ -206,3 +207,64 @@ def test_a_job_that_finished_unrecorded_is_not_run_again(tmp_path, monkeypatch):
     assert records["P1_ode_track1_place1"]["penalties"] == 5.0
     assert records["P1_ode_track1_place1"]["penalty_events"] == ["cone_touch"]
     assert (job_dir / job_module.RESULT_FILE).exists()  # its folder kept
+
+
+def test_stack_version_names_the_commit_and_local_changes(tmp_path):
+    def git(*args):
+        subprocess.run(["git", "-C", str(tmp_path), "-c", "user.name=t", "-c", "user.email=t@t", *args],
+                       check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    assert robustness.stack_version(str(tmp_path)) == "unknown"  # not a git checkout
+    git("init", "-q")
+    (tmp_path / "node.py").write_text("speed = 0.5\n")
+    git("add", "node.py")
+    git("commit", "-q", "-m", "first")
+    head = subprocess.run(["git", "-C", str(tmp_path), "rev-parse", "--short=7", "HEAD"], stdout=subprocess.PIPE,
+                          universal_newlines=True, check=True).stdout.strip()
+    assert robustness.stack_version(str(tmp_path)) == head
+    (tmp_path / "build.log").write_text("untracked files do not count\n")
+    assert robustness.stack_version(str(tmp_path)) == head
+    (tmp_path / "node.py").write_text("speed = 0.6\n")
+    assert robustness.stack_version(str(tmp_path)) == head + "-dirty"
+
+
+def test_records_name_their_stack_and_a_report_flags_a_mixture():
+    runs = [Run("B1", "ode", t, t) for t in (1, 2, 3)]
+    records = {runs[0].key: robustness.run_record(runs[0], result(report()), 2, 12, "abc1234"),
+               runs[1].key: robustness.run_record(runs[1], result(report()), 2, 12, "abc1234")}
+    assert records[runs[0].key]["stack"] == "abc1234"
+    options = parse_options(["--challenges", "B1", "--engines", "ode", "--track-seeds", "3", "--placement-seeds", "3",
+                             "--paired"])
+    assert "Stack: abc1234 (2 runs)." in robustness.report_markdown(options, runs, records)
+    old = robustness.run_record(runs[2], result(report()), 2, 12)
+    del old["stack"]  # a line written before records named their stack
+    records[runs[2].key] = old
+    assert robustness.stacks(runs, records) == [("abc1234", 2), ("unknown", 1)]
+    md = robustness.report_markdown(options, runs, records)
+    assert "**The records come from 2 versions of the stack**: abc1234 (2 runs), unknown (1 runs)" in md
+    assert "Stack: no run recorded yet." in robustness.report_markdown(options, runs, {})
+
+
+def test_a_resumed_campaign_records_its_stack_and_warns_of_records_from_another(tmp_path, monkeypatch, capsys):
+    from conde_tournament import job as job_module
+    from conde_tournament import robustness_run
+
+    monkeypatch.setattr(robustness_run, "run_job", lambda *a, **k: pytest.fail("a finished job was run again"))
+    out = tmp_path / "campaign"
+    for seed in (1, 2):
+        job_dir = out / "jobs" / ("B1_ode_track%d_place%d" % (seed, seed))
+        job_dir.mkdir(parents=True)
+        (job_dir / job_module.RESULT_FILE).write_text(json.dumps(result(report(
+            challenge="B1", kind="parking", parked="bay", end="parked"))))
+    (out / robustness.RESULTS_FILE).write_text(json.dumps(robustness.run_record(
+        Run("B1", "ode", 1, 1), result(report(challenge="B1", kind="parking", parked="bay", end="parked")), 2, 12,
+        "0ld0ld0")) + "\n")
+    argv = ["--challenges", "B1", "--engines", "ode", "--track-seeds", "1-2", "--placement-seeds", "1-2", "--paired",
+            "--out", str(out)]
+    assert robustness_run.main(argv) == 0
+    printed = capsys.readouterr().out
+    here = robustness.stack_version(robustness_run.__file__.rsplit("/", 1)[0])
+    assert "with the stack %s;" % here in printed
+    assert "warning: 1 recorded runs come from another version of the stack (0ld0ld0: 1)" in printed
+    records = robustness.load_records(str(out / robustness.RESULTS_FILE))
+    assert records["B1_ode_track2_place2"]["stack"] == here
+    assert records["B1_ode_track1_place1"]["stack"] == "0ld0ld0"

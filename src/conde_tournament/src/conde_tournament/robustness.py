@@ -14,8 +14,10 @@ seed; --paired runs track seed i with placement seed i (the lists must then be e
 --robot major_alvega drives the stack with Major Alvega (default challenges: its own, D1 and D2).
 """
 import argparse
+import collections
 import json
 import os
+import subprocess
 from dataclasses import asdict, dataclass
 from typing import Dict, Iterable, List, Optional, Tuple
 
@@ -146,9 +148,29 @@ def parse_options(argv) -> Options:
 
 # --- results ---------------------------------------------------------------------------------------
 
-def run_record(run: Run, result: dict, laps_required: int, signs_total: int) -> dict:
+def stack_version(path: str) -> str:
+    """The version of the stack a campaign runs, for its records: `git describe --always --dirty` of
+    the checkout that holds path (e.g. 2fac12d, or 2fac12d-dirty when tracked files differ from that
+    commit); "unknown" outside a git checkout (an install space) or without git."""
+    try:
+        done = subprocess.run(["git", "-C", path, "describe", "--always", "--dirty", "--abbrev=7"],
+                              stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, universal_newlines=True, timeout=60)
+    except (OSError, subprocess.TimeoutExpired):
+        return "unknown"
+    return done.stdout.strip() if done.returncode == 0 and done.stdout.strip() else "unknown"
+
+
+def stacks(runs: Iterable[Run], records: Dict[str, dict]) -> List[Tuple[str, int]]:
+    """[(stack version, recorded runs)] of the campaign's records, the most frequent first (records
+    written before the field existed count as "unknown")."""
+    counts = collections.Counter(records[r.key].get("stack", "unknown") for r in runs if r.key in records)
+    return counts.most_common()
+
+
+def run_record(run: Run, result: dict, laps_required: int, signs_total: int, stack: str = "unknown") -> dict:
     """The results-file line of a finished run: its key and seeds, whether the referee's report
-    counts as the task done, the penalties, the run's status and wall time."""
+    counts as the task done, the penalties, the run's status and wall time, and the version of the
+    stack that drove it (stack_version)."""
     report = result.get("report") if scored(result) else None
     passed, text = outcome(report, laps_required, signs_total)
     report = report or {}
@@ -157,7 +179,7 @@ def run_record(run: Run, result: dict, laps_required: int, signs_total: int) -> 
     return dict(asdict(run), key=run.key, passed=passed, result=text, status=result.get("status", "?"),
                 judged=bool(report), penalties=float(report.get("penalty_total", 0.0)),
                 penalty_events=[e.get("kind", "?") for e in report.get("events", []) if e.get("penalty")],
-                time_s=report.get("driving_time_s"), wall_s=float(result.get("wall_s", 0.0)))
+                time_s=report.get("driving_time_s"), wall_s=float(result.get("wall_s", 0.0)), stack=stack)
 
 
 def append_record(path: str, record: dict) -> None:
@@ -267,6 +289,7 @@ def report_markdown(options: Options, runs: List[Run], records: Dict[str, dict])
                 done, len(runs)),
              "", "A run passes when the referee judges the task done (two laps, parked in a free bay, every "
              "sign) without disqualification; *no penalty* counts the passed runs without any penalty.", "",
+             _stacks_text(stacks(runs, records)), "",
              "| " + " | ".join(TABLE_COLUMNS) + " |", "|" + "---|" * len(TABLE_COLUMNS)]
     lines += ["| " + " | ".join(_cells(r)) + " |" for r in rows]
     failed = [records[r.key] for r in runs if r.key in records
@@ -279,6 +302,15 @@ def report_markdown(options: Options, runs: List[Run], records: Dict[str, dict])
     else:
         lines.append("none")
     return "\n".join(lines) + "\n"
+
+
+def _stacks_text(counted: List[Tuple[str, int]]) -> str:
+    if not counted:
+        return "Stack: no run recorded yet."
+    text = ", ".join("%s (%d runs)" % pair for pair in counted)
+    if len(counted) == 1:
+        return "Stack: " + text + "."
+    return "**The records come from %d versions of the stack**: %s; the table mixes them." % (len(counted), text)
 
 
 def _seed_text(seeds: Tuple[int, ...]) -> str:

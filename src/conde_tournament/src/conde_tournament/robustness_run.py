@@ -35,8 +35,13 @@ def run(options: robustness.Options) -> int:
               % (len(runs), len(runs) - len(todo), results_path), flush=True)
         print(robustness.table_text(robustness.table_rows(runs, records)), end="")
         return _write_report(out_dir, options, runs, records, todo)
-    print("robustness: %d runs (%d done before, %d to run, %d at a time); results %s"
-          % (len(runs), len(runs) - len(todo), len(todo), options.jobs, results_path), flush=True)
+    stack = robustness.stack_version(os.path.dirname(os.path.abspath(__file__)))
+    print("robustness: %d runs (%d done before, %d to run, %d at a time) with the stack %s; results %s"
+          % (len(runs), len(runs) - len(todo), len(todo), options.jobs, stack, results_path), flush=True)
+    others = [(version, n) for version, n in robustness.stacks(runs, records) if version != stack]
+    if others:
+        print("robustness: warning: %d recorded runs come from another version of the stack (%s); the table "
+              "mixes them" % (sum(n for _, n in others), ", ".join("%s: %d" % pair for pair in others)), flush=True)
     team, total_signs = Team("reference"), signs_total()
     progress = Progress(len(todo), unit="run")
     started = time.monotonic()
@@ -51,7 +56,7 @@ def run(options: robustness.Options) -> int:
             result = run_job(Job(team, run_.challenge, "", 0, run_.engine, 0), job_dir, 0.0, options.wall_limit_s,
                              ["track_seed:=%d" % run_.track_seed, "placement_seed:=%d" % run_.placement_seed,
                               "robot:=" + run_.robot])
-        return robustness.run_record(run_, result, LAPS_REQUIRED, total_signs)
+        return robustness.run_record(run_, result, LAPS_REQUIRED, total_signs, stack)
 
     try:
         with contextlib.closing(run_each(one, todo, options.jobs, on_start=lambda r: progress.start(r.key))) as done:
