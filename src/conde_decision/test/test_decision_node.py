@@ -78,7 +78,8 @@ def test_lane_and_signal_in_reference_and_state_out(core):
     frame, marker_type, text, z = markers[-1]
     assert frame == "base_footprint" and marker_type == 9 and z > 0.3  # 9 = TEXT_VIEW_FACING
     assert text.splitlines()[0] == "follow_lane" and "signal forward" in text
-    assert "wait_for_go --signal_forward--> follow_lane" in log
+    # ... logged with the measurement's simulated time and the distance driven
+    assert "wait_for_go --signal_forward--> follow_lane (t = %.2f s, 0.00 m driven)" % refs[start][0] in log, log
 
     # The CPU timing at shutdown counts every lane measurement.
     timing = TIMING_LINE.findall(log)
