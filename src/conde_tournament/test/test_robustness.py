@@ -209,22 +209,33 @@ def test_a_job_that_finished_unrecorded_is_not_run_again(tmp_path, monkeypatch):
     assert (job_dir / job_module.RESULT_FILE).exists()  # its folder kept
 
 
-def test_stack_version_names_the_commit_and_local_changes(tmp_path):
+def test_stack_version_names_the_last_commit_of_the_stack_and_local_changes(tmp_path, monkeypatch):
+    monkeypatch.setenv("GIT_CEILING_DIRECTORIES", str(tmp_path.parent))  # not a checkout above tmp_path
+    monkeypatch.delenv("GIT_DIR", raising=False)
+
     def git(*args):
-        subprocess.run(["git", "-C", str(tmp_path), "-c", "user.name=t", "-c", "user.email=t@t", *args],
-                       check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        return subprocess.run(["git", "-C", str(tmp_path), "-c", "user.name=t", "-c", "user.email=t@t", *args],
+                              check=True, stdout=subprocess.PIPE, stderr=subprocess.DEVNULL,
+                              universal_newlines=True).stdout.strip()
     assert robustness.stack_version(str(tmp_path)) == "unknown"  # not a git checkout
     git("init", "-q")
-    (tmp_path / "node.py").write_text("speed = 0.5\n")
-    git("add", "node.py")
-    git("commit", "-q", "-m", "first")
-    head = subprocess.run(["git", "-C", str(tmp_path), "rev-parse", "--short=7", "HEAD"], stdout=subprocess.PIPE,
-                          universal_newlines=True, check=True).stdout.strip()
-    assert robustness.stack_version(str(tmp_path)) == head
-    (tmp_path / "build.log").write_text("untracked files do not count\n")
-    assert robustness.stack_version(str(tmp_path)) == head
-    (tmp_path / "node.py").write_text("speed = 0.6\n")
-    assert robustness.stack_version(str(tmp_path)) == head + "-dirty"
+    (tmp_path / "src").mkdir()
+    (tmp_path / "src" / "node.py").write_text("speed = 0.5\n")
+    git("add", "src")
+    git("commit", "-q", "-m", "the stack")
+    stack = git("rev-parse", "--short=7", "HEAD")
+    assert robustness.stack_version(str(tmp_path / "src")) == stack  # from any folder of the checkout
+    (tmp_path / "docs").mkdir()
+    (tmp_path / "docs" / "results.md").write_text("a campaign's records\n")
+    git("add", "docs")
+    git("commit", "-q", "-m", "docs only")
+    assert git("rev-parse", "--short=7", "HEAD") != stack
+    assert robustness.stack_version(str(tmp_path)) == stack  # docs change no stack
+    (tmp_path / "docs" / "results.md").write_text("edited\n")
+    (tmp_path / "src" / "build.log").write_text("untracked files do not count\n")
+    assert robustness.stack_version(str(tmp_path)) == stack
+    (tmp_path / "src" / "node.py").write_text("speed = 0.6\n")
+    assert robustness.stack_version(str(tmp_path)) == stack + "-dirty"
 
 
 def test_records_name_their_stack_and_a_report_flags_a_mixture():

@@ -148,16 +148,31 @@ def parse_options(argv) -> Options:
 
 # --- results ---------------------------------------------------------------------------------------
 
+#: the workspace's folders whose files make the stack a campaign runs (docs, scripts, docker do not)
+STACK_PATHS = ("src", "launch", "urdf", "worlds", "CMakeLists.txt")
+
+
 def stack_version(path: str) -> str:
-    """The version of the stack a campaign runs, for its records: `git describe --always --dirty` of
-    the checkout that holds path (e.g. 2fac12d, or 2fac12d-dirty when tracked files differ from that
-    commit); "unknown" outside a git checkout (an install space) or without git."""
+    """The version of the stack a campaign runs, for its records: the last commit that changed the
+    stack's folders (STACK_PATHS) in the git checkout that holds path, e.g. 2fac12d, with "-dirty"
+    when tracked files there differ from it (a commit of docs or records alone changes nothing);
+    "unknown" outside a git checkout (an install space, the Docker images) or without git."""
+    def git(*args):
+        return subprocess.run(["git", "-C", path] + list(args), stdout=subprocess.PIPE, stderr=subprocess.DEVNULL,
+                              universal_newlines=True, timeout=60)
     try:
-        done = subprocess.run(["git", "-C", path, "describe", "--always", "--dirty", "--abbrev=7"],
-                              stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, universal_newlines=True, timeout=60)
+        top = git("rev-parse", "--show-toplevel")
+        if top.returncode != 0 or not top.stdout.strip():
+            return "unknown"
+        path = top.stdout.strip()
+        paths = [p for p in STACK_PATHS if os.path.exists(os.path.join(path, p))]
+        last = git("log", "-1", "--format=%h", "--abbrev=7", "--", *paths)
+        if last.returncode != 0 or not last.stdout.strip():
+            return "unknown"
+        changed = git("diff", "--quiet", "HEAD", "--", *paths).returncode != 0
     except (OSError, subprocess.TimeoutExpired):
         return "unknown"
-    return done.stdout.strip() if done.returncode == 0 and done.stdout.strip() else "unknown"
+    return last.stdout.strip() + ("-dirty" if changed else "")
 
 
 def stacks(runs: Iterable[Run], records: Dict[str, dict]) -> List[Tuple[str, int]]:
