@@ -752,7 +752,7 @@ def test_a_corner_is_placed_at_the_median_of_its_sightings_not_dragged_by_the_la
             begun_m = travelled_m
     assert begun_m == pytest.approx(36.13, abs=0.1)
     latest_m = 36.402 + 0.219 - c.corner_line_offset_m
-    assert logic.corners.corner_at_m["left"] < latest_m - 0.2
+    assert logic.corners.corner_at_m["left"] < latest_m - 0.15
     logic.road.travelled_m = 36.6  # the next corner in sight before this one is forgotten
     end_m = c.corner_sight_m - 0.01
     assert 36.6 + end_m - c.corner_line_offset_m - logic.corners.corner_at_m["left"] > c.corner_sight_m

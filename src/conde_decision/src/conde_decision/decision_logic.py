@@ -35,7 +35,8 @@ worlds/tracks/competition_track.geometry.yaml):
 Junction corners from the cameras: a lane measurement whose right (edge) line ends between
 min_line_end_m and corner_sight_m ahead (conde_tracking's right_line_end_m) shows the corner of a
 right turn: the edge line leaves its band corner_line_offset_m beyond the corner, where it turns
-away.  The corner's place along the road is kept (the latest sighting) and, corner_lead_m before
+away.  The corner's place along the road is kept (the median of its sightings: junction_corners.py)
+and, corner_lead_m before
 the robot reaches it, a fork_right or merge_right fires, from junction_window_m before the stored
 distance (fork_distance_m, loop_exit_m) on: the turn's arc begins at the corner the robot sees.
 The stored distances arm the search; junction_fallback_m after them the turn begins anyway (on a
@@ -605,7 +606,7 @@ class DecisionLogic:
 
     @property
     def right_corner_at_m(self) -> Optional[float]:
-        """travelled_m at the right-turn corner last seen (None: none in sight)."""
+        """travelled_m at the right-turn corner in sight, the median of its sightings (None: none in sight)."""
         return self.corners.corner_at_m["right"]
 
     def corners_seen(self, lane, tracked_lanes_left: int = 0) -> Tuple[str, ...]:
