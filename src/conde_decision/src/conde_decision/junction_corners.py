@@ -48,9 +48,14 @@ class JunctionCorners:
 
     def __init__(self, config):
         self.config = config
-        # distance travelled [m] at the corner in sight on each side, the median of its sightings (None: none)
-        self.corner_at_m: Dict[str, Optional[float]] = {side: None for side in SIDES}
-        self.sightings_m: Dict[str, List[float]] = {side: [] for side in SIDES}  # ... those sightings [m]
+        # the sightings of the corner in sight on each side: distance travelled [m] at it ([]: none)
+        self.sightings_m: Dict[str, List[float]] = {side: [] for side in SIDES}
+
+    @property
+    def corner_at_m(self) -> Dict[str, Optional[float]]:
+        """Distance travelled [m] at the corner in sight on each side, the median of its sightings
+        (None: none in sight)."""
+        return {side: statistics.median(seen) if seen else None for side, seen in self.sightings_m.items()}
 
     def update(self, lane, travelled_m: float, tracked_lanes_left: int = 0) -> Tuple[str, ...]:
         """The sides ("right", "left") at whose corner the robot is now, from this lane measurement
@@ -65,7 +70,8 @@ class JunctionCorners:
         for side in SIDES:
             end_m = getattr(lane, names[side], float("nan")) if names[side] and tracked_lanes_left in (0, 1) \
                 else float("nan")
-            at_m = self.corner_at_m[side]
+            seen = self.sightings_m[side]
+            at_m = statistics.median(seen) if seen else None
             if math.isfinite(end_m) and c.min_line_end_m <= end_m <= c.corner_sight_m:
                 sighting_m = travelled_m + end_m - c.corner_line_offset_m
                 if at_m is None or abs(sighting_m - at_m) > c.corner_sight_m:
@@ -75,7 +81,6 @@ class JunctionCorners:
             elif at_m is not None and travelled_m > at_m + c.corner_sight_m:
                 at_m = None
                 self.sightings_m[side] = []
-            self.corner_at_m[side] = at_m
             if at_m is not None and travelled_m >= at_m - c.corner_lead_m:
                 reached.append(side)
         return tuple(reached)
