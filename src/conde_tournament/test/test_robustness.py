@@ -1,5 +1,6 @@
 """The robustness benchmark's options, runs, results file (resume) and table (no ROS run here)."""
 import json
+import os
 import subprocess
 
 import pytest
@@ -259,23 +260,36 @@ def test_a_resumed_campaign_records_its_stack_and_warns_of_records_from_another(
     from conde_tournament import job as job_module
     from conde_tournament import robustness_run
 
-    monkeypatch.setattr(robustness_run, "run_job", lambda *a, **k: pytest.fail("a finished job was run again"))
+    here = robustness.stack_version(robustness_run.__file__.rsplit("/", 1)[0])
+    bay = dict(challenge="B1", kind="parking", parked="bay", end="parked")
+    ran = []
+
+    def finished_job(job, job_dir, *args, **kwargs):
+        """Seed 4 runs now: its folder names the stack before the job starts."""
+        with open(os.path.join(job_dir, robustness.JOB_STACK_FILE)) as f:
+            ran.append((job.challenge, f.read().strip()))
+        return result(report(**bay))
+    monkeypatch.setattr(robustness_run, "run_job", finished_job)
     out = tmp_path / "campaign"
-    for seed in (1, 2):
+    # seed 1 recorded by an older stack; seeds 2 and 3 finished but unrecorded (the campaign was
+    # interrupted): seed 2 by an older stack that noted itself in the job folder, seed 3 before
+    # job folders noted their stack
+    for seed in (1, 2, 3):
         job_dir = out / "jobs" / ("B1_ode_track%d_place%d" % (seed, seed))
         job_dir.mkdir(parents=True)
-        (job_dir / job_module.RESULT_FILE).write_text(json.dumps(result(report(
-            challenge="B1", kind="parking", parked="bay", end="parked"))))
+        (job_dir / job_module.RESULT_FILE).write_text(json.dumps(result(report(**bay))))
+    robustness.write_job_stack(str(out / "jobs" / "B1_ode_track2_place2"), "n0tth1s")
     (out / robustness.RESULTS_FILE).write_text(json.dumps(robustness.run_record(
-        Run("B1", "ode", 1, 1), result(report(challenge="B1", kind="parking", parked="bay", end="parked")), 2, 12,
-        "0ld0ld0")) + "\n")
-    argv = ["--challenges", "B1", "--engines", "ode", "--track-seeds", "1-2", "--placement-seeds", "1-2", "--paired",
+        Run("B1", "ode", 1, 1), result(report(**bay)), 2, 12, "0ld0ld0")) + "\n")
+    argv = ["--challenges", "B1", "--engines", "ode", "--track-seeds", "1-4", "--placement-seeds", "1-4", "--paired",
             "--out", str(out)]
     assert robustness_run.main(argv) == 0
     printed = capsys.readouterr().out
-    here = robustness.stack_version(robustness_run.__file__.rsplit("/", 1)[0])
     assert "with the stack %s;" % here in printed
     assert "warning: 1 recorded runs come from another version of the stack (0ld0ld0: 1)" in printed
+    assert ran == [("B1", here)]  # only seed 4 ran
     records = robustness.load_records(str(out / robustness.RESULTS_FILE))
-    assert records["B1_ode_track2_place2"]["stack"] == here
     assert records["B1_ode_track1_place1"]["stack"] == "0ld0ld0"
+    assert records["B1_ode_track2_place2"]["stack"] == "n0tth1s"  # the stack that drove it, not this one
+    assert records["B1_ode_track3_place3"]["stack"] == "unknown"
+    assert records["B1_ode_track4_place4"]["stack"] == here

@@ -27,6 +27,9 @@ from conde_tournament.leaderboard import scored
 
 RESULTS_FILE = "runs.jsonl"
 REPORT_FILE = "robustness.md"
+#: in a run's job folder: the stack version that runs it, written before the job starts, so that a job
+#: recorded only on resume (it finished as the campaign was interrupted) keeps the version that drove it
+JOB_STACK_FILE = "stack.txt"
 TABLE_COLUMNS = ("challenge", "engine", "runs", "passed", "success [%]", "no penalty", "no penalty [%]",
                  "mean penalties", "mean time [s]", "not judged")
 
@@ -173,6 +176,23 @@ def stack_version(path: str) -> str:
     except (OSError, subprocess.TimeoutExpired):
         return "unknown"
     return last.stdout.strip() + ("-dirty" if changed else "")
+
+
+def write_job_stack(job_dir: str, stack: str) -> None:
+    """Notes in a run's job folder the stack version about to drive it (JOB_STACK_FILE)."""
+    os.makedirs(job_dir, exist_ok=True)
+    with open(os.path.join(job_dir, JOB_STACK_FILE), "w") as f:
+        f.write(stack + "\n")
+
+
+def job_stack(job_dir: str) -> str:
+    """The stack version noted in a run's job folder; "unknown" for a folder without the note (a job
+    started before campaigns noted it)."""
+    try:
+        with open(os.path.join(job_dir, JOB_STACK_FILE)) as f:
+            return f.read().strip() or "unknown"
+    except OSError:
+        return "unknown"
 
 
 def stacks(runs: Iterable[Run], records: Dict[str, dict]) -> List[Tuple[str, int]]:

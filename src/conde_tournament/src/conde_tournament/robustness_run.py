@@ -49,13 +49,16 @@ def run(options: robustness.Options) -> int:
     def one(run_: robustness.Run):
         job_dir = os.path.join(out_dir, "jobs", run_.key)
         # A job that finished as the campaign was interrupted, before runs.jsonl had its line, keeps
-        # its result; what an interrupted job left (no result.json) is removed and run again.
+        # its result and the stack version that drove it (maybe not this campaign's); what an
+        # interrupted job left (no result.json) is removed and run again.
         result = load_result(job_dir)
-        if result is None:
-            shutil.rmtree(job_dir, ignore_errors=True)
-            result = run_job(Job(team, run_.challenge, "", 0, run_.engine, 0), job_dir, 0.0, options.wall_limit_s,
-                             ["track_seed:=%d" % run_.track_seed, "placement_seed:=%d" % run_.placement_seed,
-                              "robot:=" + run_.robot])
+        if result is not None:
+            return robustness.run_record(run_, result, LAPS_REQUIRED, total_signs, robustness.job_stack(job_dir))
+        shutil.rmtree(job_dir, ignore_errors=True)
+        robustness.write_job_stack(job_dir, stack)
+        result = run_job(Job(team, run_.challenge, "", 0, run_.engine, 0), job_dir, 0.0, options.wall_limit_s,
+                         ["track_seed:=%d" % run_.track_seed, "placement_seed:=%d" % run_.placement_seed,
+                          "robot:=" + run_.robot])
         return robustness.run_record(run_, result, LAPS_REQUIRED, total_signs, stack)
 
     try:
