@@ -27,6 +27,9 @@ from conde_tournament.leaderboard import scored
 
 RESULTS_FILE = "runs.jsonl"
 REPORT_FILE = "robustness.md"
+#: the stack version where none can be told: outside a git checkout, without git, a record or job
+#: folder from before versions were noted
+UNKNOWN_STACK = "unknown"
 #: in a run's job folder: the stack version that runs it, written before the job starts, so that a job
 #: recorded only on resume (it finished as the campaign was interrupted) keeps the version that drove it
 JOB_STACK_FILE = "stack.txt"
@@ -166,15 +169,15 @@ def stack_version(path: str) -> str:
     try:
         top = git("rev-parse", "--show-toplevel")
         if top.returncode != 0 or not top.stdout.strip():
-            return "unknown"
+            return UNKNOWN_STACK
         path = top.stdout.strip()
         paths = [p for p in STACK_PATHS if os.path.exists(os.path.join(path, p))]
         last = git("log", "-1", "--format=%h", "--abbrev=7", "--", *paths)
         if last.returncode != 0 or not last.stdout.strip():
-            return "unknown"
+            return UNKNOWN_STACK
         changed = git("diff", "--quiet", "HEAD", "--", *paths).returncode != 0
     except (OSError, subprocess.TimeoutExpired):
-        return "unknown"
+        return UNKNOWN_STACK
     return last.stdout.strip() + ("-dirty" if changed else "")
 
 
@@ -190,19 +193,19 @@ def job_stack(job_dir: str) -> str:
     started before campaigns noted it)."""
     try:
         with open(os.path.join(job_dir, JOB_STACK_FILE)) as f:
-            return f.read().strip() or "unknown"
+            return f.read().strip() or UNKNOWN_STACK
     except OSError:
-        return "unknown"
+        return UNKNOWN_STACK
 
 
 def stacks(runs: Iterable[Run], records: Dict[str, dict]) -> List[Tuple[str, int]]:
     """[(stack version, recorded runs)] of the campaign's records, the most frequent first (records
     written before the field existed count as "unknown")."""
-    counts = collections.Counter(records[r.key].get("stack", "unknown") for r in runs if r.key in records)
+    counts = collections.Counter(records[r.key].get("stack", UNKNOWN_STACK) for r in runs if r.key in records)
     return counts.most_common()
 
 
-def run_record(run: Run, result: dict, laps_required: int, signs_total: int, stack: str = "unknown") -> dict:
+def run_record(run: Run, result: dict, laps_required: int, signs_total: int, stack: str = UNKNOWN_STACK) -> dict:
     """The results-file line of a finished run: its key and seeds, whether the referee's report
     counts as the task done, the penalties, the run's status and wall time, and the version of the
     stack that drove it (stack_version)."""
